@@ -1,0 +1,30 @@
+# Every dependency comes from Debian and is found by CMake; nothing is vendored.
+# scripts/setup installs whatever is missing.
+include_guard(GLOBAL)
+
+if(ALLANLOT_USE_OPENMP)
+  find_package(OpenMP REQUIRED COMPONENTS CXX)
+endif()
+find_package(Eigen3 3.4 REQUIRED NO_MODULE)
+find_package(HDF5 REQUIRED COMPONENTS C)
+find_package(CLI11 REQUIRED)
+find_package(nlohmann_json 3.10 REQUIRED)
+include(AllanlotFFTW)
+
+if(HDF5_VERSION VERSION_LESS 1.10)
+  message(FATAL_ERROR "allanlot needs HDF5 >= 1.10, found ${HDF5_VERSION}")
+endif()
+if(NOT TARGET hdf5::hdf5)
+  add_library(allanlot_hdf5 INTERFACE)
+  target_include_directories(allanlot_hdf5 SYSTEM INTERFACE ${HDF5_INCLUDE_DIRS})
+  target_link_libraries(allanlot_hdf5 INTERFACE ${HDF5_C_LIBRARIES})
+  target_compile_definitions(allanlot_hdf5 INTERFACE ${HDF5_DEFINITIONS})
+  add_library(hdf5::hdf5 ALIAS allanlot_hdf5)
+endif()
+
+if(ALLANLOT_BUILD_TESTS)
+  find_package(GTest REQUIRED)
+endif()
+if(ALLANLOT_BUILD_BENCH)
+  find_package(benchmark REQUIRED)
+endif()

@@ -1,0 +1,31 @@
+# One helper applies the language standard, warnings, sanitizers and OpenMP to every target,
+# so that no target is built with different flags from its neighbours.
+include_guard(GLOBAL)
+
+set(ALLANLOT_WARNING_FLAGS -Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor
+                           -Wcast-align -Wunused -Woverloaded-virtual -Wnull-dereference)
+
+if(ALLANLOT_SANITIZE STREQUAL "ASAN")
+  set(ALLANLOT_SANITIZER_FLAGS -fsanitize=address,undefined -fno-sanitize-recover=undefined
+                               -fno-omit-frame-pointer)
+elseif(ALLANLOT_SANITIZE STREQUAL "TSAN")
+  set(ALLANLOT_SANITIZER_FLAGS -fsanitize=thread -fno-omit-frame-pointer)
+elseif(NOT ALLANLOT_SANITIZE STREQUAL "OFF")
+  message(FATAL_ERROR "ALLANLOT_SANITIZE must be OFF, ASAN or TSAN, not '${ALLANLOT_SANITIZE}'")
+endif()
+
+function(allanlot_configure_target target)
+  target_compile_features(${target} PUBLIC cxx_std_20)
+  set_target_properties(${target} PROPERTIES CXX_EXTENSIONS OFF)
+  target_compile_options(${target} PRIVATE ${ALLANLOT_WARNING_FLAGS})
+  if(ALLANLOT_WARNINGS_AS_ERRORS)
+    target_compile_options(${target} PRIVATE -Werror)
+  endif()
+  if(ALLANLOT_SANITIZER_FLAGS)
+    target_compile_options(${target} PUBLIC ${ALLANLOT_SANITIZER_FLAGS})
+    target_link_options(${target} PUBLIC ${ALLANLOT_SANITIZER_FLAGS})
+  endif()
+  if(ALLANLOT_USE_OPENMP)
+    target_link_libraries(${target} PUBLIC OpenMP::OpenMP_CXX)
+  endif()
+endfunction()

@@ -1,0 +1,52 @@
+#include "kernels/stats.hpp"
+
+#include "kernels/allan.hpp"
+
+#include <array>
+#include <stdexcept>
+#include <string>
+
+namespace allanlot::kernels {
+namespace {
+constexpr std::array<Stat, 1> kAll = {Stat::Oadev};
+}
+
+std::string_view stat_name(Stat s) {
+  switch (s) {
+  case Stat::Oadev:
+    return "oadev";
+  }
+  return "?";
+}
+
+std::optional<Stat> parse_stat(std::string_view name) {
+  for (const Stat s : kAll)
+    if (stat_name(s) == name) return s;
+  return std::nullopt;
+}
+
+std::span<const Stat> all_stats() {
+  return kAll;
+}
+
+std::int64_t max_m(Stat s, std::int64_t n_points) {
+  switch (s) {
+  case Stat::Oadev:
+    return (n_points - 1) / 4;
+  }
+  return 0;
+}
+
+StatResult compute(Stat s, const PhaseData& p, std::span<const std::int64_t> m_list, int nthreads) {
+  const std::int64_t mmax = max_m(s, p.n_points());
+  std::vector<std::int64_t> ms;
+  for (const std::int64_t m : m_list)
+    if (m >= 1 && m <= mmax) ms.push_back(m);
+  switch (s) {
+  case Stat::Oadev:
+    return oadev(p, ms, nthreads);
+  }
+  throw std::invalid_argument("unknown statistic");
+}
+
+}  // namespace allanlot::kernels

@@ -1,0 +1,55 @@
+// The Allan-family statistics by name: one entry point that the command line and the batch
+// driver call, and the per-statistic rules (valid m range) in one place.
+#pragma once
+
+#include "kernels/phase.hpp"
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string_view>
+#include <vector>
+
+namespace allanlot::kernels {
+
+/// Statistics, named as in allantools and Stable32.
+enum class Stat {
+  Oadev  // overlapping Allan deviation, SP1065 eq. (11)
+};
+
+/// One row per averaging factor, like allantools' (taus, devs, errs, ns).
+/// Rows whose estimator has no term (every term touches a gap) are left out.
+struct StatResult {
+  std::vector<std::int64_t> m;  // averaging factor
+  std::vector<double> tau_s;    // tau = m * tau0
+  std::vector<double> dev;      // the deviation, in the channel's rate units
+  std::vector<std::int64_t> n;  // number of terms in the estimator's sum
+  // Confidence intervals and noise identification (kernels/confidence.hpp); empty until
+  // computed, then one entry per row.
+  std::vector<double> edf;     // equivalent degrees of freedom
+  std::vector<double> dev_lo;  // lower bound of the confidence interval
+  std::vector<double> dev_hi;  // upper bound
+  std::vector<int> alpha;      // identified power-law exponent of the rate PSD (S_y ~ f^alpha)
+  double confidence = 0.0;     // the intervals' confidence level (0 = not computed)
+  std::size_t size() const { return m.size(); }
+};
+
+/// "oadev" etc.
+std::string_view stat_name(Stat s);
+/// Inverse of stat_name; nullopt for an unknown name.
+std::optional<Stat> parse_stat(std::string_view name);
+/// Every statistic this build computes, in the order results are written.
+std::span<const Stat> all_stats();
+
+/// Largest averaging factor Stable32 evaluates for `n_points` phase points:
+/// (N-1)/4 for the Allan and Hadamard families (so that every estimate has a reasonable
+/// number of terms), as in Stable32 1.60's tables in shared/reference.
+std::int64_t max_m(Stat s, std::int64_t n_points);
+
+/// Computes statistic `s` at every m of `m_list` that is valid for it (1 <= m <= max_m).
+/// Parallel over m with `nthreads` (0 = OpenMP default); results are bit-identical for any
+/// thread count because each tau's sum is formed by one thread in a fixed order.
+StatResult compute(Stat s, const PhaseData& p, std::span<const std::int64_t> m_list,
+                   int nthreads = 0);
+
+}  // namespace allanlot::kernels

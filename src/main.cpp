@@ -1,0 +1,5 @@
+#include "src/cli.hpp"
+
+int main(int argc, char** argv) {
+  return allanlot::cli::run(argc, argv);
+}
