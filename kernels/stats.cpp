@@ -13,8 +13,20 @@ constexpr std::array<Stat, 1> kAll = {Stat::Oadev};
 
 std::string_view stat_name(Stat s) {
   switch (s) {
+  case Stat::Adev:
+    return "adev";
   case Stat::Oadev:
     return "oadev";
+  case Stat::Mdev:
+    return "mdev";
+  case Stat::Tdev:
+    return "tdev";
+  case Stat::Hdev:
+    return "hdev";
+  case Stat::Ohdev:
+    return "ohdev";
+  case Stat::Totdev:
+    return "totdev";
   }
   return "?";
 }
@@ -33,6 +45,8 @@ std::int64_t max_m(Stat s, std::int64_t n_points) {
   switch (s) {
   case Stat::Oadev:
     return (n_points - 1) / 4;
+  default:
+    break;
   }
   return 0;
 }
@@ -45,8 +59,10 @@ StatResult compute(Stat s, const PhaseData& p, std::span<const std::int64_t> m_l
   switch (s) {
   case Stat::Oadev:
     return oadev(p, ms, nthreads);
+  default:
+    break;
   }
-  throw std::invalid_argument("unknown statistic");
+  throw std::invalid_argument("statistic " + std::string(stat_name(s)) + " is not implemented yet");
 }
 
 }  // namespace allanlot::kernels

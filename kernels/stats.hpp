@@ -14,7 +14,13 @@ namespace allanlot::kernels {
 
 /// Statistics, named as in allantools and Stable32.
 enum class Stat {
-  Oadev  // overlapping Allan deviation, SP1065 eq. (11)
+  Adev,   // Allan deviation (non-overlapping), SP1065 eq. (7)
+  Oadev,  // overlapping Allan deviation, SP1065 eq. (11)
+  Mdev,   // modified Allan deviation, SP1065 eq. (14)
+  Tdev,   // time deviation, SP1065 eq. (16)
+  Hdev,   // Hadamard deviation, SP1065 eq. (17)
+  Ohdev,  // overlapping Hadamard deviation, SP1065 eq. (18)
+  Totdev  // total deviation (doubly reflected TOTVAR), SP1065 eq. (25)
 };
 
 /// One row per averaging factor, like allantools' (taus, devs, errs, ns).
