@@ -3,7 +3,7 @@
 include_guard(GLOBAL)
 
 set(ALLANLOT_WARNING_FLAGS -Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor
-                           -Wcast-align -Wunused -Woverloaded-virtual -Wnull-dereference)
+                           -Wcast-align -Wunused -Woverloaded-virtual)
 
 if(ALLANLOT_SANITIZE STREQUAL "ASAN")
   set(ALLANLOT_SANITIZER_FLAGS -fsanitize=address,undefined -fno-sanitize-recover=undefined

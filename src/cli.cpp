@@ -1,16 +1,129 @@
 #include "src/cli.hpp"
 
+#include "src/analyze.hpp"
+
 #include <allanlot/version.hpp>
 
+#include <CLI/CLI.hpp>
+
 #include <iostream>
+#include <sstream>
 
 namespace allanlot::cli {
+namespace {
+
+std::string join_args(int argc, char** argv) {
+  std::string s;
+  for (int i = 0; i < argc; ++i) {
+    if (i) s += ' ';
+    const std::string a = argv[i];
+    s += a.find_first_of(" \t'\"") == std::string::npos ? a : "'" + a + "'";
+  }
+  return s;
+}
+
+// Validators shared by the commands.
+const auto kThreads = CLI::Range(0, 4096);
+
+std::vector<kernels::Stat> parse_stats(const std::string& list) {
+  std::vector<kernels::Stat> out;
+  std::stringstream ss(list);
+  std::string name;
+  while (std::getline(ss, name, ',')) {
+    const auto s = kernels::parse_stat(name);
+    if (!s) {
+      std::string known;
+      for (const auto k : kernels::all_stats())
+        known += (known.empty() ? "" : ", ") + std::string(kernels::stat_name(k));
+      throw CLI::ValidationError("--stats",
+                                 "unknown statistic '" + name + "' (known: " + known + ")");
+    }
+    bool dup = false;
+    for (const auto k : out)
+      dup = dup || k == *s;
+    if (!dup) out.push_back(*s);
+  }
+  if (out.empty()) throw CLI::ValidationError("--stats", "empty list");
+  return out;
+}
+
+// CONTRACT's default statistics, reduced to those this build computes (so that the default
+// never names a statistic that is not there).
+std::string default_stats() {
+  std::string s;
+  for (const char* name : {"oadev", "mdev", "hdev", "ohdev", "tdev", "totdev"}) {
+    if (!kernels::parse_stat(name)) continue;
+    s += (s.empty() ? "" : ",") + std::string(name);
+  }
+  return s;
+}
+
+}  // namespace
 
 int run(int argc, char** argv) {
-  (void)argc;
-  (void)argv;
-  std::cout << "allanlot " << kVersion << "\n";
-  return kExitOk;
+  CLI::App app{"allanlot: Allan-family noise characterization of sensor production lots"};
+  app.set_version_flag("--version", std::string("allanlot ") + kVersion + " (" + kGitSha + ")");
+  app.require_subcommand(1);
+
+  AnalyzeOptions aopt;
+  std::string stats_text = default_stats(), taus_text = kernels::to_string(aopt.grid);
+  std::string outdir;
+  auto* analyze = app.add_subcommand("analyze", "Analyse recordings: Allan-family deviations, "
+                                                "results per input and a lot summary");
+  analyze->add_option("-o,--output", outdir, "Output directory")->required();
+  analyze->add_option("inputs", aopt.inputs, "HDF5 files, directories, or *.txt manifests")
+      ->required();
+  analyze->add_option("--stats", stats_text, "Comma-separated statistics")->capture_default_str();
+  analyze->add_option("--taus", taus_text, "Tau grid: octave, decade, all, log:K or m:LIST")
+      ->capture_default_str();
+  analyze->add_option("--channels", aopt.channels_glob,
+                      "Only channels whose path or name matches this glob");
+  analyze
+      ->add_option("--threads", aopt.threads, "Threads (default: OMP_NUM_THREADS, else all cores)")
+      ->check(kThreads);
+  analyze->add_flag("-v,--verbose", aopt.verbose, "Print per-stage timings");
+  analyze->add_flag("-q,--quiet", aopt.quiet, "Print only errors");
+
+  std::string sum_dir;
+  bool sum_quiet = false;
+  auto* summarize = app.add_subcommand(
+      "summarize", "Rebuild lot_summary.h5 and lot_summary.csv from the results files present");
+  summarize->add_option("outdir", sum_dir, "Output directory of analyze")->required();
+  summarize->add_flag("-q,--quiet", sum_quiet, "Print only errors");
+
+  try {
+    app.parse(argc, argv);
+    if (*analyze) {
+      aopt.stats = parse_stats(stats_text);
+      try {
+        aopt.grid = kernels::parse_tau_grid(taus_text);
+      } catch (const std::invalid_argument& e) {
+        throw CLI::ValidationError("--taus", e.what());
+      }
+      aopt.outdir = outdir;
+      aopt.command_line = join_args(argc, argv);
+      return run_analyze(aopt, std::cout, std::cerr);
+    }
+    if (*summarize) return run_summarize(sum_dir, sum_quiet, std::cout, std::cerr);
+  } catch (const CLI::CallForHelp&) {
+    std::cout << app.help();
+    return kExitOk;
+  } catch (const CLI::CallForAllHelp&) {
+    std::cout << app.help("", CLI::AppFormatMode::All);
+    return kExitOk;
+  } catch (const CLI::CallForVersion& e) {
+    std::cout << e.what() << "\n";
+    return kExitOk;
+  } catch (const CLI::ParseError& e) {
+    // CLI11's own exit codes differ per error; CONTRACT says 2 for every usage error.
+    std::cerr << "allanlot: usage error: " << e.what() << "\n"
+              << "Run 'allanlot --help' or 'allanlot <command> --help'.\n";
+    return kExitUsage;
+  } catch (const std::exception& e) {
+    std::cerr << "allanlot: error: " << e.what() << "\n";
+    return kExitUsage;
+  }
+  return kExitUsage;
 }
 
 }  // namespace allanlot::cli

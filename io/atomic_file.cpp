@@ -1,0 +1,75 @@
+#include "io/atomic_file.hpp"
+
+#include "io/error.hpp"
+
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <fcntl.h>
+#include <fstream>
+#include <unistd.h>
+
+namespace allanlot::io {
+namespace {
+
+std::atomic<unsigned> g_counter{0};
+
+void fsync_path(const std::filesystem::path& p, bool directory, const std::string& what) {
+  const int fd = ::open(p.c_str(), directory ? (O_RDONLY | O_DIRECTORY) : O_RDONLY);
+  if (fd < 0) throw Error(what, "", std::string("open for fsync: ") + std::strerror(errno));
+  const int rc = ::fsync(fd);
+  const int err = errno;
+  ::close(fd);
+  if (rc != 0) throw Error(what, "", std::string("fsync: ") + std::strerror(err));
+}
+
+}  // namespace
+
+AtomicFile::AtomicFile(std::filesystem::path final_path) : final_(std::move(final_path)) {
+  // Hidden, and unique per process and per call: two processes writing the same OUTDIR never
+  // share a temporary file, and `summarize` skips names starting with '.'.
+  const std::string name = "." + final_.filename().string() + ".tmp." + std::to_string(::getpid()) +
+                           "." + std::to_string(g_counter++);
+  temp_ = final_.parent_path() / name;
+}
+
+AtomicFile::~AtomicFile() {
+  if (!committed_) {
+    std::error_code ec;
+    std::filesystem::remove(temp_, ec);
+  }
+}
+
+void AtomicFile::commit() {
+  try {
+    fsync_path(temp_, false, final_.string());
+    std::error_code ec;
+    std::filesystem::rename(temp_, final_, ec);
+    if (ec) throw Error(final_.string(), "", "rename from temporary file: " + ec.message());
+    committed_ = true;
+    const auto dir =
+        final_.parent_path().empty() ? std::filesystem::path(".") : final_.parent_path();
+    fsync_path(dir, true, final_.string());
+  } catch (...) {
+    if (!committed_) {
+      std::error_code ec;
+      std::filesystem::remove(temp_, ec);
+    }
+    throw;
+  }
+}
+
+void write_text_atomic(const std::filesystem::path& path, const std::string& text) {
+  AtomicFile f(path);
+  {
+    std::ofstream out(f.temp_path(), std::ios::binary | std::ios::trunc);
+    if (!out)
+      throw Error(path.string(), "", "cannot create file: " + std::string(std::strerror(errno)));
+    out << text;
+    out.flush();
+    if (!out) throw Error(path.string(), "", "write failed (disk full?)");
+  }
+  f.commit();
+}
+
+}  // namespace allanlot::io

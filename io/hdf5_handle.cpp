@@ -1,0 +1,279 @@
+#include "io/hdf5_handle.hpp"
+
+#include <cmath>
+#include <cstring>
+#include <mutex>
+#include <vector>
+
+namespace allanlot::io::h5 {
+
+void quiet_library() {
+  static std::once_flag once;
+  std::call_once(once, [] { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); });
+}
+
+Handle check(hid_t id, Handle::Closer closer, const std::string& file, const std::string& object,
+             const std::string& what) {
+  if (id < 0) throw Error(file, object, what + " failed");
+  return Handle(id, closer);
+}
+
+void check(herr_t rc, const std::string& file, const std::string& object, const std::string& what) {
+  if (rc < 0) throw Error(file, object, what + " failed");
+}
+
+bool has_attribute(hid_t obj, const std::string& name) {
+  return H5Aexists(obj, name.c_str()) > 0;
+}
+
+namespace {
+
+Handle open_attribute(hid_t obj, const std::string& name, const std::string& file,
+                      const std::string& object) {
+  return check(H5Aopen(obj, name.c_str(), H5P_DEFAULT), H5Aclose, file, object,
+               "H5Aopen(" + name + ")");
+}
+
+// Number of elements of an attribute's dataspace (scalar = 1).
+hssize_t attribute_points(hid_t attr, const std::string& file, const std::string& object) {
+  Handle space = check(H5Aget_space(attr), H5Sclose, file, object, "H5Aget_space");
+  return H5Sget_simple_extent_npoints(space.get());
+}
+
+}  // namespace
+
+bool read_attribute(hid_t obj, const std::string& name, double& out, const std::string& file,
+                    const std::string& object) {
+  if (!has_attribute(obj, name)) return false;
+  Handle attr = open_attribute(obj, name, file, object);
+  Handle type = check(H5Aget_type(attr.get()), H5Tclose, file, object, "H5Aget_type");
+  const H5T_class_t cls = H5Tget_class(type.get());
+  if (cls != H5T_INTEGER && cls != H5T_FLOAT)
+    throw Error(file, object, "attribute '" + name + "' must be a number");
+  if (attribute_points(attr.get(), file, object) != 1)
+    throw Error(file, object, "attribute '" + name + "' must be a single number");
+  check(H5Aread(attr.get(), H5T_NATIVE_DOUBLE, &out), file, object, "H5Aread(" + name + ")");
+  return true;
+}
+
+bool read_attribute(hid_t obj, const std::string& name, std::string& out, const std::string& file,
+                    const std::string& object) {
+  if (!has_attribute(obj, name)) return false;
+  Handle attr = open_attribute(obj, name, file, object);
+  Handle type = check(H5Aget_type(attr.get()), H5Tclose, file, object, "H5Aget_type");
+  if (H5Tget_class(type.get()) != H5T_STRING)
+    throw Error(file, object, "attribute '" + name + "' must be a string");
+  if (attribute_points(attr.get(), file, object) != 1)
+    throw Error(file, object, "attribute '" + name + "' must be a single string");
+  if (H5Tis_variable_str(type.get()) > 0) {
+    Handle mem = check(H5Tcopy(H5T_C_S1), H5Tclose, file, object, "H5Tcopy");
+    H5Tset_size(mem.get(), H5T_VARIABLE);
+    H5Tset_cset(mem.get(), H5Tget_cset(type.get()));
+    char* s = nullptr;
+    check(H5Aread(attr.get(), mem.get(), &s), file, object, "H5Aread(" + name + ")");
+    out = s ? s : "";
+    if (s) {
+      Handle space = check(H5Aget_space(attr.get()), H5Sclose, file, object, "H5Aget_space");
+      H5Dvlen_reclaim(mem.get(), space.get(), H5P_DEFAULT, &s);
+    }
+  } else {
+    const std::size_t size = H5Tget_size(type.get());
+    if (size == 0 || size > (1u << 20))
+      throw Error(file, object, "attribute '" + name + "' has an unusable string size");
+    std::vector<char> buf(size + 1, '\0');
+    Handle mem = check(H5Tcopy(H5T_C_S1), H5Tclose, file, object, "H5Tcopy");
+    H5Tset_size(mem.get(), size + 1);
+    check(H5Aread(attr.get(), mem.get(), buf.data()), file, object, "H5Aread(" + name + ")");
+    out.assign(buf.data(), std::strlen(buf.data()));
+  }
+  return true;
+}
+
+namespace {
+
+void replace_attribute(hid_t obj, const std::string& name) {
+  if (has_attribute(obj, name)) H5Adelete(obj, name.c_str());
+}
+
+Handle utf8_string_type(const std::string& file, const std::string& object) {
+  Handle t = check(H5Tcopy(H5T_C_S1), H5Tclose, file, object, "H5Tcopy");
+  H5Tset_size(t.get(), H5T_VARIABLE);
+  H5Tset_cset(t.get(), H5T_CSET_UTF8);
+  return t;
+}
+
+template <class T>
+void write_scalar_attribute(hid_t obj, const std::string& name, const T* data, hid_t mem_type,
+                            hid_t file_type, const std::string& file, const std::string& object) {
+  replace_attribute(obj, name);
+  Handle space = check(H5Screate(H5S_SCALAR), H5Sclose, file, object, "H5Screate");
+  Handle attr =
+      check(H5Acreate2(obj, name.c_str(), file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT),
+            H5Aclose, file, object, "H5Acreate2(" + name + ")");
+  check(H5Awrite(attr.get(), mem_type, data), file, object, "H5Awrite(" + name + ")");
+}
+
+}  // namespace
+
+void write_attribute(hid_t obj, const std::string& name, const std::string& value,
+                     const std::string& file, const std::string& object) {
+  replace_attribute(obj, name);
+  Handle type = utf8_string_type(file, object);
+  Handle space = check(H5Screate(H5S_SCALAR), H5Sclose, file, object, "H5Screate");
+  Handle attr =
+      check(H5Acreate2(obj, name.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT),
+            H5Aclose, file, object, "H5Acreate2(" + name + ")");
+  const char* p = value.c_str();
+  check(H5Awrite(attr.get(), type.get(), &p), file, object, "H5Awrite(" + name + ")");
+}
+
+void write_attribute(hid_t obj, const std::string& name, double value, const std::string& file,
+                     const std::string& object) {
+  write_scalar_attribute(obj, name, &value, H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, file, object);
+}
+
+void write_attribute(hid_t obj, const std::string& name, std::int64_t value,
+                     const std::string& file, const std::string& object) {
+  write_scalar_attribute(obj, name, &value, H5T_NATIVE_INT64, H5T_STD_I64LE, file, object);
+}
+
+void write_attribute(hid_t obj, const std::string& name, const std::vector<double>& value,
+                     const std::string& file, const std::string& object) {
+  replace_attribute(obj, name);
+  const hsize_t n = value.size();
+  Handle space =
+      check(H5Screate_simple(1, &n, nullptr), H5Sclose, file, object, "H5Screate_simple");
+  Handle attr =
+      check(H5Acreate2(obj, name.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT),
+            H5Aclose, file, object, "H5Acreate2(" + name + ")");
+  check(H5Awrite(attr.get(), H5T_NATIVE_DOUBLE, value.data()), file, object,
+        "H5Awrite(" + name + ")");
+}
+
+Handle ensure_groups(hid_t file_id, const std::string& path, const std::string& file) {
+  Handle current = check(H5Gopen2(file_id, "/", H5P_DEFAULT), H5Gclose, file, "/", "H5Gopen2");
+  std::string so_far;
+  std::size_t pos = 0;
+  while (pos < path.size()) {
+    const std::size_t next = path.find('/', pos);
+    const std::string part =
+        path.substr(pos, next == std::string::npos ? std::string::npos : next - pos);
+    pos = next == std::string::npos ? path.size() : next + 1;
+    if (part.empty()) continue;
+    so_far += "/" + part;
+    const htri_t exists = H5Lexists(current.get(), part.c_str(), H5P_DEFAULT);
+    if (exists > 0) {
+      current = check(H5Gopen2(current.get(), part.c_str(), H5P_DEFAULT), H5Gclose, file, so_far,
+                      "H5Gopen2");
+    } else {
+      current =
+          check(H5Gcreate2(current.get(), part.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                H5Gclose, file, so_far, "H5Gcreate2");
+    }
+  }
+  return current;
+}
+
+namespace {
+
+template <class T>
+void write_plain(hid_t loc, const std::string& name, const std::vector<T>& v, hid_t mem_type,
+                 hid_t file_type, const std::string& file, const std::string& object) {
+  const hsize_t n = v.size();
+  Handle space =
+      check(H5Screate_simple(1, &n, nullptr), H5Sclose, file, object, "H5Screate_simple");
+  Handle ds = check(
+      H5Dcreate2(loc, name.c_str(), file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+      H5Dclose, file, object + "/" + name, "H5Dcreate2");
+  if (n > 0)
+    check(H5Dwrite(ds.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), file,
+          object + "/" + name, "H5Dwrite");
+}
+
+Handle open_dataset(hid_t loc, const std::string& name, const std::string& file,
+                    const std::string& object) {
+  return check(H5Dopen2(loc, name.c_str(), H5P_DEFAULT), H5Dclose, file, object + "/" + name,
+               "H5Dopen2");
+}
+
+std::size_t dataset_length(hid_t ds, const std::string& file, const std::string& object) {
+  Handle space = check(H5Dget_space(ds), H5Sclose, file, object, "H5Dget_space");
+  const int rank = H5Sget_simple_extent_ndims(space.get());
+  if (rank != 1) throw Error(file, object, "expected a 1-D dataset");
+  hsize_t n = 0;
+  H5Sget_simple_extent_dims(space.get(), &n, nullptr);
+  return static_cast<std::size_t>(n);
+}
+
+template <class T>
+std::vector<T> read_plain(hid_t loc, const std::string& name, hid_t mem_type,
+                          const std::string& file, const std::string& object) {
+  Handle ds = open_dataset(loc, name, file, object);
+  std::vector<T> v(dataset_length(ds.get(), file, object + "/" + name));
+  if (!v.empty())
+    check(H5Dread(ds.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), file,
+          object + "/" + name, "H5Dread");
+  return v;
+}
+
+}  // namespace
+
+void write_dataset(hid_t loc, const std::string& name, const std::vector<double>& v,
+                   const std::string& file, const std::string& object) {
+  write_plain(loc, name, v, H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, file, object);
+}
+void write_dataset(hid_t loc, const std::string& name, const std::vector<std::int64_t>& v,
+                   const std::string& file, const std::string& object) {
+  write_plain(loc, name, v, H5T_NATIVE_INT64, H5T_STD_I64LE, file, object);
+}
+void write_dataset(hid_t loc, const std::string& name, const std::vector<int>& v,
+                   const std::string& file, const std::string& object) {
+  write_plain(loc, name, v, H5T_NATIVE_INT, H5T_STD_I32LE, file, object);
+}
+void write_dataset(hid_t loc, const std::string& name, const std::vector<std::string>& v,
+                   const std::string& file, const std::string& object) {
+  Handle type = utf8_string_type(file, object);
+  std::vector<const char*> ptrs;
+  ptrs.reserve(v.size());
+  for (const auto& s : v)
+    ptrs.push_back(s.c_str());
+  const hsize_t n = v.size();
+  Handle space =
+      check(H5Screate_simple(1, &n, nullptr), H5Sclose, file, object, "H5Screate_simple");
+  Handle ds = check(
+      H5Dcreate2(loc, name.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+      H5Dclose, file, object + "/" + name, "H5Dcreate2");
+  if (n > 0)
+    check(H5Dwrite(ds.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, ptrs.data()), file,
+          object + "/" + name, "H5Dwrite");
+}
+
+std::vector<double> read_doubles(hid_t loc, const std::string& name, const std::string& file,
+                                 const std::string& object) {
+  return read_plain<double>(loc, name, H5T_NATIVE_DOUBLE, file, object);
+}
+std::vector<std::int64_t> read_int64s(hid_t loc, const std::string& name, const std::string& file,
+                                      const std::string& object) {
+  return read_plain<std::int64_t>(loc, name, H5T_NATIVE_INT64, file, object);
+}
+std::vector<std::string> read_strings(hid_t loc, const std::string& name, const std::string& file,
+                                      const std::string& object) {
+  Handle ds = open_dataset(loc, name, file, object);
+  const std::size_t n = dataset_length(ds.get(), file, object + "/" + name);
+  Handle type = utf8_string_type(file, object);
+  std::vector<char*> ptrs(n, nullptr);
+  if (n > 0)
+    check(H5Dread(ds.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, ptrs.data()), file,
+          object + "/" + name, "H5Dread");
+  std::vector<std::string> out;
+  out.reserve(n);
+  for (char* p : ptrs)
+    out.emplace_back(p ? p : "");
+  if (n > 0) {
+    Handle space = check(H5Dget_space(ds.get()), H5Sclose, file, object, "H5Dget_space");
+    H5Dvlen_reclaim(type.get(), space.get(), H5P_DEFAULT, ptrs.data());
+  }
+  return out;
+}
+
+}  // namespace allanlot::io::h5

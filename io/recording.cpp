@@ -1,0 +1,271 @@
+#include "io/recording.hpp"
+
+#include "io/atomic_file.hpp"
+#include "io/error.hpp"
+#include "io/hdf5_handle.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+namespace allanlot::io {
+
+using h5::check;
+using h5::Handle;
+
+std::string sanitize_device_id(const std::string& id) {
+  std::string out;
+  out.reserve(id.size());
+  for (const unsigned char c : id) {
+    const bool ok = (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') ||
+                    c == '.' || c == '_' || c == '-';
+    out.push_back(ok ? static_cast<char>(c) : '_');
+  }
+  if (out.empty()) out = "_";
+  if (out[0] == '.') out[0] = '_';  // never ".", "..", or a hidden file
+  return out;
+}
+
+namespace {
+
+std::string describe_type(hid_t type) {
+  const H5T_class_t cls = H5Tget_class(type);
+  const std::size_t bits = H5Tget_size(type) * 8;
+  if (cls == H5T_FLOAT) return "float" + std::to_string(bits);
+  if (cls == H5T_INTEGER)
+    return std::string(H5Tget_sign(type) == H5T_SGN_NONE ? "uint" : "int") + std::to_string(bits);
+  switch (cls) {
+  case H5T_STRING:
+    return "string";
+  case H5T_COMPOUND:
+    return "compound";
+  case H5T_ENUM:
+    return "enum";
+  case H5T_ARRAY:
+    return "array";
+  case H5T_VLEN:
+    return "variable-length";
+  default:
+    return "non-numeric";
+  }
+}
+
+// The object itself, then each ancestor group up to the root: CONTRACT's lookup order for
+// sample_rate_hz, units, scale, offset and data_type.
+std::vector<std::string> lookup_chain(const std::string& path) {
+  std::vector<std::string> chain{path};
+  std::string p = path;
+  while (p.size() > 1) {
+    const auto slash = p.find_last_of('/');
+    p = slash == 0 ? "/" : p.substr(0, slash);
+    chain.push_back(p);
+  }
+  return chain;
+}
+
+struct Visit {
+  std::vector<std::string> datasets;
+};
+
+herr_t collect(hid_t, const char* name, const H5O_info_t* info, void* data) {
+  if (info->type == H5O_TYPE_DATASET && name)
+    static_cast<Visit*>(data)->datasets.push_back(std::string("/") + name);
+  return 0;
+}
+
+}  // namespace
+
+struct RecordingReader::Impl {
+  std::string path;
+  Handle file;
+
+  // Looks `attr` up on `object` and its ancestors; returns the path where it was found, or
+  // "" when absent everywhere.
+  template <class T>
+  std::string find_attribute(const std::string& object, const std::string& attr, T& out) const {
+    for (const std::string& p : lookup_chain(object)) {
+      Handle obj = check(H5Oopen(file.get(), p.c_str(), H5P_DEFAULT), H5Oclose, path, p, "H5Oopen");
+      if (h5::read_attribute(obj.get(), attr, out, path, p)) return p;
+    }
+    return "";
+  }
+};
+
+RecordingReader::RecordingReader(const std::string& path) : impl_(std::make_unique<Impl>()) {
+  h5::quiet_library();
+  impl_->path = path;
+  info_.file = path;
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) throw Error(path, "", "no such file");
+  if (std::filesystem::is_directory(path, ec)) throw Error(path, "", "is a directory");
+  if (H5Fis_hdf5(path.c_str()) <= 0)
+    throw Error(path, "", "not an HDF5 file (or truncated/corrupt)");
+  impl_->file = check(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, path, "",
+                      "H5Fopen (corrupt or unreadable HDF5 file)");
+
+  std::string id;
+  Handle root =
+      check(H5Gopen2(impl_->file.get(), "/", H5P_DEFAULT), H5Gclose, path, "/", "H5Gopen2");
+  if (h5::read_attribute(root.get(), "device_id", id, path, "/") && !id.empty()) {
+    info_.device_id = id;
+  } else {
+    info_.device_id = std::filesystem::path(path).stem().string();
+  }
+
+  Visit visit;
+  if (H5Ovisit2(impl_->file.get(), H5_INDEX_NAME, H5_ITER_INC, collect, &visit, H5O_INFO_BASIC) < 0)
+    throw Error(path, "", "cannot walk the file's objects (corrupt HDF5 file)");
+  std::sort(visit.datasets.begin(), visit.datasets.end());
+
+  for (const std::string& ds_path : visit.datasets) {
+    const std::string leaf = ds_path.substr(ds_path.find_last_of('/') + 1);
+    if (leaf == "time" || leaf == "timestamps") continue;
+    try {
+      ChannelInfo ch;
+      ch.path = ds_path;
+      double rate = 0.0;
+      const std::string rate_at = impl_->find_attribute(ds_path, "sample_rate_hz", rate);
+      if (rate_at.empty()) continue;  // not in any channel's scope: not a channel
+      Handle ds = check(H5Dopen2(impl_->file.get(), ds_path.c_str(), H5P_DEFAULT), H5Dclose, path,
+                        ds_path, "H5Dopen2");
+      Handle type = check(H5Dget_type(ds.get()), H5Tclose, path, ds_path, "H5Dget_type");
+      const H5T_class_t cls = H5Tget_class(type.get());
+      ch.storage_type = describe_type(type.get());
+      Handle space = check(H5Dget_space(ds.get()), H5Sclose, path, ds_path, "H5Dget_space");
+      const int rank = H5Sget_simple_extent_ndims(space.get());
+      if (cls != H5T_INTEGER && cls != H5T_FLOAT) {
+        // A non-numeric dataset beside the channels (labels, metadata) is not a channel; it
+        // is an error only when it carries sample_rate_hz itself, i.e. claims to be one.
+        if (rate_at == ds_path)
+          info_.problems.push_back(
+              {ds_path, "dataset of type " + ch.storage_type + " cannot be a channel"});
+        continue;
+      }
+      if (rank != 1) {
+        info_.problems.push_back({ds_path, "dataset has " + std::to_string(rank) +
+                                               " dimensions; a channel must be 1-D"});
+        continue;
+      }
+      if (!std::isfinite(rate) || rate <= 0.0) {
+        std::ostringstream msg;
+        msg << "sample_rate_hz = " << rate << " (on " << rate_at << ") must be finite and > 0";
+        info_.problems.push_back({ds_path, msg.str()});
+        continue;
+      }
+      ch.sample_rate_hz = rate;
+      hsize_t n = 0;
+      H5Sget_simple_extent_dims(space.get(), &n, nullptr);
+      ch.n_samples = static_cast<std::int64_t>(n);
+      impl_->find_attribute(ds_path, "units", ch.units);
+      ch.has_scale = !impl_->find_attribute(ds_path, "scale", ch.scale).empty();
+      impl_->find_attribute(ds_path, "offset", ch.offset);
+      if (!std::isfinite(ch.scale) || ch.scale == 0.0 || !std::isfinite(ch.offset)) {
+        info_.problems.push_back({ds_path, "scale must be finite and non-zero, offset finite"});
+        continue;
+      }
+      std::string dtype;
+      if (!impl_->find_attribute(ds_path, "data_type", dtype).empty()) {
+        if (dtype == "rate") {
+          ch.data_type = kernels::DataType::Rate;
+        } else if (dtype == "phase") {
+          ch.data_type = kernels::DataType::Phase;
+        } else {
+          info_.problems.push_back(
+              {ds_path, "data_type '" + dtype + "' is neither 'rate' nor 'phase'"});
+          continue;
+        }
+      }
+      info_.channels.push_back(std::move(ch));
+    } catch (const Error& e) {
+      info_.problems.push_back({ds_path, e.reason()});
+    }
+  }
+}
+
+RecordingReader::~RecordingReader() = default;
+
+std::vector<double> RecordingReader::read(const ChannelInfo& channel, std::size_t chunk) const {
+  const std::string& file = impl_->path;
+  Handle ds = check(H5Dopen2(impl_->file.get(), channel.path.c_str(), H5P_DEFAULT), H5Dclose, file,
+                    channel.path, "H5Dopen2");
+  Handle fspace = check(H5Dget_space(ds.get()), H5Sclose, file, channel.path, "H5Dget_space");
+  hsize_t n = 0;
+  H5Sget_simple_extent_dims(fspace.get(), &n, nullptr);
+  std::vector<double> out(static_cast<std::size_t>(n));
+  chunk = std::max<std::size_t>(chunk, 1);
+  // Chunked hyperslab reads: HDF5 converts each block (int16, float32, ...) to double in a
+  // conversion buffer of the block's size instead of the whole dataset's.
+  for (hsize_t start = 0; start < n; start += chunk) {
+    hsize_t count = std::min<hsize_t>(chunk, n - start);
+    check(H5Sselect_hyperslab(fspace.get(), H5S_SELECT_SET, &start, nullptr, &count, nullptr), file,
+          channel.path, "H5Sselect_hyperslab");
+    Handle mspace = check(H5Screate_simple(1, &count, nullptr), H5Sclose, file, channel.path,
+                          "H5Screate_simple");
+    check(H5Dread(ds.get(), H5T_NATIVE_DOUBLE, mspace.get(), fspace.get(), H5P_DEFAULT,
+                  out.data() + start),
+          file, channel.path, "H5Dread (truncated or corrupt data)");
+  }
+  if (channel.scale != 1.0 || channel.offset != 0.0)
+    for (double& v : out)
+      v = v * channel.scale + channel.offset;
+  return out;
+}
+
+struct RecordingWriter::Impl {
+  std::string final_path;
+  std::unique_ptr<AtomicFile> atomic;
+  Handle file, group;
+  std::string group_path;
+};
+
+RecordingWriter::RecordingWriter(const std::string& path, const std::string& device_id,
+                                 double sample_rate_hz, const std::string& group)
+    : impl_(std::make_unique<Impl>()) {
+  h5::quiet_library();
+  impl_->final_path = path;
+  impl_->atomic = std::make_unique<AtomicFile>(path);
+  const std::string tmp = impl_->atomic->temp_path().string();
+  impl_->file = check(H5Fcreate(tmp.c_str(), H5F_ACC_EXCL, H5P_DEFAULT, H5P_DEFAULT), H5Fclose,
+                      path, "", "H5Fcreate (is the directory writable?)");
+  Handle root =
+      check(H5Gopen2(impl_->file.get(), "/", H5P_DEFAULT), H5Gclose, path, "/", "H5Gopen2");
+  h5::write_attribute(root.get(), "device_id", device_id, path, "/");
+  impl_->group_path = "/" + group;
+  impl_->group = h5::ensure_groups(impl_->file.get(), impl_->group_path, path);
+  h5::write_attribute(impl_->group.get(), "sample_rate_hz", sample_rate_hz, path,
+                      impl_->group_path);
+}
+
+RecordingWriter::~RecordingWriter() = default;
+
+void RecordingWriter::add_channel(const ChannelData& channel) {
+  const std::string& path = impl_->final_path;
+  const std::string object = impl_->group_path + "/" + channel.name;
+  const hsize_t n = channel.samples.size();
+  Handle space =
+      check(H5Screate_simple(1, &n, nullptr), H5Sclose, path, object, "H5Screate_simple");
+  Handle ds = check(H5Dcreate2(impl_->group.get(), channel.name.c_str(), H5T_IEEE_F64LE,
+                               space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                    H5Dclose, path, object, "H5Dcreate2");
+  if (n > 0)
+    check(H5Dwrite(ds.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT,
+                   channel.samples.data()),
+          path, object, "H5Dwrite (disk full?)");
+  if (!channel.units.empty()) h5::write_attribute(ds.get(), "units", channel.units, path, object);
+}
+
+void RecordingWriter::add_root_attribute(const std::string& name, const std::string& value) {
+  Handle root = check(H5Gopen2(impl_->file.get(), "/", H5P_DEFAULT), H5Gclose, impl_->final_path,
+                      "/", "H5Gopen2");
+  h5::write_attribute(root.get(), name, value, impl_->final_path, "/");
+}
+
+void RecordingWriter::commit() {
+  impl_->group.close();
+  if (impl_->file.close() < 0)
+    throw Error(impl_->final_path, "", "H5Fclose failed while flushing (disk full?)");
+  impl_->atomic->commit();
+}
+
+}  // namespace allanlot::io

@@ -1,0 +1,97 @@
+// Input recordings (CONTRACT "Input: recordings"): channel discovery and chunked reading of
+// one unit's HDF5 file, and the writer that `allanlot simulate` uses for the same layout.
+#pragma once
+
+#include "kernels/phase.hpp"
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace allanlot::io {
+
+/// One channel: a 1-D integer or floating dataset with a `sample_rate_hz` attribute on itself
+/// or its nearest ancestor group. Optional attributes are looked up the same way.
+struct ChannelInfo {
+  std::string path;             // dataset path in the file, e.g. "/imu/gyro_x"
+  std::string units;            // `units` attribute, "" when absent
+  double sample_rate_hz = 0.0;  // > 0 and finite
+  double scale = 1.0;           // physical = raw * scale + offset
+  double offset = 0.0;
+  bool has_scale = false;  // a `scale` attribute was found
+  kernels::DataType data_type = kernels::DataType::Rate;
+  std::int64_t n_samples = 0;
+  std::string storage_type;  // "float64", "float32", "int16", ... as stored
+};
+
+/// A dataset that looks like a channel (it is in the scope of a sample_rate_hz attribute)
+/// but cannot be analysed; the reason names what is wrong.
+struct ChannelProblem {
+  std::string path;
+  std::string reason;
+};
+
+/// What discovery found in one file.
+struct RecordingInfo {
+  std::string file;       // the path as given
+  std::string device_id;  // root attribute `device_id`, else the file's stem
+  std::vector<ChannelInfo> channels;
+  std::vector<ChannelProblem> problems;
+};
+
+/// Opens a recording read-only (inputs are never modified) and discovers its channels.
+/// Throws io::Error naming the file when it cannot be opened as HDF5.
+class RecordingReader {
+public:
+  explicit RecordingReader(const std::string& path);
+  ~RecordingReader();
+  RecordingReader(const RecordingReader&) = delete;
+  RecordingReader& operator=(const RecordingReader&) = delete;
+
+  const RecordingInfo& info() const { return info_; }
+
+  /// Reads a whole channel in chunks of `chunk` samples, converted to double physical values
+  /// (raw * scale + offset). Throws io::Error naming file and dataset on a read failure.
+  std::vector<double> read(const ChannelInfo& channel, std::size_t chunk = 1 << 20) const;
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  RecordingInfo info_;
+};
+
+/// One channel to write with write_recording.
+struct ChannelData {
+  std::string name;  // dataset name under the group, e.g. "gyro_x"
+  std::string units;
+  std::span<const double> samples;
+};
+
+/// Incremental writer of a recording in the layout `allanlot simulate` produces:
+/// root attribute device_id, group /<group> with sample_rate_hz, one float64 dataset per
+/// channel with a `units` attribute. The file is written under a temporary name and renamed
+/// by commit(), so a recording appears only complete; without commit() nothing is left.
+class RecordingWriter {
+public:
+  RecordingWriter(const std::string& path, const std::string& device_id, double sample_rate_hz,
+                  const std::string& group = "imu");
+  ~RecordingWriter();
+  RecordingWriter(const RecordingWriter&) = delete;
+  RecordingWriter& operator=(const RecordingWriter&) = delete;
+  void add_channel(const ChannelData& channel);
+  /// Adds a string attribute to the root (e.g. the model the data were simulated from).
+  void add_root_attribute(const std::string& name, const std::string& value);
+  void commit();
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Reduces a device id to [A-Za-z0-9._-] (other characters become '_', a leading '.'
+/// becomes '_'), so that OUTDIR/<id>.allan.h5 can never name a path outside OUTDIR.
+std::string sanitize_device_id(const std::string& id);
+
+}  // namespace allanlot::io

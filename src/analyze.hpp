@@ -1,0 +1,34 @@
+// `allanlot analyze` (CONTRACT "Command: analyze"): the batch driver over recordings.
+#pragma once
+
+#include "kernels/stats.hpp"
+#include "kernels/tau_grid.hpp"
+
+#include <filesystem>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace allanlot::cli {
+
+struct AnalyzeOptions {
+  std::vector<std::string> inputs;   // files, directories, manifests
+  std::filesystem::path outdir;      // results and lot summary go here
+  std::vector<kernels::Stat> stats;  // statistics to compute, in output order
+  kernels::TauGridSpec grid;         // which taus
+  std::string channels_glob;         // fnmatch pattern on channel path or name; "" = all
+  int threads = 0;                   // 0 = OMP_NUM_THREADS, else all cores
+  bool verbose = false;              // per-stage timings on stderr
+  bool quiet = false;                // only errors on stderr, nothing on stdout
+  std::string command_line;          // recorded in every results file
+};
+
+/// Runs the analysis and returns the exit status of CONTRACT (0, 1 or 2). Failures are named
+/// on `err` with file, dataset and reason; the closing summary goes to `out`.
+int run_analyze(const AnalyzeOptions& opt, std::ostream& out, std::ostream& err);
+
+/// `allanlot summarize OUTDIR`: rebuilds lot_summary.h5/.csv from the results files present.
+int run_summarize(const std::filesystem::path& outdir, bool quiet, std::ostream& out,
+                  std::ostream& err);
+
+}  // namespace allanlot::cli

@@ -1,0 +1,21 @@
+// Expands the INPUT arguments of `analyze` (CONTRACT): HDF5 files, directories searched for
+// *.h5 / *.hdf5, and text manifests (*.txt, one path per line).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace allanlot::cli {
+
+struct InputList {
+  std::vector<std::string> files;  // recordings to analyse, in order, without duplicates
+  /// Inputs that could not be expanded: (what was given, reason).
+  std::vector<std::pair<std::string, std::string>> failures;
+};
+
+/// Directories are searched recursively (sorted, hidden entries skipped); manifest lines are
+/// trimmed, blank lines and lines starting with '#' are skipped, and relative paths are taken
+/// relative to the manifest's directory. A path given twice is analysed once.
+InputList expand_inputs(const std::vector<std::string>& inputs);
+
+}  // namespace allanlot::cli

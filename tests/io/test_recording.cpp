@@ -1,0 +1,203 @@
+// Channel discovery (CONTRACT "Input: recordings"), chunked reads of every storage type, and
+// the writer that `simulate` uses.
+#include "io/error.hpp"
+#include "io/recording.hpp"
+#include "support/h5_fixture.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace allanlot {
+namespace {
+
+using test::H5Fixture;
+
+const io::ChannelInfo* find(const io::RecordingInfo& info, const std::string& path) {
+  for (const auto& c : info.channels)
+    if (c.path == path) return &c;
+  return nullptr;
+}
+
+std::string problem(const io::RecordingInfo& info, const std::string& path) {
+  for (const auto& p : info.problems)
+    if (p.path == path) return p.reason;
+  return "";
+}
+
+TEST(Recording, DiscoversChannelsWithAncestorLookup) {
+  const auto dir = test::fresh_dir("discover");
+  const auto file = dir / "unit7.h5";
+  {
+    H5Fixture f(file);
+    f.dataset("/imu/gyro_x", {1, 2, 3, 4}, H5T_IEEE_F64LE);
+    f.dataset("/imu/accel_z", {1, 2, 3, 4}, H5T_IEEE_F32LE);
+    f.dataset("/imu/time", {0, 1, 2, 3}, H5T_IEEE_F64LE);
+    f.dataset("/imu/raw/counts", {100, -200, 300, 400}, H5T_STD_I16LE);
+    f.dataset("/clock/phase", {1, 2, 3, 4, 5}, H5T_STD_I32LE);
+    f.dataset("/other/no_rate", {1, 2, 3}, H5T_IEEE_F64LE);
+    f.attr("/imu", "sample_rate_hz", 1000.0);
+    f.attr("/imu", "units", "deg/s");
+    f.attr("/imu/accel_z", "units", "m/s^2");
+    f.attr("/imu/raw", "units", "counts-as-g");
+    f.attr("/imu/raw/counts", "scale", 0.5);
+    f.attr("/imu/raw/counts", "offset", 10.0);
+    f.attr("/clock/phase", "sample_rate_hz", 1.0);
+    f.attr("/clock", "data_type", "phase");
+    f.attr("/", "device_id", "SN-0042");
+  }
+  io::RecordingReader r(file.string());
+  const auto& info = r.info();
+  EXPECT_EQ(info.device_id, "SN-0042");
+  EXPECT_TRUE(info.problems.empty());
+  ASSERT_EQ(info.channels.size(), 4u);  // time and the dataset without a rate are not channels
+  const auto* gx = find(info, "/imu/gyro_x");
+  ASSERT_NE(gx, nullptr);
+  EXPECT_EQ(gx->units, "deg/s");
+  EXPECT_EQ(gx->sample_rate_hz, 1000.0);
+  EXPECT_EQ(gx->storage_type, "float64");
+  EXPECT_EQ(gx->n_samples, 4);
+  const auto* az = find(info, "/imu/accel_z");
+  ASSERT_NE(az, nullptr);
+  EXPECT_EQ(az->units, "m/s^2");  // the dataset's own attribute wins over the ancestor's
+  EXPECT_EQ(az->storage_type, "float32");
+  const auto* counts = find(info, "/imu/raw/counts");
+  ASSERT_NE(counts, nullptr);
+  EXPECT_EQ(counts->units, "counts-as-g");
+  EXPECT_EQ(counts->storage_type, "int16");
+  EXPECT_EQ(r.read(*counts), (std::vector<double>{60, -90, 160, 210}));  // raw * 0.5 + 10
+  const auto* ph = find(info, "/clock/phase");
+  ASSERT_NE(ph, nullptr);
+  EXPECT_EQ(ph->data_type, kernels::DataType::Phase);
+  EXPECT_EQ(ph->storage_type, "int32");
+  EXPECT_EQ(r.read(*ph), (std::vector<double>{1, 2, 3, 4, 5}));
+}
+
+TEST(Recording, ChunkedReadEqualsWholeRead) {
+  const auto dir = test::fresh_dir("chunked");
+  const auto file = dir / "a.h5";
+  std::vector<double> v(10007);
+  for (std::size_t i = 0; i < v.size(); ++i)
+    v[i] = std::sin(0.01 * static_cast<double>(i));
+  v[17] = std::nan("");
+  {
+    H5Fixture f(file);
+    f.dataset("/d/x", v, H5T_IEEE_F64LE);
+    f.attr("/d/x", "sample_rate_hz", 10.0);
+  }
+  io::RecordingReader r(file.string());
+  ASSERT_EQ(r.info().channels.size(), 1u);
+  const auto whole = r.read(r.info().channels[0], 1 << 20);
+  const auto chunked = r.read(r.info().channels[0], 1000);
+  ASSERT_EQ(whole.size(), v.size());
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (std::isnan(v[i])) {
+      EXPECT_TRUE(std::isnan(whole[i]) && std::isnan(chunked[i]));
+    } else {
+      EXPECT_EQ(whole[i], v[i]);
+      EXPECT_EQ(chunked[i], v[i]);
+    }
+  }
+  EXPECT_EQ(r.info().device_id, "a");  // no device_id attribute: the file's stem
+}
+
+TEST(Recording, BadAttributesAndShapesAreNamedProblems) {
+  const auto dir = test::fresh_dir("badattr");
+  const auto file = dir / "bad.h5";
+  {
+    H5Fixture f(file);
+    f.dataset("/a/zero_rate", {1, 2, 3}, H5T_IEEE_F64LE);
+    f.attr("/a/zero_rate", "sample_rate_hz", 0.0);
+    f.dataset("/a/nan_rate", {1, 2, 3}, H5T_IEEE_F64LE);
+    f.attr("/a/nan_rate", "sample_rate_hz", std::nan(""));
+    f.dataset("/a/string_rate", {1, 2, 3}, H5T_IEEE_F64LE);
+    f.attr("/a/string_rate", "sample_rate_hz", "fast");
+    f.dataset("/a/two_d", {1, 2, 3, 4}, H5T_IEEE_F64LE, {2, 2});
+    f.attr("/a/two_d", "sample_rate_hz", 1.0);
+    f.string_dataset("/a/labels", {"x", "y"});
+    f.attr("/a/labels", "sample_rate_hz", 1.0);
+    f.dataset("/a/odd_type", {1, 2, 3}, H5T_IEEE_F64LE);
+    f.attr("/a/odd_type", "sample_rate_hz", 1.0);
+    f.attr("/a/odd_type", "data_type", "velocity");
+  }
+  io::RecordingReader r(file.string());
+  EXPECT_TRUE(r.info().channels.empty());
+  EXPECT_NE(problem(r.info(), "/a/zero_rate").find("sample_rate_hz = 0"), std::string::npos);
+  EXPECT_NE(problem(r.info(), "/a/nan_rate").find("sample_rate_hz"), std::string::npos);
+  EXPECT_NE(problem(r.info(), "/a/string_rate").find("must be a number"), std::string::npos);
+  EXPECT_NE(problem(r.info(), "/a/two_d").find("2 dimensions"), std::string::npos);
+  EXPECT_NE(problem(r.info(), "/a/labels").find("string"), std::string::npos);
+  EXPECT_NE(problem(r.info(), "/a/odd_type").find("velocity"), std::string::npos);
+}
+
+TEST(Recording, UnreadableFilesThrowWithTheFileName) {
+  const auto dir = test::fresh_dir("unreadable");
+  const auto junk = dir / "junk.h5";
+  { std::ofstream(junk) << "this is not HDF5"; }
+  const auto empty = dir / "empty.h5";
+  { std::ofstream(empty).flush(); }
+  for (const auto& p : {junk, empty, dir / "missing.h5", dir}) {
+    try {
+      io::RecordingReader r(p.string());
+      ADD_FAILURE() << "no error for " << p;
+    } catch (const io::Error& e) {
+      EXPECT_EQ(e.file(), p.string());
+      EXPECT_FALSE(e.reason().empty());
+    }
+  }
+  // A truncated HDF5 file: a valid recording cut in half.
+  const auto good = dir / "good.h5";
+  {
+    H5Fixture f(good);
+    f.dataset("/imu/x", std::vector<double>(50000, 1.0), H5T_IEEE_F64LE);
+    f.attr("/imu", "sample_rate_hz", 100.0);
+  }
+  const std::string bytes = test::file_bytes(good);
+  const auto cut = dir / "cut.h5";
+  std::ofstream(cut, std::ios::binary).write(bytes.data(), static_cast<long>(bytes.size() / 2));
+  try {
+    io::RecordingReader r(cut.string());
+    ASSERT_EQ(r.info().channels.size(), 1u);
+    r.read(r.info().channels[0]);
+    ADD_FAILURE() << "truncated file read without error";
+  } catch (const io::Error& e) {
+    EXPECT_EQ(e.file(), cut.string());
+  }
+}
+
+TEST(Recording, WriterProducesTheSimulateLayoutAtomically) {
+  const auto dir = test::fresh_dir("writer");
+  const auto file = dir / "sim.h5";
+  const std::vector<double> x = {1.5, 2.5, 3.5};
+  {
+    io::RecordingWriter w(file.string(), "unit-1", 250.0);
+    w.add_channel({"gyro_x", "deg/s", x});
+    EXPECT_FALSE(std::filesystem::exists(file));  // not visible before commit
+    w.commit();
+  }
+  io::RecordingReader r(file.string());
+  ASSERT_EQ(r.info().channels.size(), 1u);
+  EXPECT_EQ(r.info().device_id, "unit-1");
+  EXPECT_EQ(r.info().channels[0].path, "/imu/gyro_x");
+  EXPECT_EQ(r.info().channels[0].units, "deg/s");
+  EXPECT_EQ(r.info().channels[0].sample_rate_hz, 250.0);
+  EXPECT_EQ(r.read(r.info().channels[0]), x);
+  {
+    io::RecordingWriter w((dir / "abandoned.h5").string(), "u", 1.0);
+    w.add_channel({"gyro_x", "deg/s", x});
+  }  // destroyed without commit: nothing left behind
+  for (const auto& e : std::filesystem::directory_iterator(dir))
+    EXPECT_EQ(e.path().filename(), "sim.h5");
+}
+
+TEST(Recording, DeviceIdsAreSanitized) {
+  EXPECT_EQ(io::sanitize_device_id("SN-00.42_a"), "SN-00.42_a");
+  EXPECT_EQ(io::sanitize_device_id("../../etc/passwd"), "_._.._etc_passwd");
+  EXPECT_EQ(io::sanitize_device_id(".."), "_.");
+  EXPECT_EQ(io::sanitize_device_id(""), "_");
+  EXPECT_EQ(io::sanitize_device_id("a b/c\\d"), "a_b_c_d");
+  EXPECT_EQ(io::sanitize_device_id("\xc3\xa9t\xff"), "__t_");
+}
+
+}  // namespace
+}  // namespace allanlot
