@@ -1,0 +1,239 @@
+// End-to-end tests of `allanlot analyze` through the real binary: results layout, exit
+// statuses, bad inputs, thread invariance, inputs never modified.
+#include "io/recording.hpp"
+#include "io/results.hpp"
+#include "kernels/allan.hpp"
+#include "kernels/stats.hpp"
+#include "kernels/tau_grid.hpp"
+#include "support/h5_fixture.hpp"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace allanlot {
+namespace {
+
+namespace fs = std::filesystem;
+using test::binary;
+using test::run_command;
+
+std::vector<double> noise(std::size_t n, double offset, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::vector<double> v(n);
+  double walk = 0;
+  for (auto& x : v) {
+    walk += 1e-3 * g(rng);
+    x = offset + 0.01 * g(rng) + walk;
+  }
+  return v;
+}
+
+// A unit file in the simulate layout with two gyro channels and a float32 accelerometer.
+void write_unit(const fs::path& path, const std::string& device_id, unsigned seed,
+                std::size_t n = 20000) {
+  test::H5Fixture f(path);
+  f.dataset("/imu/gyro_x", noise(n, 0.1, seed), H5T_IEEE_F64LE);
+  f.dataset("/imu/gyro_y", noise(n, -0.2, seed + 1), H5T_IEEE_F64LE);
+  f.dataset("/imu/accel_z", noise(n, 9.80665, seed + 2), H5T_IEEE_F32LE);
+  f.attr("/imu", "sample_rate_hz", 100.0);
+  f.attr("/imu", "units", "deg/s");
+  f.attr("/imu/accel_z", "units", "m/s^2");
+  if (!device_id.empty()) f.attr("/", "device_id", device_id);
+}
+
+const io::ChannelResult& channel(const io::RecordingResult& r, const std::string& path) {
+  for (const auto& c : r.channels)
+    if (c.path == path) return c;
+  throw std::runtime_error("no channel " + path);
+}
+
+TEST(Analyze, WritesContractLayoutAndMatchesKernels) {
+  const auto dir = test::fresh_dir("analyze_layout");
+  write_unit(dir / "u1.h5", "UNIT-1", 1);
+  const std::string before = test::file_bytes(dir / "u1.h5");
+  std::string out;
+  const int rc = run_command(binary() + " analyze --stats oadev --taus octave -o " +
+                                 (dir / "out").string() + " " + (dir / "u1.h5").string(),
+                             &out);
+  ASSERT_EQ(rc, 0) << out;
+  EXPECT_NE(out.find("lot_summary.csv"), std::string::npos);
+  EXPECT_EQ(test::file_bytes(dir / "u1.h5"), before);  // the input is never modified
+
+  const auto r = io::read_results(dir / "out" / "UNIT-1.allan.h5");
+  EXPECT_EQ(r.device_id, "UNIT-1");
+  EXPECT_NE(r.command_line.find("analyze"), std::string::npos);
+  EXPECT_FALSE(r.tool_version.empty());
+  EXPECT_FALSE(r.created_utc.empty());
+  ASSERT_EQ(r.channels.size(), 3u);
+  const auto& az = channel(r, "/imu/accel_z");
+  EXPECT_EQ(az.units, "m/s^2");
+  EXPECT_EQ(az.sample_rate_hz, 100.0);
+  EXPECT_EQ(az.n_samples, 20000);
+  EXPECT_EQ(az.status, "ok");
+  ASSERT_EQ(az.stats.size(), 1u);
+  EXPECT_EQ(az.stats[0].first, "oadev");
+
+  // The same numbers as the kernels applied to the data read back through io.
+  io::RecordingReader reader((dir / "u1.h5").string());
+  for (const auto& info : reader.info().channels) {
+    const auto p = kernels::phase_from_rate(reader.read(info), info.sample_rate_hz, 1);
+    const auto ms = kernels::make_m_list(kernels::parse_tau_grid("octave"),
+                                         kernels::max_m(kernels::Stat::Oadev, p.n_points()));
+    const auto expected = kernels::oadev(p, ms, 1);
+    const auto& got = channel(r, info.path).stats[0].second;
+    EXPECT_EQ(got.m, expected.m);
+    EXPECT_EQ(got.n, expected.n);
+    EXPECT_EQ(got.tau_s, expected.tau_s);
+    EXPECT_EQ(got.dev, expected.dev) << info.path;
+  }
+
+  const auto rows = io::read_lot_summary(dir / "out" / "lot_summary.h5");
+  ASSERT_EQ(rows.size(), 3u);
+  for (const auto& row : rows) {
+    EXPECT_EQ(row.device_id, "UNIT-1");
+    EXPECT_EQ(row.status, "ok");
+    EXPECT_EQ(row.n_samples, 20000);
+  }
+}
+
+TEST(Analyze, SameResultsForOneAndTwoThreads) {
+  const auto dir = test::fresh_dir("analyze_threads");
+  write_unit(dir / "u.h5", "", 5, 60000);
+  for (const char* t : {"1", "2"})
+    ASSERT_EQ(run_command(binary() + " analyze -q --stats oadev --taus log:20 --threads " + t +
+                          " -o " + (dir / ("out" + std::string(t))).string() + " " +
+                          (dir / "u.h5").string()),
+              0);
+  const auto a = io::read_results(dir / "out1" / "u.allan.h5");
+  const auto b = io::read_results(dir / "out2" / "u.allan.h5");
+  ASSERT_EQ(a.channels.size(), b.channels.size());
+  for (const auto& ca : a.channels) {
+    const auto& cb = channel(b, ca.path);
+    ASSERT_EQ(ca.stats.size(), cb.stats.size());
+    for (std::size_t i = 0; i < ca.stats.size(); ++i) {
+      EXPECT_EQ(ca.stats[i].second.dev, cb.stats[i].second.dev);  // bit for bit
+      EXPECT_EQ(ca.stats[i].second.n, cb.stats[i].second.n);
+    }
+  }
+}
+
+TEST(Analyze, SomeInputsFailOthersAreAnalysed) {
+  const auto dir = test::fresh_dir("analyze_partial");
+  write_unit(dir / "good.h5", "", 2);
+  { std::ofstream(dir / "junk.h5") << "garbage"; }
+  {
+    test::H5Fixture f(dir / "nochan.h5");
+    f.dataset("/x", {1, 2, 3}, H5T_IEEE_F64LE);
+  }
+  {
+    test::H5Fixture f(dir / "short.h5");
+    f.dataset("/imu/gyro_x", {1, 2, 3}, H5T_IEEE_F64LE);
+    f.attr("/imu", "sample_rate_hz", 10.0);
+  }
+  std::string out;
+  const int rc = run_command(binary() + " analyze -q --stats oadev -o " + (dir / "out").string() +
+                                 " " + (dir / "good.h5").string() + " " +
+                                 (dir / "junk.h5").string() + " " + (dir / "nochan.h5").string() +
+                                 " " + (dir / "short.h5").string() + " " +
+                                 (dir / "missing.h5").string(),
+                             &out);
+  EXPECT_EQ(rc, 1) << out;
+  EXPECT_NE(out.find((dir / "junk.h5").string() + ": not an HDF5 file"), std::string::npos)
+      << out;
+  EXPECT_NE(out.find((dir / "nochan.h5").string() + ": no channel found"), std::string::npos)
+      << out;
+  EXPECT_NE(out.find((dir / "short.h5").string()), std::string::npos) << out;
+  EXPECT_NE(out.find("/imu/gyro_x"), std::string::npos) << out;
+  EXPECT_NE(out.find("too short"), std::string::npos) << out;
+  EXPECT_NE(out.find((dir / "missing.h5").string() + ": no such file"), std::string::npos) << out;
+  EXPECT_TRUE(fs::exists(dir / "out" / "good.allan.h5"));
+  for (const char* name : {"junk", "nochan", "short", "missing"})
+    EXPECT_FALSE(fs::exists(dir / "out" / (std::string(name) + ".allan.h5"))) << name;
+  const auto rows = io::read_lot_summary(dir / "out" / "lot_summary.h5");
+  int failed = 0, ok = 0;
+  for (const auto& r : rows) (r.status == "ok" ? ok : failed) += 1;
+  EXPECT_EQ(ok, 3);
+  EXPECT_EQ(failed, 4);
+  // No temporary file is left behind.
+  for (const auto& e : fs::directory_iterator(dir / "out"))
+    EXPECT_NE(e.path().filename().string()[0], '.') << e.path();
+}
+
+TEST(Analyze, UsageErrorsExitTwo) {
+  const auto dir = test::fresh_dir("analyze_usage");
+  write_unit(dir / "u.h5", "", 3, 2000);
+  const std::string in = " " + (dir / "u.h5").string();
+  const std::string o = " -o " + (dir / "out").string();
+  std::string out;
+  EXPECT_EQ(run_command(binary() + " analyze --stats bogus" + o + in, &out), 2);
+  EXPECT_NE(out.find("unknown statistic 'bogus'"), std::string::npos) << out;
+  EXPECT_EQ(run_command(binary() + " analyze --taus log:0" + o + in, &out), 2);
+  EXPECT_NE(out.find("--taus"), std::string::npos) << out;
+  EXPECT_EQ(run_command(binary() + " analyze" + in, &out), 2);       // no -o
+  EXPECT_EQ(run_command(binary() + " analyze" + o, &out), 2);        // no input
+  EXPECT_EQ(run_command(binary() + " frobnicate", &out), 2);         // no such command
+  EXPECT_EQ(run_command(binary() + " analyze --threads -3" + o + in, &out), 2);
+  { std::ofstream(dir / "afile") << "x"; }
+  EXPECT_EQ(run_command(binary() + " analyze --stats oadev -o " + (dir / "afile").string() + in,
+                        &out),
+            2);
+  EXPECT_NE(out.find("not a directory"), std::string::npos) << out;
+  // Nothing analysable at all: 2.
+  EXPECT_EQ(run_command(binary() + " analyze --stats oadev" + o + " " +
+                            (dir / "missing.h5").string(),
+                        &out),
+            2);
+  EXPECT_EQ(run_command(binary() + " --version", &out), 0);
+  EXPECT_EQ(run_command(binary() + " analyze --help", &out), 0);
+  EXPECT_NE(out.find("--taus"), std::string::npos);
+}
+
+TEST(Analyze, DirectoriesManifestsAndDeviceIds) {
+  const auto dir = test::fresh_dir("analyze_inputs");
+  fs::create_directories(dir / "lot" / "sub");
+  write_unit(dir / "lot" / "a.h5", "", 10, 3000);
+  write_unit(dir / "lot" / "sub" / "b.hdf5", "../../escape", 11, 3000);
+  write_unit(dir / "c.h5", "", 12, 3000);
+  write_unit(dir / "c2.h5", "c", 13, 3000);  // same device_id as c.h5
+  {
+    std::ofstream m(dir / "manifest.txt");
+    m << "# a manifest\n\nc.h5\n  c2.h5  \n";
+  }
+  std::string out;
+  const int rc = run_command(binary() + " analyze -q --stats oadev -o " + (dir / "out").string() +
+                                 " " + (dir / "lot").string() + " " +
+                                 (dir / "manifest.txt").string(),
+                             &out);
+  EXPECT_EQ(rc, 1) << out;  // c2.h5 collides with c.h5
+  EXPECT_NE(out.find("device_id 'c'"), std::string::npos) << out;
+  EXPECT_TRUE(fs::exists(dir / "out" / "a.allan.h5"));
+  EXPECT_TRUE(fs::exists(dir / "out" / "c.allan.h5"));
+  EXPECT_TRUE(fs::exists(dir / "out" / "_._.._escape.allan.h5"));  // stays inside OUTDIR
+  EXPECT_FALSE(fs::exists(dir / "escape.allan.h5"));
+  EXPECT_EQ(io::read_results(dir / "out" / "_._.._escape.allan.h5").device_id, "../../escape");
+}
+
+TEST(Analyze, ChannelGlobAndSummarize) {
+  const auto dir = test::fresh_dir("analyze_glob");
+  write_unit(dir / "u.h5", "", 20, 3000);
+  ASSERT_EQ(run_command(binary() + " analyze -q --stats oadev --channels 'gyro_*' -o " +
+                        (dir / "out").string() + " " + (dir / "u.h5").string()),
+            0);
+  const auto r = io::read_results(dir / "out" / "u.allan.h5");
+  EXPECT_EQ(r.channels.size(), 2u);
+  fs::remove(dir / "out" / "lot_summary.h5");
+  fs::remove(dir / "out" / "lot_summary.csv");
+  std::string out;
+  ASSERT_EQ(run_command(binary() + " summarize " + (dir / "out").string(), &out), 0) << out;
+  EXPECT_EQ(io::read_lot_summary(dir / "out" / "lot_summary.h5").size(), 2u);
+  EXPECT_EQ(run_command(binary() + " analyze -q --stats oadev --channels 'nothing*' -o " +
+                            (dir / "out2").string() + " " + (dir / "u.h5").string(),
+                        &out),
+            2);
+  EXPECT_NE(out.find("no channel matches"), std::string::npos) << out;
+}
+
+}  // namespace
+}  // namespace allanlot
