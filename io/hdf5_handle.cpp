@@ -150,6 +150,22 @@ void write_attribute(hid_t obj, const std::string& name, const std::vector<doubl
         "H5Awrite(" + name + ")");
 }
 
+namespace {
+Handle untimed_plist(hid_t cls, const std::string& file, const std::string& object) {
+  Handle p = check(H5Pcreate(cls), H5Pclose, file, object, "H5Pcreate");
+  check(H5Pset_obj_track_times(p.get(), false), file, object, "H5Pset_obj_track_times");
+  return p;
+}
+}  // namespace
+
+Handle group_create_plist(const std::string& file, const std::string& object) {
+  return untimed_plist(H5P_GROUP_CREATE, file, object);
+}
+
+Handle dataset_create_plist(const std::string& file, const std::string& object) {
+  return untimed_plist(H5P_DATASET_CREATE, file, object);
+}
+
 Handle ensure_groups(hid_t file_id, const std::string& path, const std::string& file) {
   Handle current = check(H5Gopen2(file_id, "/", H5P_DEFAULT), H5Gclose, file, "/", "H5Gopen2");
   std::string so_far;
@@ -166,9 +182,9 @@ Handle ensure_groups(hid_t file_id, const std::string& path, const std::string& 
       current = check(H5Gopen2(current.get(), part.c_str(), H5P_DEFAULT), H5Gclose, file, so_far,
                       "H5Gopen2");
     } else {
-      current =
-          check(H5Gcreate2(current.get(), part.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-                H5Gclose, file, so_far, "H5Gcreate2");
+      current = check(H5Gcreate2(current.get(), part.c_str(), H5P_DEFAULT,
+                                 group_create_plist(file, so_far).get(), H5P_DEFAULT),
+                      H5Gclose, file, so_far, "H5Gcreate2");
     }
   }
   return current;
@@ -182,9 +198,9 @@ void write_plain(hid_t loc, const std::string& name, const std::vector<T>& v, hi
   const hsize_t n = v.size();
   Handle space =
       check(H5Screate_simple(1, &n, nullptr), H5Sclose, file, object, "H5Screate_simple");
-  Handle ds = check(
-      H5Dcreate2(loc, name.c_str(), file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-      H5Dclose, file, object + "/" + name, "H5Dcreate2");
+  Handle ds = check(H5Dcreate2(loc, name.c_str(), file_type, space.get(), H5P_DEFAULT,
+                               dataset_create_plist(file, object).get(), H5P_DEFAULT),
+                    H5Dclose, file, object + "/" + name, "H5Dcreate2");
   if (n > 0)
     check(H5Dwrite(ds.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), file,
           object + "/" + name, "H5Dwrite");
@@ -240,9 +256,9 @@ void write_dataset(hid_t loc, const std::string& name, const std::vector<std::st
   const hsize_t n = v.size();
   Handle space =
       check(H5Screate_simple(1, &n, nullptr), H5Sclose, file, object, "H5Screate_simple");
-  Handle ds = check(
-      H5Dcreate2(loc, name.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-      H5Dclose, file, object + "/" + name, "H5Dcreate2");
+  Handle ds = check(H5Dcreate2(loc, name.c_str(), type.get(), space.get(), H5P_DEFAULT,
+                               dataset_create_plist(file, object).get(), H5P_DEFAULT),
+                    H5Dclose, file, object + "/" + name, "H5Dcreate2");
   if (n > 0)
     check(H5Dwrite(ds.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, ptrs.data()), file,
           object + "/" + name, "H5Dwrite");

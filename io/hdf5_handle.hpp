@@ -76,6 +76,12 @@ void write_attribute(hid_t obj, const std::string& name, std::int64_t value,
 void write_attribute(hid_t obj, const std::string& name, const std::vector<double>& value,
                      const std::string& file, const std::string& object);
 
+/// Creation property lists for groups and datasets with object time tracking off: HDF5 stores
+/// modification times by default, which would make two runs with the same inputs write
+/// different bytes (CONTRACT: same seed and model, the same bytes).
+Handle group_create_plist(const std::string& file, const std::string& object);
+Handle dataset_create_plist(const std::string& file, const std::string& object);
+
 /// Creates every missing group along `path` ("/a/b/c") under `file_id` and returns the last.
 Handle ensure_groups(hid_t file_id, const std::string& path, const std::string& file);
 

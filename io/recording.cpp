@@ -245,8 +245,9 @@ void RecordingWriter::add_channel(const ChannelData& channel) {
   const hsize_t n = channel.samples.size();
   Handle space =
       check(H5Screate_simple(1, &n, nullptr), H5Sclose, path, object, "H5Screate_simple");
+  Handle dcpl = h5::dataset_create_plist(path, object);
   Handle ds = check(H5Dcreate2(impl_->group.get(), channel.name.c_str(), H5T_IEEE_F64LE,
-                               space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                               space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
                     H5Dclose, path, object, "H5Dcreate2");
   if (n > 0)
     check(H5Dwrite(ds.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT,

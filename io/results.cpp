@@ -16,7 +16,8 @@ namespace {
 
 void write_stat(hid_t allan, const std::string& name, const kernels::StatResult& s,
                 const std::string& file, const std::string& object) {
-  Handle g = check(H5Gcreate2(allan, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose,
+  Handle gcpl = h5::group_create_plist(file, object);
+  Handle g = check(H5Gcreate2(allan, name.c_str(), H5P_DEFAULT, gcpl.get(), H5P_DEFAULT), H5Gclose,
                    file, object, "H5Gcreate2");
   h5::write_dataset(g.get(), "m", s.m, file, object);
   h5::write_dataset(g.get(), "tau", s.tau_s, file, object);
@@ -72,7 +73,8 @@ void write_results(const std::filesystem::path& path, const RecordingResult& r) 
         h5::write_attribute(g.get(), "data_type", ch.data_type, file, ch.path);
         h5::write_attribute(g.get(), "status", ch.status, file, ch.path);
         if (ch.stats.empty()) continue;
-        Handle allan = check(H5Gcreate2(g.get(), "allan", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+        Handle gcpl = h5::group_create_plist(file, ch.path + "/allan");
+        Handle allan = check(H5Gcreate2(g.get(), "allan", H5P_DEFAULT, gcpl.get(), H5P_DEFAULT),
                              H5Gclose, file, ch.path + "/allan", "H5Gcreate2");
         for (const auto& [name, s] : ch.stats)
           write_stat(allan.get(), name, s, file, ch.path + "/allan/" + name);
@@ -217,8 +219,9 @@ void write_lot_summary(const std::filesystem::path& outdir, const std::vector<Su
     const hsize_t n = recs.size();
     Handle space =
         check(H5Screate_simple(1, &n, nullptr), H5Sclose, file, "/summary", "H5Screate_simple");
+    Handle dcpl = h5::dataset_create_plist(file, "/summary");
     Handle ds = check(H5Dcreate2(f.get(), "summary", type.get(), space.get(), H5P_DEFAULT,
-                                 H5P_DEFAULT, H5P_DEFAULT),
+                                 dcpl.get(), H5P_DEFAULT),
                       H5Dclose, file, "/summary", "H5Dcreate2");
     if (n > 0)
       check(H5Dwrite(ds.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, recs.data()), file,

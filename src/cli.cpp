@@ -1,6 +1,7 @@
 #include "src/cli.hpp"
 
 #include "src/analyze.hpp"
+#include "src/simulate_command.hpp"
 
 #include <allanlot/version.hpp>
 
@@ -84,6 +85,24 @@ int run(int argc, char** argv) {
   analyze->add_flag("-v,--verbose", aopt.verbose, "Print per-stage timings");
   analyze->add_flag("-q,--quiet", aopt.quiet, "Print only errors");
 
+  SimulateOptions sopt;
+  std::string sim_out;
+  auto* simulate = app.add_subcommand(
+      "simulate", "Write simulated recordings from a noise model (default: the paper's unit)");
+  simulate->add_option("-o,--output", sim_out, "Output FILE.h5, or DIR with --lot")->required();
+  simulate->add_option("--model", sopt.model_path, "Model file (JSON, see CONTRACT)");
+  simulate->add_option("--duration", sopt.duration_s, "Record length in seconds")
+      ->capture_default_str();
+  simulate->add_option("--seed", sopt.seed, "Random seed")->capture_default_str();
+  simulate->add_option("--channel", sopt.channel, "Dataset name of a single-channel model")
+      ->capture_default_str();
+  simulate->add_option("--lot", sopt.lot, "Write N units into the directory -o")
+      ->check(CLI::Range(1, 1000000));
+  simulate
+      ->add_option("--threads", sopt.threads, "Threads (default: OMP_NUM_THREADS, else all cores)")
+      ->check(kThreads);
+  simulate->add_flag("-q,--quiet", sopt.quiet, "Print only errors");
+
   std::string sum_dir;
   bool sum_quiet = false;
   auto* summarize = app.add_subcommand(
@@ -103,6 +122,10 @@ int run(int argc, char** argv) {
       aopt.outdir = outdir;
       aopt.command_line = join_args(argc, argv);
       return run_analyze(aopt, std::cout, std::cerr);
+    }
+    if (*simulate) {
+      sopt.output = sim_out;
+      return run_simulate(sopt, std::cout, std::cerr);
     }
     if (*summarize) return run_summarize(sum_dir, sum_quiet, std::cout, std::cerr);
   } catch (const CLI::CallForHelp&) {

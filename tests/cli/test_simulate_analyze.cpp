@@ -1,0 +1,153 @@
+// The foundation's end-to-end path through the real binary: `simulate` writes a recording
+// from a model file, `analyze` processes it, and the results are read back with the HDF5 C API
+// and compared with the model's theory.
+#include "support/h5_fixture.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace allanlot {
+namespace {
+
+namespace fs = std::filesystem;
+using test::binary;
+using test::run_command;
+
+// Reads a whole 1-D dataset with the C API, checking its stored class and size.
+template <class T>
+std::vector<T> read_1d(hid_t file, const std::string& path, H5T_class_t expect_class,
+                       std::size_t expect_size, hid_t mem_type) {
+  const hid_t ds = H5Dopen2(file, path.c_str(), H5P_DEFAULT);
+  EXPECT_GE(ds, 0) << path;
+  if (ds < 0) return {};
+  const hid_t type = H5Dget_type(ds);
+  EXPECT_EQ(H5Tget_class(type), expect_class) << path;
+  EXPECT_EQ(H5Tget_size(type), expect_size) << path;
+  H5Tclose(type);
+  const hid_t space = H5Dget_space(ds);
+  hsize_t n = 0;
+  EXPECT_EQ(H5Sget_simple_extent_ndims(space), 1) << path;
+  H5Sget_simple_extent_dims(space, &n, nullptr);
+  std::vector<T> v(n);
+  H5Dread(ds, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
+  H5Sclose(space);
+  H5Dclose(ds);
+  return v;
+}
+
+TEST(SimulateAnalyze, EndToEndMatchesTheModel) {
+  const auto dir = test::fresh_dir("e2e");
+  // White rate noise and rate random walk, the two terms of the foundation's simulator.
+  const double N = 0.01, K = 2e-4, rate = 200.0;
+  {
+    std::ofstream m(dir / "model.json");
+    m << R"({"units": "deg/s", "sample_rate_hz": 200, "terms": {"N": 0.01, "K": 0.0002}})";
+  }
+  std::string out;
+  ASSERT_EQ(run_command(binary() + " simulate --model " + (dir / "model.json").string() +
+                            " --duration 2000 --seed 3 --channel gyro_z -o " +
+                            (dir / "u.h5").string(),
+                        &out),
+            0)
+      << out;
+  const std::string input_bytes = test::file_bytes(dir / "u.h5");
+  ASSERT_EQ(run_command(binary() + " analyze --stats oadev --taus octave -o " +
+                            (dir / "out").string() + " " + (dir / "u.h5").string(),
+                        &out),
+            0)
+      << out;
+  EXPECT_EQ(test::file_bytes(dir / "u.h5"), input_bytes);
+
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  const hid_t f = H5Fopen((dir / "out" / "u.allan.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  const std::string g = "/imu/gyro_z/allan/oadev/";
+  const auto m = read_1d<std::int64_t>(f, g + "m", H5T_INTEGER, 8, H5T_NATIVE_INT64);
+  const auto n = read_1d<std::int64_t>(f, g + "n", H5T_INTEGER, 8, H5T_NATIVE_INT64);
+  const auto tau = read_1d<double>(f, g + "tau", H5T_FLOAT, 8, H5T_NATIVE_DOUBLE);
+  const auto dev = read_1d<double>(f, g + "dev", H5T_FLOAT, 8, H5T_NATIVE_DOUBLE);
+  H5Fclose(f);
+  const std::size_t n_samples = 400000;
+  ASSERT_EQ(m.size(), 17u);  // octave grid up to (N-1)/4 = 100000: 2^0 .. 2^16
+  ASSERT_EQ(dev.size(), m.size());
+  double sum_z2 = 0;
+  for (std::size_t i = 0; i < m.size(); ++i) {
+    EXPECT_EQ(m[i], std::int64_t{1} << i);
+    EXPECT_EQ(n[i], static_cast<std::int64_t>(n_samples + 1) - 2 * m[i]);
+    EXPECT_DOUBLE_EQ(tau[i], static_cast<double>(m[i]) / rate);
+    const double avar = N * N / tau[i] + K * K * tau[i] / 3;
+    // z-score of ln(avar_hat), whose variance is about 2/edf. The edf is SP1065's simple
+    // white-FM form for the overlapping estimator, 3(N-1)/(2m), capped at N/m; where the
+    // random walk dominates (long taus) the true edf is smaller, so these z are if anything
+    // too large: a bound of 2 on their root mean square still fails for a simulator or
+    // estimator off by 10 % at short taus, where the edf is ~1e5.
+    const double edf = std::min(3.0 * (n_samples - 1) / (2.0 * m[i]),
+                                static_cast<double>(n_samples) / static_cast<double>(m[i]));
+    const double z = std::log(dev[i] * dev[i] / avar) / std::sqrt(2.0 / std::max(edf, 1.0));
+    sum_z2 += z * z;
+    EXPECT_LT(std::abs(z), 4.5) << "m=" << m[i];
+  }
+  // sqrt(mean z^2) is about 1 when the simulation and the estimator agree with the theory.
+  EXPECT_LT(std::sqrt(sum_z2 / static_cast<double>(m.size())), 2.0);
+}
+
+TEST(SimulateAnalyze, SameSeedSameBytesForAnyThreadCount) {
+  const auto dir = test::fresh_dir("e2e_bytes");
+  for (const char* t : {"1", "2"}) {
+    fs::create_directories(dir / t);
+    ASSERT_EQ(run_command(binary() + " simulate -q --duration 20 --seed 11 --threads " + t +
+                          " -o " + (dir / t / "unit.h5").string()),
+              0);
+  }
+  EXPECT_EQ(test::file_bytes(dir / "1" / "unit.h5"), test::file_bytes(dir / "2" / "unit.h5"));
+  ASSERT_EQ(run_command(binary() + " simulate -q --duration 20 --seed 12 -o " +
+                        (dir / "other.h5").string()),
+            0);
+  EXPECT_NE(test::file_bytes(dir / "1" / "unit.h5"), test::file_bytes(dir / "other.h5"));
+}
+
+TEST(SimulateAnalyze, DemoLotWithManifest) {
+  const auto dir = test::fresh_dir("e2e_lot");
+  std::string out;
+  ASSERT_EQ(
+      run_command(binary() + " simulate --lot 3 --duration 30 -o " + (dir / "lot").string(), &out),
+      0)
+      << out;
+  for (const char* u :
+       {"unit_0001.h5", "unit_0002.h5", "unit_0003.h5", "manifest.txt", "lot_model.json"})
+    EXPECT_TRUE(fs::exists(dir / "lot" / u)) << u;
+  ASSERT_EQ(run_command(binary() + " analyze -q --stats oadev -o " + (dir / "out").string() + " " +
+                            (dir / "lot" / "manifest.txt").string(),
+                        &out),
+            0)
+      << out;
+  const std::string csv = test::file_bytes(dir / "out" / "lot_summary.csv");
+  for (const char* ch : {"/imu/gyro_x", "/imu/gyro_y", "/imu/gyro_z", "/imu/accel_x",
+                         "/imu/accel_y", "/imu/accel_z"})
+    EXPECT_NE(csv.find(std::string("unit_0003,") + ch), std::string::npos) << ch;
+}
+
+TEST(SimulateAnalyze, BadModelsAreUsageErrorsNamingTheKey) {
+  const auto dir = test::fresh_dir("e2e_badmodel");
+  {
+    std::ofstream m(dir / "bad.json");
+    m << R"({"units": "deg/s", "sample_rate_hz": 100, "terms": {"N": 0.1, "X": 1}})";
+  }
+  std::string out;
+  EXPECT_EQ(run_command(binary() + " simulate --model " + (dir / "bad.json").string() + " -o " +
+                            (dir / "x.h5").string(),
+                        &out),
+            2);
+  EXPECT_NE(out.find("terms.X"), std::string::npos) << out;
+  EXPECT_EQ(run_command(binary() + " simulate --model " + (dir / "none.json").string() + " -o " +
+                            (dir / "x.h5").string(),
+                        &out),
+            2);
+  EXPECT_EQ(run_command(binary() + " simulate --duration -5 -o " + (dir / "x.h5").string(), &out),
+            2);
+  EXPECT_FALSE(fs::exists(dir / "x.h5"));
+}
+
+}  // namespace
+}  // namespace allanlot
