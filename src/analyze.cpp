@@ -3,6 +3,7 @@
 #include "io/error.hpp"
 #include "io/recording.hpp"
 #include "io/results.hpp"
+#include "kernels/confidence.hpp"
 #include "kernels/parallel.hpp"
 #include "kernels/phase.hpp"
 
@@ -64,6 +65,7 @@ void compute_channel(Prepared& c, const AnalyzeOptions& opt, int kernel_threads)
   for (const kernels::Stat s : opt.stats) {
     const auto ms = kernels::make_m_list(opt.grid, kernels::max_m(s, c.phase.n_points()));
     kernels::StatResult r = kernels::compute(s, c.phase, ms, kernel_threads);
+    kernels::add_confidence(s, c.phase, r, opt.confidence, kernel_threads);
     any_row = any_row || r.size() > 0;
     c.result.stats.emplace_back(std::string(kernels::stat_name(s)), std::move(r));
   }
@@ -100,6 +102,7 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
   rec.attributes = {{"stats", join_stats(opt.stats)},
                     {"taus", kernels::to_string(opt.grid)},
                     {"threads", std::to_string(threads)},
+                    {"confidence", std::to_string(opt.confidence)},
                     {"git_sha", kGitSha}};
 
   std::vector<Prepared> work;

@@ -77,6 +77,11 @@ int run(int argc, char** argv) {
   analyze->add_option("--stats", stats_text, "Comma-separated statistics")->capture_default_str();
   analyze->add_option("--taus", taus_text, "Tau grid: octave, decade, all, log:K or m:LIST")
       ->capture_default_str();
+  analyze
+      ->add_option("--confidence", aopt.confidence,
+                   "Confidence level of the intervals dev_lo, dev_hi")
+      ->check(CLI::Range(0.001, 0.999))
+      ->capture_default_str();
   analyze->add_option("--channels", aopt.channels_glob,
                       "Only channels whose path or name matches this glob");
   analyze

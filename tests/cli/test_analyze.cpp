@@ -133,15 +133,14 @@ TEST(Analyze, SomeInputsFailOthersAreAnalysed) {
     f.attr("/imu", "sample_rate_hz", 10.0);
   }
   std::string out;
-  const int rc = run_command(binary() + " analyze -q --stats oadev -o " + (dir / "out").string() +
-                                 " " + (dir / "good.h5").string() + " " +
-                                 (dir / "junk.h5").string() + " " + (dir / "nochan.h5").string() +
-                                 " " + (dir / "short.h5").string() + " " +
-                                 (dir / "missing.h5").string(),
-                             &out);
+  const int rc =
+      run_command(binary() + " analyze -q --stats oadev -o " + (dir / "out").string() + " " +
+                      (dir / "good.h5").string() + " " + (dir / "junk.h5").string() + " " +
+                      (dir / "nochan.h5").string() + " " + (dir / "short.h5").string() + " " +
+                      (dir / "missing.h5").string(),
+                  &out);
   EXPECT_EQ(rc, 1) << out;
-  EXPECT_NE(out.find((dir / "junk.h5").string() + ": not an HDF5 file"), std::string::npos)
-      << out;
+  EXPECT_NE(out.find((dir / "junk.h5").string() + ": not an HDF5 file"), std::string::npos) << out;
   EXPECT_NE(out.find((dir / "nochan.h5").string() + ": no channel found"), std::string::npos)
       << out;
   EXPECT_NE(out.find((dir / "short.h5").string()), std::string::npos) << out;
@@ -153,7 +152,8 @@ TEST(Analyze, SomeInputsFailOthersAreAnalysed) {
     EXPECT_FALSE(fs::exists(dir / "out" / (std::string(name) + ".allan.h5"))) << name;
   const auto rows = io::read_lot_summary(dir / "out" / "lot_summary.h5");
   int failed = 0, ok = 0;
-  for (const auto& r : rows) (r.status == "ok" ? ok : failed) += 1;
+  for (const auto& r : rows)
+    (r.status == "ok" ? ok : failed) += 1;
   EXPECT_EQ(ok, 3);
   EXPECT_EQ(failed, 4);
   // No temporary file is left behind.
@@ -171,20 +171,20 @@ TEST(Analyze, UsageErrorsExitTwo) {
   EXPECT_NE(out.find("unknown statistic 'bogus'"), std::string::npos) << out;
   EXPECT_EQ(run_command(binary() + " analyze --taus log:0" + o + in, &out), 2);
   EXPECT_NE(out.find("--taus"), std::string::npos) << out;
-  EXPECT_EQ(run_command(binary() + " analyze" + in, &out), 2);       // no -o
-  EXPECT_EQ(run_command(binary() + " analyze" + o, &out), 2);        // no input
-  EXPECT_EQ(run_command(binary() + " frobnicate", &out), 2);         // no such command
+  EXPECT_EQ(run_command(binary() + " analyze" + in, &out), 2);  // no -o
+  EXPECT_EQ(run_command(binary() + " analyze" + o, &out), 2);   // no input
+  EXPECT_EQ(run_command(binary() + " frobnicate", &out), 2);    // no such command
   EXPECT_EQ(run_command(binary() + " analyze --threads -3" + o + in, &out), 2);
   { std::ofstream(dir / "afile") << "x"; }
-  EXPECT_EQ(run_command(binary() + " analyze --stats oadev -o " + (dir / "afile").string() + in,
-                        &out),
-            2);
+  EXPECT_EQ(
+      run_command(binary() + " analyze --stats oadev -o " + (dir / "afile").string() + in, &out),
+      2);
   EXPECT_NE(out.find("not a directory"), std::string::npos) << out;
   // Nothing analysable at all: 2.
-  EXPECT_EQ(run_command(binary() + " analyze --stats oadev" + o + " " +
-                            (dir / "missing.h5").string(),
-                        &out),
-            2);
+  EXPECT_EQ(
+      run_command(binary() + " analyze --stats oadev" + o + " " + (dir / "missing.h5").string(),
+                  &out),
+      2);
   EXPECT_EQ(run_command(binary() + " --version", &out), 0);
   EXPECT_EQ(run_command(binary() + " analyze --help", &out), 0);
   EXPECT_NE(out.find("--taus"), std::string::npos);
@@ -202,10 +202,10 @@ TEST(Analyze, DirectoriesManifestsAndDeviceIds) {
     m << "# a manifest\n\nc.h5\n  c2.h5  \n";
   }
   std::string out;
-  const int rc = run_command(binary() + " analyze -q --stats oadev -o " + (dir / "out").string() +
-                                 " " + (dir / "lot").string() + " " +
-                                 (dir / "manifest.txt").string(),
-                             &out);
+  const int rc =
+      run_command(binary() + " analyze -q --stats oadev -o " + (dir / "out").string() + " " +
+                      (dir / "lot").string() + " " + (dir / "manifest.txt").string(),
+                  &out);
   EXPECT_EQ(rc, 1) << out;  // c2.h5 collides with c.h5
   EXPECT_NE(out.find("device_id 'c'"), std::string::npos) << out;
   EXPECT_TRUE(fs::exists(dir / "out" / "a.allan.h5"));

@@ -1,0 +1,48 @@
+// Equivalent degrees of freedom (edf) of the Allan-family variance estimators: the number nu for
+// which nu * estimate / variance is approximately chi-square distributed (NIST SP1065 sec. 5.3.3).
+#pragma once
+
+#include <cstdint>
+
+namespace allanlot::kernels {
+
+/// How a finite-difference variance is built from the phase, in the terms of Greenhall & Riley,
+/// "Uncertainty of stability variances based on finite differences", Proc. 35th PTTI (2003),
+/// sec. 2: the phase is filtered (F = m for unmodified variances, F = 1 for the modified ones that
+/// average m phase points), differenced d times at lag m, and the squared differences are summed
+/// with stride m/S (S = 1 non-overlapping, S = m fully overlapping).
+struct FiniteDifferenceKind {
+  int d = 2;                 // order of the phase difference: 2 Allan family, 3 Hadamard family
+  bool overlapping = false;  // stride tau0 (S = m) instead of tau (S = 1)
+  bool modified = false;     // phase averaged over m points first (F = 1 instead of F = m)
+};
+
+/// Number of terms M = 1 + floor(S (N - L) / m), L = m/F + m d, of the estimator with the given
+/// kind at averaging factor m over N phase points (Greenhall & Riley 2003, sec. 3.4); 0 when
+/// N < L.
+std::int64_t greenhall_terms(FiniteDifferenceKind kind, std::int64_t m, std::int64_t n_phase);
+
+/// Smallest number of phase points for which the estimator has `terms` terms: the inverse of
+/// greenhall_terms, used to give gapped data the edf of a contiguous record with as many terms.
+std::int64_t greenhall_phase_points(FiniteDifferenceKind kind, std::int64_t m, std::int64_t terms);
+
+/// Greenhall & Riley's combined edf algorithm (Proc. 35th PTTI 2003, sec. 3.4-3.6) for
+/// power-law frequency noise S_y ~ f^alpha, alpha in -4..2, with alpha + 2 d > 1 (the variance
+/// must converge). It models the phase as the first difference of a continuous-time power-law
+/// process, evaluates the autocovariance of the differenced phase (eq. (7)-(9)) and sums it
+/// (eq. (10), "BasicSum") when at most J_max = 100 covariance terms are needed; beyond that it
+/// uses the paper's large-M asymptotes (Tables 1-3) or the rescaled sum of sec. 3.6. This is the
+/// algorithm Stable32 uses for AVAR, OAVAR, MVAR, TVAR, HVAR and OHVAR. Preconditions
+/// (std::invalid_argument): m >= 1, d in 1..3, alpha in -4..2 with alpha + 2 d > 1, and at least
+/// one term (greenhall_terms > 0).
+double edf_greenhall(int alpha, FiniteDifferenceKind kind, std::int64_t m, std::int64_t n_phase);
+
+/// Howe's edf for the total variance TOTVAR, NIST SP1065 sec. 5.3.3, eq. (47) and Table 12:
+/// edf = b (T / tau) - c with T / tau = (N - 1) / m for N phase points and (b, c) = (1.50, 0),
+/// (1.17, 0.22), (0.93, 0.36) for white, flicker and random-walk FM (alpha = 0, -1, -2).
+/// Stable32 1.60 uses these (its TOTDEV bounds on PHASE.DAT match them to 4e-4). Howe's fits
+/// cover only those three noises; for alpha = 1, 2 (PM noise) the white FM value is returned.
+/// Preconditions: m >= 1, N >= 2, alpha in -2..2.
+double edf_totvar(int alpha, std::int64_t m, std::int64_t n_phase);
+
+}  // namespace allanlot::kernels

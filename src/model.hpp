@@ -1,0 +1,93 @@
+// The model file (CONTRACT "Model file"): parsing with strict validation, writing, the embedded
+// demo unit, and lot draws. `simulate` turns a model into recordings, `diagnose` compares a
+// recording with it.
+//
+// Two forms are accepted:
+//   single channel: {"units", "sample_rate_hz", "terms", "effects", "offset", "lot_spread"}
+//   unit:           {"sample_rate_hz", "channels": {NAME: {"units", "terms", "effects",
+//                    "offset"}, ...}, "lot_spread"}
+// `units` and `sample_rate_hz` are required; `terms` (any of R, K, B, N, Q; missing = 0),
+// `effects` (array of {"type": "sinusoid", "amplitude", "frequency_hz", "phase_rad"?} and
+// {"type": "markov", "sigma", "tau_c_s"}), `offset` (constant added to the channel, e.g.
+// 9.80665 on a vertical accelerometer) and `lot_spread` ({term: relative sd}) are optional.
+// Any other key, a wrong JSON type, a duplicate key, or an impossible value is an error whose
+// message names the source and the key path, e.g.
+//   "model.json: channels.gyro_x.terms.X: unknown key".
+#pragma once
+
+#include "kernels/simulate.hpp"
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace allanlot::model {
+
+/// Every problem with a model file: "<source>: <key path>: <reason>".
+class Error : public std::runtime_error {
+public:
+  using std::runtime_error::runtime_error;
+};
+
+/// One channel of a unit.
+struct Channel {
+  std::string name;                           // [A-Za-z0-9_]+, the dataset name
+  std::string units = "deg/s";                // CONTRACT units string (kernels/units.hpp)
+  kernels::NoiseTerms terms;                  // channel units and seconds
+  std::vector<kernels::Sinusoid> sinusoids;   // effects of type "sinusoid", in file order
+  std::vector<kernels::GaussMarkov> markovs;  // effects of type "markov", in file order
+  double offset = 0;                          // constant [units]
+  friend bool operator==(const Channel&, const Channel&) = default;
+};
+
+/// A unit: channels sharing one sample rate, plus the spread of the terms across a lot.
+struct UnitModel {
+  double sample_rate_hz = 1000;    // > 0
+  std::vector<Channel> channels;   // non-empty, in file order, unique names
+  kernels::NoiseTerms lot_spread;  // relative sd of each term across units (0 = none)
+  bool single_channel = false;     // parsed from (and written back to) the single-channel form
+  friend bool operator==(const UnitModel&, const UnitModel&) = default;
+};
+
+/// Parses and validates model JSON. `source` names the text in messages (the file name);
+/// `single_channel_name` names the channel of a single-channel model (simulate --channel).
+/// Throws model::Error.
+UnitModel parse_model(std::string_view json_text, const std::string& source,
+                      const std::string& single_channel_name = "gyro_x");
+
+/// Reads and parses a model file; a file that cannot be read is a model::Error naming it.
+UnitModel load_model(const std::string& path, const std::string& single_channel_name = "gyro_x");
+
+/// The model as JSON (2-space indented) in the form it was read in; parse_model(to_json(m))
+/// == m, doubles included (shortest round-trip representation). Effects are written
+/// sinusoids first, then markovs.
+std::string to_json(const UnitModel& m);
+
+/// Throws model::Error if the model breaks a rule parse_model enforces (for models built in
+/// code); `source` prefixes the message.
+void validate(const UnitModel& m, const std::string& source);
+
+/// A six-channel IMU at 1 kHz with the paper's Table (Lestev et al., JSC GIROOPTIKA unit):
+/// gyro_x/y/z in deg/s and accel_x/y/z in m/s^2 (accel_z carries 1 g = 9.80665 m/s^2), the
+/// Table's datasheet values converted with kernels/units.hpp, and a lot spread of 10% on N,
+/// 20% on B, 30% on K and R (typical unit-to-unit variation of MEMS noise coefficients).
+UnitModel default_demo_model();
+
+/// Unit `unit_index` of a lot: each term T of each channel multiplied by a log-normal factor
+/// exp(s g - s^2/2), s^2 = ln(1 + spread_T^2), g standard normal from Philox keyed by
+/// (seed, unit_index, channel, term). Log-normal keeps coefficients positive (a truncated
+/// normal would pile units at 0 or bias the mean), has mean exactly 1 (so the lot's mean
+/// coefficient is the model's) and relative sd exactly spread_T. Deterministic; the returned
+/// unit has no lot_spread. Throws std::invalid_argument for unit_index < 0.
+UnitModel draw_unit(const UnitModel& lot, std::uint64_t seed, int unit_index);
+
+/// The simulation spec of channel `channel` (< channels.size()).
+kernels::ChannelSpec to_spec(const UnitModel& m, std::size_t channel);
+
+/// The Philox stream for channel `channel` of unit `unit_index` (use with
+/// kernels::simulate_channel): distinct for every (unit, channel) with channel < 2^20.
+std::uint64_t channel_stream(int unit_index, std::size_t channel);
+
+}  // namespace allanlot::model
