@@ -264,6 +264,11 @@ void write_dataset(hid_t loc, const std::string& name, const std::vector<std::st
           object + "/" + name, "H5Dwrite");
 }
 
+void write_dataset(hid_t loc, const std::string& name, const std::vector<std::uint8_t>& v,
+                   const std::string& file, const std::string& object) {
+  write_plain(loc, name, v, H5T_NATIVE_UINT8, H5T_STD_U8LE, file, object);
+}
+
 std::vector<double> read_doubles(hid_t loc, const std::string& name, const std::string& file,
                                  const std::string& object) {
   return read_plain<double>(loc, name, H5T_NATIVE_DOUBLE, file, object);

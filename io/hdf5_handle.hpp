@@ -94,6 +94,8 @@ void write_dataset(hid_t loc, const std::string& name, const std::vector<int>& v
                    const std::string& file, const std::string& object);
 void write_dataset(hid_t loc, const std::string& name, const std::vector<std::string>& v,
                    const std::string& file, const std::string& object);
+void write_dataset(hid_t loc, const std::string& name, const std::vector<std::uint8_t>& v,
+                   const std::string& file, const std::string& object);
 
 /// Reads a whole 1-D dataset converted to the requested element type.
 std::vector<double> read_doubles(hid_t loc, const std::string& name, const std::string& file,

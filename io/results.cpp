@@ -4,7 +4,9 @@
 #include "io/error.hpp"
 #include "io/hdf5_handle.hpp"
 
+#include <cmath>
 #include <cstddef>
+#include <cstdio>
 #include <sstream>
 
 namespace allanlot::io {
@@ -30,6 +32,105 @@ void write_stat(hid_t allan, const std::string& name, const kernels::StatResult&
     h5::write_dataset(g.get(), "alpha", s.alpha, file, object);
     h5::write_attribute(g.get(), "confidence", s.confidence, file, object);
   }
+}
+
+void write_fit(hid_t channel_group, const std::string& name, const FitRecord& fit,
+               const std::string& file, const std::string& object) {
+  Handle gcpl = h5::group_create_plist(file, object);
+  Handle g = check(H5Gcreate2(channel_group, name.c_str(), H5P_DEFAULT, gcpl.get(), H5P_DEFAULT),
+                   H5Gclose, file, object, "H5Gcreate2");
+  std::vector<std::string> term, unit, unit_ds, unit_alt;
+  std::vector<double> value, sigma, upper, value_ds, sigma_ds, upper_ds, value_alt;
+  std::vector<std::uint8_t> detected;
+  for (const TermRecord& t : fit.terms) {
+    term.push_back(t.term);
+    value.push_back(t.value);
+    sigma.push_back(t.sigma);
+    upper.push_back(t.upper);
+    detected.push_back(t.detected ? 1 : 0);
+    unit.push_back(t.unit);
+    value_ds.push_back(t.value_datasheet);
+    sigma_ds.push_back(t.sigma_datasheet);
+    upper_ds.push_back(t.upper_datasheet);
+    unit_ds.push_back(t.unit_datasheet);
+    value_alt.push_back(t.value_datasheet_alt);
+    unit_alt.push_back(t.unit_datasheet_alt);
+  }
+  h5::write_dataset(g.get(), "term", term, file, object);
+  h5::write_dataset(g.get(), "value", value, file, object);
+  h5::write_dataset(g.get(), "sigma", sigma, file, object);
+  h5::write_dataset(g.get(), "upper", upper, file, object);
+  h5::write_dataset(g.get(), "detected", detected, file, object);
+  h5::write_dataset(g.get(), "unit", unit, file, object);
+  h5::write_dataset(g.get(), "value_datasheet", value_ds, file, object);
+  h5::write_dataset(g.get(), "sigma_datasheet", sigma_ds, file, object);
+  h5::write_dataset(g.get(), "upper_datasheet", upper_ds, file, object);
+  h5::write_dataset(g.get(), "unit_datasheet", unit_ds, file, object);
+  h5::write_dataset(g.get(), "value_datasheet_alt", value_alt, file, object);
+  h5::write_dataset(g.get(), "unit_datasheet_alt", unit_alt, file, object);
+  h5::write_dataset(g.get(), "tau", fit.tau, file, object);
+  h5::write_dataset(g.get(), "adev_model", fit.adev_model, file, object);
+  h5::write_attribute(g.get(), "method", fit.method, file, object);
+  h5::write_attribute(g.get(), "status", fit.status, file, object);
+  h5::write_attribute(g.get(), "rank", static_cast<std::int64_t>(fit.rank), file, object);
+  h5::write_attribute(g.get(), "chi2_dof", fit.chi2_dof, file, object);
+  if (fit.readouts.empty()) return;
+  const std::string ro = object + "/readouts";
+  Handle rcpl = h5::group_create_plist(file, ro);
+  Handle r = check(H5Gcreate2(g.get(), "readouts", H5P_DEFAULT, rcpl.get(), H5P_DEFAULT), H5Gclose,
+                   file, ro, "H5Gcreate2");
+  std::vector<std::string> rname, runit;
+  std::vector<double> rvalue, rsigma, rtau, rmodel, rvalue_ds, rsigma_ds;
+  std::vector<std::uint8_t> rvalid;
+  for (const ReadoutRecord& x : fit.readouts) {
+    rname.push_back(x.name);
+    rvalid.push_back(x.valid ? 1 : 0);
+    rvalue.push_back(x.value);
+    rsigma.push_back(x.sigma);
+    rtau.push_back(x.tau_s);
+    rmodel.push_back(x.model);
+    rvalue_ds.push_back(x.value_datasheet);
+    rsigma_ds.push_back(x.sigma_datasheet);
+    runit.push_back(x.unit_datasheet);
+  }
+  h5::write_dataset(r.get(), "name", rname, file, ro);
+  h5::write_dataset(r.get(), "valid", rvalid, file, ro);
+  h5::write_dataset(r.get(), "value", rvalue, file, ro);
+  h5::write_dataset(r.get(), "sigma", rsigma, file, ro);
+  h5::write_dataset(r.get(), "tau", rtau, file, ro);
+  h5::write_dataset(r.get(), "model", rmodel, file, ro);
+  h5::write_dataset(r.get(), "value_datasheet", rvalue_ds, file, ro);
+  h5::write_dataset(r.get(), "sigma_datasheet", rsigma_ds, file, ro);
+  h5::write_dataset(r.get(), "unit_datasheet", runit, file, ro);
+}
+
+FitRecord read_fit(hid_t g, const std::string& file, const std::string& object) {
+  FitRecord fit;
+  const auto term = h5::read_strings(g, "term", file, object);
+  const auto value = h5::read_doubles(g, "value", file, object);
+  const auto sigma = h5::read_doubles(g, "sigma", file, object);
+  const auto upper = h5::read_doubles(g, "upper", file, object);
+  const auto detected = h5::read_int64s(g, "detected", file, object);
+  const auto unit = h5::read_strings(g, "unit", file, object);
+  const auto value_ds = h5::read_doubles(g, "value_datasheet", file, object);
+  const auto sigma_ds = h5::read_doubles(g, "sigma_datasheet", file, object);
+  const auto upper_ds = h5::read_doubles(g, "upper_datasheet", file, object);
+  const auto unit_ds = h5::read_strings(g, "unit_datasheet", file, object);
+  const auto value_alt = h5::read_doubles(g, "value_datasheet_alt", file, object);
+  const auto unit_alt = h5::read_strings(g, "unit_datasheet_alt", file, object);
+  for (std::size_t i = 0; i < term.size(); ++i)
+    fit.terms.push_back({term[i], value.at(i), sigma.at(i), upper.at(i), detected.at(i) != 0,
+                         unit.at(i), value_ds.at(i), sigma_ds.at(i), upper_ds.at(i), unit_ds.at(i),
+                         value_alt.at(i), unit_alt.at(i)});
+  fit.tau = h5::read_doubles(g, "tau", file, object);
+  fit.adev_model = h5::read_doubles(g, "adev_model", file, object);
+  h5::read_attribute(g, "method", fit.method, file, object);
+  h5::read_attribute(g, "status", fit.status, file, object);
+  double rank = 0;
+  h5::read_attribute(g, "rank", rank, file, object);
+  fit.rank = static_cast<int>(rank);
+  h5::read_attribute(g, "chi2_dof", fit.chi2_dof, file, object);
+  return fit;
 }
 
 std::string read_string_attr(hid_t obj, const std::string& name, const std::string& file,
@@ -72,6 +173,7 @@ void write_results(const std::filesystem::path& path, const RecordingResult& r) 
         h5::write_attribute(g.get(), "n_gaps", ch.n_gaps, file, ch.path);
         h5::write_attribute(g.get(), "data_type", ch.data_type, file, ch.path);
         h5::write_attribute(g.get(), "status", ch.status, file, ch.path);
+        if (ch.fit) write_fit(g.get(), "fit", *ch.fit, file, ch.path + "/fit");
         if (ch.stats.empty()) continue;
         Handle gcpl = h5::group_create_plist(file, ch.path + "/allan");
         Handle allan = check(H5Gcreate2(g.get(), "allan", H5P_DEFAULT, gcpl.get(), H5P_DEFAULT),
@@ -99,13 +201,14 @@ RecordingResult read_results(const std::filesystem::path& path) {
   r.created_utc = read_string_attr(root.get(), "created_utc", file, "/");
   r.command_line = read_string_attr(root.get(), "command_line", file, "/");
 
-  // Channel groups are the groups that carry a `status` attribute.
   struct Found {
     std::vector<std::string> groups;
   } found;
   auto visit = [](hid_t obj, const char* name, const H5O_info_t* info, void* data) -> herr_t {
     if (info->type != H5O_TYPE_GROUP || !name || name[0] == '.') return 0;
-    if (H5Aexists_by_name(obj, name, "status", H5P_DEFAULT) > 0)
+    // Channel groups carry `status` and `data_type` (fit/ carries a status of its own).
+    if (H5Aexists_by_name(obj, name, "status", H5P_DEFAULT) > 0 &&
+        H5Aexists_by_name(obj, name, "data_type", H5P_DEFAULT) > 0)
       static_cast<Found*>(data)->groups.push_back(std::string("/") + name);
     return 0;
   };
@@ -144,15 +247,37 @@ RecordingResult read_results(const std::filesystem::path& path) {
         ch.stats.emplace_back(name, std::move(st));
       }
     }
+    if (H5Lexists(g.get(), "fit", H5P_DEFAULT) > 0) {
+      Handle fg =
+          check(H5Gopen2(g.get(), "fit", H5P_DEFAULT), H5Gclose, file, gp + "/fit", "H5Gopen2");
+      ch.fit = read_fit(fg.get(), file, gp + "/fit");
+    }
     r.channels.push_back(std::move(ch));
   }
   return r;
 }
 
+namespace {
+constexpr const char* kTermNames[5] = {"R", "K", "B", "N", "Q"};
+}  // namespace
+
 std::vector<SummaryRow> summary_rows(const RecordingResult& r) {
   std::vector<SummaryRow> rows;
-  for (const ChannelResult& ch : r.channels)
-    rows.push_back({r.device_id, ch.path, ch.units, ch.n_samples, ch.status, r.source_file});
+  for (const ChannelResult& ch : r.channels) {
+    SummaryRow row{r.device_id, ch.path, ch.units, ch.n_samples, ch.status, r.source_file};
+    if (ch.fit) {
+      for (const TermRecord& t : ch.fit->terms)
+        for (std::size_t i = 0; i < row.value.size(); ++i) {
+          if (t.term != kTermNames[i]) continue;
+          row.value[i] = t.value_datasheet;
+          row.sigma[i] = t.sigma_datasheet;
+          row.unit[i] = t.unit_datasheet;
+          row.detected[i] = t.detected ? 1 : 0;
+        }
+      row.chi2_dof = ch.fit->chi2_dof;
+    }
+    rows.push_back(std::move(row));
+  }
   return rows;
 }
 
@@ -168,7 +293,17 @@ std::string csv_field(const std::string& s) {
   return q + "\"";
 }
 
-// In-memory layout of one /summary record: variable-length UTF-8 strings and an int64.
+// Numbers in the CSV with 7 significant digits (a datasheet needs 2 or 3, the uncertainty
+// another); empty where there is no value.
+std::string csv_number(double v) {
+  if (std::isnan(v)) return "";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.7g", v);
+  return buf;
+}
+
+// In-memory layout of one /summary record: variable-length UTF-8 strings, numbers, and per
+// term of eq. (3) its datasheet value, sigma, unit and detection flag.
 struct SummaryRecord {
   const char* device_id;
   const char* channel;
@@ -176,6 +311,11 @@ struct SummaryRecord {
   std::int64_t n_samples;
   const char* status;
   const char* source_file;
+  double value[5];
+  double sigma[5];
+  const char* unit[5];
+  std::uint8_t detected[5];
+  double chi2_dof;
 };
 
 Handle summary_type(const std::string& file) {
@@ -190,6 +330,18 @@ Handle summary_type(const std::string& file) {
   H5Tinsert(t.get(), "n_samples", offsetof(SummaryRecord, n_samples), H5T_NATIVE_INT64);
   H5Tinsert(t.get(), "status", offsetof(SummaryRecord, status), str.get());
   H5Tinsert(t.get(), "source_file", offsetof(SummaryRecord, source_file), str.get());
+  for (std::size_t i = 0; i < 5; ++i) {
+    const std::string n = kTermNames[i];
+    H5Tinsert(t.get(), n.c_str(), offsetof(SummaryRecord, value) + i * sizeof(double),
+              H5T_NATIVE_DOUBLE);
+    H5Tinsert(t.get(), (n + "_sigma").c_str(), offsetof(SummaryRecord, sigma) + i * sizeof(double),
+              H5T_NATIVE_DOUBLE);
+    H5Tinsert(t.get(), (n + "_unit").c_str(),
+              offsetof(SummaryRecord, unit) + i * sizeof(const char*), str.get());
+    H5Tinsert(t.get(), (n + "_detected").c_str(), offsetof(SummaryRecord, detected) + i,
+              H5T_NATIVE_UINT8);
+  }
+  H5Tinsert(t.get(), "chi2_dof", offsetof(SummaryRecord, chi2_dof), H5T_NATIVE_DOUBLE);
   return t;
 }
 
@@ -198,10 +350,21 @@ Handle summary_type(const std::string& file) {
 void write_lot_summary(const std::filesystem::path& outdir, const std::vector<SummaryRow>& rows) {
   h5::quiet_library();
   std::ostringstream csv;
-  csv << "device_id,channel,units,n_samples,status,source_file\n";
-  for (const SummaryRow& r : rows)
+  csv << "device_id,channel,units,n_samples,status,source_file";
+  for (const char* t : kTermNames)
+    csv << ',' << t << ',' << t << "_sigma," << t << "_unit," << t << "_detected";
+  csv << ",chi2_dof\n";
+  for (const SummaryRow& r : rows) {
     csv << csv_field(r.device_id) << ',' << csv_field(r.channel) << ',' << csv_field(r.units) << ','
-        << r.n_samples << ',' << csv_field(r.status) << ',' << csv_field(r.source_file) << '\n';
+        << r.n_samples << ',' << csv_field(r.status) << ',' << csv_field(r.source_file);
+    for (std::size_t i = 0; i < 5; ++i)
+      csv << ',' << csv_number(r.value[i]) << ',' << csv_number(r.sigma[i]) << ','
+          << csv_field(r.unit[i]) << ','
+          << (std::isnan(r.value[i]) ? ""
+              : r.detected[i]        ? "1"
+                                     : "0");
+    csv << ',' << csv_number(r.chi2_dof) << '\n';
+  }
   write_text_atomic(outdir / "lot_summary.csv", csv.str());
 
   const std::filesystem::path h5path = outdir / "lot_summary.h5";
@@ -212,9 +375,23 @@ void write_lot_summary(const std::filesystem::path& outdir, const std::vector<Su
                      H5Fclose, file, "", "H5Fcreate");
     std::vector<SummaryRecord> recs;
     recs.reserve(rows.size());
-    for (const SummaryRow& r : rows)
-      recs.push_back({r.device_id.c_str(), r.channel.c_str(), r.units.c_str(), r.n_samples,
-                      r.status.c_str(), r.source_file.c_str()});
+    for (const SummaryRow& r : rows) {
+      SummaryRecord rec{};
+      rec.device_id = r.device_id.c_str();
+      rec.channel = r.channel.c_str();
+      rec.units = r.units.c_str();
+      rec.n_samples = r.n_samples;
+      rec.status = r.status.c_str();
+      rec.source_file = r.source_file.c_str();
+      for (std::size_t i = 0; i < 5; ++i) {
+        rec.value[i] = r.value[i];
+        rec.sigma[i] = r.sigma[i];
+        rec.unit[i] = r.unit[i].c_str();
+        rec.detected[i] = r.detected[i];
+      }
+      rec.chi2_dof = r.chi2_dof;
+      recs.push_back(rec);
+    }
     Handle type = summary_type(file);
     const hsize_t n = recs.size();
     Handle space =
@@ -247,11 +424,20 @@ std::vector<SummaryRow> read_lot_summary(const std::filesystem::path& h5_path) {
   if (n > 0)
     check(H5Dread(ds.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, recs.data()), file,
           "/summary", "H5Dread");
+  const auto str = [](const char* p) { return std::string(p ? p : ""); };
   std::vector<SummaryRow> rows;
-  for (const SummaryRecord& r : recs)
-    rows.push_back({r.device_id ? r.device_id : "", r.channel ? r.channel : "",
-                    r.units ? r.units : "", r.n_samples, r.status ? r.status : "",
-                    r.source_file ? r.source_file : ""});
+  for (const SummaryRecord& r : recs) {
+    SummaryRow row{str(r.device_id), str(r.channel), str(r.units),
+                   r.n_samples,      str(r.status),  str(r.source_file)};
+    for (std::size_t i = 0; i < 5; ++i) {
+      row.value[i] = r.value[i];
+      row.sigma[i] = r.sigma[i];
+      row.unit[i] = str(r.unit[i]);
+      row.detected[i] = r.detected[i];
+    }
+    row.chi2_dof = r.chi2_dof;
+    rows.push_back(std::move(row));
+  }
   if (n > 0) H5Dvlen_reclaim(type.get(), space.get(), H5P_DEFAULT, recs.data());
   return rows;
 }

@@ -3,13 +3,49 @@
 
 #include "kernels/stats.hpp"
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
+#include <limits>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 namespace allanlot::io {
+
+/// One term of the equation (3) fit, in channel units and in datasheet units.
+struct TermRecord {
+  std::string term;             // "R", "K", "B", "N", "Q"
+  double value = 0, sigma = 0;  // channel units and seconds (CONTRACT)
+  double upper = 0;             // one-sided 95 % upper bound (meaningful when not detected)
+  bool detected = false;        // significantly non-zero
+  std::string unit;             // e.g. "deg/s*s^0.5"
+  double value_datasheet = 0, sigma_datasheet = 0, upper_datasheet = 0;
+  std::string unit_datasheet;      // e.g. "deg/h/sqrt(Hz)"
+  double value_datasheet_alt = 0;  // the secondary datasheet form, where there is one
+  std::string unit_datasheet_alt;  // e.g. "deg/sqrt(h)"; "" when none
+};
+
+/// A conventional read-out of the curve (IEEE Std 952 annex C) beside the fit.
+struct ReadoutRecord {
+  std::string name;  // "N_1s", "bias_instability", "K_3s"
+  bool valid = false;
+  double value = 0, sigma = 0, tau_s = 0, model = 0;  // channel units; model: same on the fit
+  double value_datasheet = 0, sigma_datasheet = 0;
+  std::string unit_datasheet;
+};
+
+/// The fit/ (or psd_fit/) group.
+struct FitRecord {
+  std::string method;
+  std::string status;  // kernels::fit_status_name: "ok", or why there is no fit
+  int rank = 0;
+  double chi2_dof = 0;
+  std::vector<TermRecord> terms;
+  std::vector<double> tau, adev_model;  // the model on the oadev taus
+  std::vector<ReadoutRecord> readouts;
+};
 
 /// Everything written for one channel.
 struct ChannelResult {
@@ -22,6 +58,7 @@ struct ChannelResult {
   std::string status = "ok";       // "ok" or "failed: <reason>"
   /// (statistic name, result) in the order computed; written to allan/<name>/.
   std::vector<std::pair<std::string, kernels::StatResult>> stats;
+  std::optional<FitRecord> fit;  // fit/: the equation (3) fit of the oadev curve
 };
 
 /// One results file: one input recording.
@@ -51,6 +88,21 @@ struct SummaryRow {
   std::int64_t n_samples = 0;
   std::string status = "ok";
   std::string source_file;
+  /// The five fitted terms R, K, B, N, Q in datasheet units (NaN when there is no fit).
+  std::array<double, 5> value{nan(), nan(), nan(), nan(), nan()};
+  std::array<double, 5> sigma{nan(), nan(), nan(), nan(), nan()};
+  std::array<std::string, 5> unit;
+  std::array<std::uint8_t, 5> detected{};
+  double chi2_dof = nan();
+
+  SummaryRow() = default;
+  SummaryRow(std::string device, std::string chan, std::string u, std::int64_t n, std::string st,
+             std::string source)
+      : device_id(std::move(device)), channel(std::move(chan)), units(std::move(u)), n_samples(n),
+        status(std::move(st)), source_file(std::move(source)) {}
+
+private:
+  static constexpr double nan() { return std::numeric_limits<double>::quiet_NaN(); }
 };
 
 /// Writes OUTDIR/lot_summary.csv and OUTDIR/lot_summary.h5 (compound dataset /summary), each

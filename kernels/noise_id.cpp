@@ -208,7 +208,8 @@ std::vector<int> identify_alpha(Stat s, const PhaseData& p, const StatResult& r,
   const std::int64_t count = static_cast<std::int64_t>(rows);
   // One row per iteration, each written by one thread: the result is independent of the
   // thread count.
-#pragma omp parallel for num_threads(resolve_threads(nthreads)) schedule(dynamic, 1)
+  [[maybe_unused]] const int nt = resolve_threads(nthreads);
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 1)
   for (std::int64_t i = 0; i < count; ++i)
     errors.run([&] {
       ids[static_cast<std::size_t>(i)] = identify_row(s, p, r, static_cast<std::size_t>(i));

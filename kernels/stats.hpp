@@ -47,12 +47,15 @@ std::optional<Stat> parse_stat(std::string_view name);
 /// Every statistic this build computes, in the order results are written.
 std::span<const Stat> all_stats();
 
-/// Largest averaging factor Stable32 evaluates for `n_points` phase points:
-/// (N-1)/4 for the Allan and Hadamard families (so that every estimate has a reasonable
-/// number of terms), as in Stable32 1.60's tables in shared/reference.
+/// Largest averaging factor Stable32 1.60 evaluates for `n_points` phase points N (its
+/// tables in shared/reference): (N-2)/5 for ADEV and HDEV, (N-1)/4 for OADEV, MDEV, TDEV and
+/// OHDEV, (N-1)/2 for TOTDEV (Riley's stop ratios 5, 4, 2), so that every estimate keeps a
+/// reasonable number of terms. 0 when N < 2.
 std::int64_t max_m(Stat s, std::int64_t n_points);
 
-/// Computes statistic `s` at every m of `m_list` that is valid for it (1 <= m <= max_m).
+/// Computes statistic `s` at every m of `m_list` with m <= max_m(s, N); larger m give no row.
+/// Throws std::invalid_argument for any m < 1, for gapped data with TOTDEV, and for the
+/// preconditions of the statistic's own function (allan.hpp, hadamard.hpp, total.hpp).
 /// Parallel over m with `nthreads` (0 = OpenMP default); results are bit-identical for any
 /// thread count because each tau's sum is formed by one thread in a fixed order.
 StatResult compute(Stat s, const PhaseData& p, std::span<const std::int64_t> m_list,

@@ -28,6 +28,14 @@ TauGridSpec parse_tau_grid(std::string_view text) {
     spec.kind = TauGridKind::Decade;
   } else if (text == "all") {
     spec.kind = TauGridKind::All;
+  } else if (text == "stable32") {
+    spec.kind = TauGridKind::Stable32;
+  } else if (text.starts_with("stable32:")) {
+    spec.kind = TauGridKind::Stable32;
+    spec.stable32_k = parse_int(text.substr(9), text);
+    if (spec.stable32_k < 1 || spec.stable32_k > 1'000'000'000)
+      throw std::invalid_argument("tau grid '" + std::string(text) +
+                                  "': step constant must be in 1..1000000000");
   } else if (text.starts_with("log:")) {
     spec.kind = TauGridKind::Log;
     const std::int64_t k = parse_int(text.substr(4), text);
@@ -50,13 +58,31 @@ TauGridSpec parse_tau_grid(std::string_view text) {
     if (spec.m.empty())
       throw std::invalid_argument("tau grid '" + std::string(text) + "': empty list");
   } else {
-    throw std::invalid_argument("unknown tau grid '" + std::string(text) +
-                                "' (expected octave, decade, all, log:K or m:LIST)");
+    throw std::invalid_argument(
+        "unknown tau grid '" + std::string(text) +
+        "' (expected octave, decade, all, stable32, stable32:K, log:K or m:LIST)");
   }
   return spec;
 }
 
+std::int64_t stable32_step_constant(std::int64_t n_points) {
+  const std::int64_t freq_points = n_points - 1;
+  if (freq_points < 2) return 1'000'000'000;  // every m
+  const auto k =
+      static_cast<std::int64_t>(std::floor(215.0 / std::log10(static_cast<double>(freq_points))));
+  return std::max<std::int64_t>(1, k);
+}
+
 std::vector<std::int64_t> make_m_list(const TauGridSpec& spec, std::int64_t m_max) {
+  if (spec.kind == TauGridKind::Stable32 && spec.stable32_k == 0)
+    throw std::invalid_argument(
+        "tau grid 'stable32': the step constant depends on the number of points; call "
+        "make_m_list(spec, m_max, n_points) or give it as 'stable32:K'");
+  return make_m_list(spec, m_max, 0);
+}
+
+std::vector<std::int64_t> make_m_list(const TauGridSpec& spec, std::int64_t m_max,
+                                      std::int64_t n_points) {
   std::vector<std::int64_t> out;
   if (m_max < 1) return out;
   switch (spec.kind) {
@@ -76,6 +102,12 @@ std::vector<std::int64_t> make_m_list(const TauGridSpec& spec, std::int64_t m_ma
     for (std::int64_t m = 1; m <= m_max; ++m)
       out.push_back(m);
     break;
+  case TauGridKind::Stable32: {
+    const std::int64_t k = spec.stable32_k > 0 ? spec.stable32_k : stable32_step_constant(n_points);
+    for (std::int64_t m = 1; m <= m_max; m += m / k + 1)
+      out.push_back(m);
+    break;
+  }
   case TauGridKind::Log: {
     const double k = spec.per_decade;
     for (int j = 0;; ++j) {
@@ -104,6 +136,8 @@ std::string to_string(const TauGridSpec& spec) {
     return "decade";
   case TauGridKind::All:
     return "all";
+  case TauGridKind::Stable32:
+    return spec.stable32_k > 0 ? "stable32:" + std::to_string(spec.stable32_k) : "stable32";
   case TauGridKind::Log:
     return "log:" + std::to_string(spec.per_decade);
   case TauGridKind::Explicit: {

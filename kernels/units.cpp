@@ -38,7 +38,7 @@ TermForms gyro_forms(Term t) {
   case Term::B:
     return {{"deg/h", kHour}, {nullptr, 0}};
   case Term::N:
-    return {{"deg/sqrt(h)", kSqrtHour}, {"deg/h/sqrt(Hz)", kHour}};
+    return {{"deg/h/sqrt(Hz)", kHour}, {"deg/sqrt(h)", kSqrtHour}};
   case Term::Q:
     return {{"urad", kUradPerDeg}, {"deg", 1.0}};
   }
@@ -54,7 +54,7 @@ TermForms accel_forms(Term t) {
   case Term::B:
     return {{"mg", kMgPerMs2}, {nullptr, 0}};
   case Term::N:
-    return {{"m/s/sqrt(h)", kSqrtHour}, {"mg/sqrt(Hz)", kMgPerMs2}};
+    return {{"mg/sqrt(Hz)", kMgPerMs2}, {"m/s/sqrt(h)", kSqrtHour}};
   case Term::Q:
     return {{"m/s", 1.0}, {nullptr, 0}};
   }

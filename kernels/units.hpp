@@ -62,9 +62,9 @@ struct Quantity {
   std::string unit;
 };
 
-/// A coefficient as a datasheet prints it: the primary form and, where datasheets commonly
-/// use two (N as deg/sqrt(h) and deg/h/sqrt(Hz); Q as urad and deg; accelerometer N as
-/// m/s/sqrt(h) and mg/sqrt(Hz)), the secondary form.
+/// A coefficient as a datasheet prints it: the primary form (the paper's Table: N in
+/// deg/h/sqrt(Hz) and mg/sqrt(Hz)) and, where datasheets commonly use two (N also as the
+/// random walk deg/sqrt(h) or m/s/sqrt(h); Q as urad and deg), the secondary form.
 struct Datasheet {
   Quantity primary;
   std::optional<Quantity> secondary;

@@ -3,6 +3,7 @@
 #include "io/error.hpp"
 #include "io/recording.hpp"
 #include "io/results.hpp"
+#include "kernels/allan.hpp"
 #include "kernels/confidence.hpp"
 #include "kernels/parallel.hpp"
 #include "kernels/phase.hpp"
@@ -16,9 +17,11 @@
 #include <fnmatch.h>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <ostream>
 #include <unistd.h>
 
+#include "src/channel_fit.hpp"
 #include "src/inputs.hpp"
 
 namespace fs = std::filesystem;
@@ -58,22 +61,42 @@ struct Prepared {
   bool ok = false;
 };
 
-// Computes every requested statistic of one prepared channel. Throws std::exception on a
-// numerical precondition (the caller records it as the channel's failure).
+// Computes every requested statistic of one prepared channel, then the eq. (3) fit of its
+// overlapping Allan curve (computed for the fit when not requested: CONTRACT writes fit/
+// whatever --stats says). TDEV is derived from MDEV when both are requested (tau/sqrt(3) times
+// the same sum, SP1065 eq. (16)) instead of summing the same third differences twice. Throws
+// std::exception on a numerical precondition (the caller records it as the channel's failure).
 void compute_channel(Prepared& c, const AnalyzeOptions& opt, int kernel_threads) {
   bool any_row = false;
+  const kernels::StatResult* mdev = nullptr;
+  std::optional<kernels::StatResult> oadev_for_fit;
+  c.result.stats.reserve(opt.stats.size());  // `mdev` points into it: no reallocation
   for (const kernels::Stat s : opt.stats) {
-    const auto ms = kernels::make_m_list(opt.grid, kernels::max_m(s, c.phase.n_points()));
-    kernels::StatResult r = kernels::compute(s, c.phase, ms, kernel_threads);
+    const auto ms =
+        kernels::make_m_list(opt.grid, kernels::max_m(s, c.phase.n_points()), c.phase.n_points());
+    kernels::StatResult r = (s == kernels::Stat::Tdev && mdev && mdev->m == ms)
+                                ? kernels::tdev_from_mdev(*mdev)
+                                : kernels::compute(s, c.phase, ms, kernel_threads);
     kernels::add_confidence(s, c.phase, r, opt.confidence, kernel_threads);
     any_row = any_row || r.size() > 0;
     c.result.stats.emplace_back(std::string(kernels::stat_name(s)), std::move(r));
+    if (s == kernels::Stat::Mdev) mdev = &c.result.stats.back().second;
+    if (s == kernels::Stat::Oadev) oadev_for_fit = c.result.stats.back().second;
   }
   if (!any_row) {
     c.result.stats.clear();
     throw std::invalid_argument("too short for any tau of the requested statistics (" +
                                 std::to_string(c.result.n_samples) + " samples)");
   }
+  if (!opt.fit) return;
+  if (!oadev_for_fit) {
+    const auto ms = kernels::make_m_list(
+        opt.grid, kernels::max_m(kernels::Stat::Oadev, c.phase.n_points()), c.phase.n_points());
+    oadev_for_fit = kernels::compute(kernels::Stat::Oadev, c.phase, ms, kernel_threads);
+    kernels::add_confidence(kernels::Stat::Oadev, c.phase, *oadev_for_fit, opt.confidence,
+                            kernel_threads);
+  }
+  c.result.fit = fit_channel(*oadev_for_fit, c.phase, c.result.units);
 }
 
 std::string join_stats(const std::vector<kernels::Stat>& stats) {
@@ -267,6 +290,7 @@ int run_analyze(const AnalyzeOptions& opt, std::ostream& out, std::ostream& err)
       io::write_results(opt.outdir / (id + ".allan.h5"), rec);
       times.write += seconds_since(t0);
       ++n_ok;
+      if (!opt.quiet && (opt.table || inputs.files.size() <= 10)) out << fit_table(rec);
     } catch (const io::Error& e) {
       err << "allanlot: error: " << e.what() << "\n";
       failed_rows.push_back(

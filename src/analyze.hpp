@@ -19,6 +19,8 @@ struct AnalyzeOptions {
   std::string channels_glob;         // fnmatch pattern on channel path or name; "" = all
   int threads = 0;                   // 0 = OMP_NUM_THREADS, else all cores
   double confidence = 0.683;         // confidence level of dev_lo / dev_hi, in (0, 1)
+  bool fit = true;                   // write fit/ (the eq. (3) fit); --no-fit turns it off
+  bool table = false;                // print each unit's fit table (always for <= 10 inputs)
   bool verbose = false;              // per-stage timings on stderr
   bool quiet = false;                // only errors on stderr, nothing on stdout
   std::string command_line;          // recorded in every results file

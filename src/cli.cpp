@@ -87,6 +87,10 @@ int run(int argc, char** argv) {
   analyze
       ->add_option("--threads", aopt.threads, "Threads (default: OMP_NUM_THREADS, else all cores)")
       ->check(kThreads);
+  bool no_fit = false;
+  analyze->add_flag("--no-fit", no_fit, "Do not fit equation (3) (no fit/ group)");
+  analyze->add_flag("--table", aopt.table,
+                    "Print each unit's coefficient table (default: when at most 10 inputs)");
   analyze->add_flag("-v,--verbose", aopt.verbose, "Print per-stage timings");
   analyze->add_flag("-q,--quiet", aopt.quiet, "Print only errors");
 
@@ -125,6 +129,7 @@ int run(int argc, char** argv) {
         throw CLI::ValidationError("--taus", e.what());
       }
       aopt.outdir = outdir;
+      aopt.fit = !no_fit;
       aopt.command_line = join_args(argc, argv);
       return run_analyze(aopt, std::cout, std::cerr);
     }

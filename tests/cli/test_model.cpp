@@ -222,11 +222,11 @@ TEST(Model, DemoUnitIsThePapersTable) {
         }(),
         m.channels[c].units);
   };
-  EXPECT_NEAR(ds(0, Term::N).secondary->value, 18.0, 1e-12);
+  EXPECT_NEAR(ds(0, Term::N).primary.value, 18.0, 1e-12);
   EXPECT_NEAR(ds(0, Term::B).primary.value, 4.5, 1e-12);
   EXPECT_NEAR(ds(0, Term::K).primary.value, 0.10, 1e-14);
   EXPECT_NEAR(ds(2, Term::R).primary.value, 0.02, 1e-14);
-  EXPECT_NEAR(ds(5, Term::N).secondary->value, 0.0240, 1e-15);
+  EXPECT_NEAR(ds(5, Term::N).primary.value, 0.0240, 1e-15);
   EXPECT_NEAR(ds(3, Term::B).primary.value, 0.0175, 1e-15);
   EXPECT_NEAR(ds(4, Term::K).primary.value, 0.001, 1e-15);
   EXPECT_EQ(m.channels[0].terms.N, units::from_datasheet(Term::N, 18, "deg/h/sqrt(Hz)", "deg/s"));

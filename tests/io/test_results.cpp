@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace allanlot {
 namespace {
 
@@ -28,6 +30,18 @@ io::RecordingResult sample_result() {
   s.dev = {1e-3, 7e-4, 5e-4};
   s.n = {5399999, 5399997, 5399993};
   ch.stats.emplace_back("oadev", s);
+  io::FitRecord fit;
+  fit.method = "test";
+  fit.status = "ok";
+  fit.rank = 5;
+  fit.chi2_dof = 0.97;
+  fit.terms.push_back({"N", 0.005, 1e-5, 0.0051, true, "deg/s*s^0.5", 18.0, 0.036, 18.4,
+                       "deg/h/sqrt(Hz)", 0.3, "deg/sqrt(h)"});
+  fit.terms.push_back({"Q", 0.0, 1e-7, 2e-7, false, "deg", 0.0, 1.7, 3.5, "urad", 0.0, "deg"});
+  fit.tau = {0.001, 0.002, 0.004};
+  fit.adev_model = {1e-3, 7.1e-4, 5e-4};
+  fit.readouts.push_back({"N_1s", true, 0.005, 4e-5, 1.0, 0.00505, 18.0, 0.14, "deg/h/sqrt(Hz)"});
+  ch.fit = fit;
   r.channels.push_back(ch);
   io::ChannelResult bad;
   bad.path = "/imu/temp";
@@ -54,6 +68,32 @@ TEST(Results, RoundTrip) {
   EXPECT_EQ(ch.stats[0].second.m, r.channels[0].stats[0].second.m);
   EXPECT_EQ(ch.stats[0].second.dev, r.channels[0].stats[0].second.dev);
   EXPECT_EQ(ch.stats[0].second.n, r.channels[0].stats[0].second.n);
+  ASSERT_TRUE(ch.fit.has_value());
+  const auto& fit = *ch.fit;
+  const auto& want = *r.channels[0].fit;
+  EXPECT_EQ(fit.status, "ok");
+  EXPECT_EQ(fit.rank, 5);
+  EXPECT_EQ(fit.chi2_dof, want.chi2_dof);
+  ASSERT_EQ(fit.terms.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(fit.terms[i].term, want.terms[i].term);
+    EXPECT_EQ(fit.terms[i].value, want.terms[i].value);
+    EXPECT_EQ(fit.terms[i].sigma, want.terms[i].sigma);
+    EXPECT_EQ(fit.terms[i].detected, want.terms[i].detected);
+    EXPECT_EQ(fit.terms[i].unit_datasheet, want.terms[i].unit_datasheet);
+    EXPECT_EQ(fit.terms[i].value_datasheet_alt, want.terms[i].value_datasheet_alt);
+  }
+  EXPECT_EQ(fit.adev_model, want.adev_model);
+  // The summary row carries the fit in datasheet units.
+  const auto rows = io::summary_rows(back);
+  const auto& row = rows[0].channel == "/imu/gyro_x" ? rows[0] : rows[1];
+  EXPECT_EQ(row.value[3], 18.0);  // N, in the column of N, in its datasheet unit
+  EXPECT_EQ(row.unit[3], "deg/h/sqrt(Hz)");
+  EXPECT_EQ(row.detected[3], 1);
+  EXPECT_EQ(row.value[4], 0.0);  // Q: fitted as zero, not detected
+  EXPECT_EQ(row.detected[4], 0);
+  EXPECT_TRUE(std::isnan(row.value[0]));  // R was not in this fit: no value
+  EXPECT_EQ(row.chi2_dof, 0.97);
   // Only the final file is left: the temporary was renamed.
   int files = 0;
   for (const auto& e : std::filesystem::directory_iterator(dir)) {
@@ -83,8 +123,15 @@ TEST(Results, LotSummaryRoundTripAndCsv) {
     EXPECT_EQ(back[i].status, rows[i].status);
   }
   const std::string csv = test::file_bytes(dir / "lot_summary.csv");
-  EXPECT_EQ(csv.rfind("device_id,channel,units,n_samples,status,source_file\n", 0), 0u);
-  EXPECT_NE(csv.find("SN 1,/imu/gyro_x,deg/s,5400000,ok,/data/sn1.h5\n"), std::string::npos);
+  EXPECT_EQ(csv.rfind("device_id,channel,units,n_samples,status,source_file,R,R_sigma,R_unit,"
+                      "R_detected,K,K_sigma,K_unit,K_detected,B,B_sigma,B_unit,B_detected,N,"
+                      "N_sigma,N_unit,N_detected,Q,Q_sigma,Q_unit,Q_detected,chi2_dof\n",
+                      0),
+            0u);
+  EXPECT_NE(csv.find("SN 1,/imu/gyro_x,deg/s,5400000,ok,/data/sn1.h5,,,,,,,,,,,,,18,0.036,deg/h/"
+                     "sqrt(Hz),1,0,1.7,urad,0,0.97\n"),
+            std::string::npos)
+      << csv;
   EXPECT_NE(csv.find("\"failed: not an HDF5 file, \"\"really\"\"\""), std::string::npos);
 }
 

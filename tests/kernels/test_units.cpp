@@ -31,7 +31,8 @@ TEST(Units, Adis16488ArwPair) {
   // (0.3 deg/sqrt(h) = 0.3/60 deg/sqrt(s) = 0.005 deg/s/sqrt(Hz) = 18 deg/h/sqrt(Hz)).
   const double n = units::from_datasheet(Term::N, 0.3, "deg/sqrt(h)", "deg/s");
   EXPECT_NEAR(n, 0.005, 0.005 * kRel);
-  EXPECT_NEAR(secondary(Term::N, n, "deg/s"), 18.0, 18.0 * kRel);
+  EXPECT_NEAR(primary(Term::N, n, "deg/s"), 18.0, 18.0 * kRel);  // the paper's Table form
+  EXPECT_NEAR(secondary(Term::N, n, "deg/s"), 0.3, 0.3 * kRel);
   EXPECT_NEAR(units::from_datasheet(Term::N, 18.0, "deg/h/sqrt(Hz)", "deg/s"), 0.005, 0.005 * kRel);
 }
 
@@ -55,9 +56,11 @@ TEST(Units, PaperTableAccelerometerValues) {
   // in m/s/sqrt(h): * 60 = 0.017358.
   const double n = units::from_datasheet(Term::N, 0.0295, "mg/sqrt(Hz)", "m/s^2");
   EXPECT_NEAR(n, 0.0295e-3 * 9.80665, 1e-18);
-  EXPECT_NEAR(primary(Term::N, n, "m/s^2"), 0.0295e-3 * 9.80665 * 60, 1e-16);
-  EXPECT_NEAR(primary(Term::N, n, "m/s^2"), 0.017358, 1e-6);
-  EXPECT_EQ(units::to_datasheet(Term::N, n, "m/s^2").primary.unit, "m/s/sqrt(h)");
+  EXPECT_NEAR(secondary(Term::N, n, "m/s^2"), 0.0295e-3 * 9.80665 * 60, 1e-16);
+  EXPECT_NEAR(secondary(Term::N, n, "m/s^2"), 0.017358, 1e-6);
+  EXPECT_EQ(units::to_datasheet(Term::N, n, "m/s^2").secondary->unit, "m/s/sqrt(h)");
+  EXPECT_NEAR(primary(Term::N, n, "m/s^2"), 0.0295, 1e-15);  // the paper's Table form
+  EXPECT_EQ(units::to_datasheet(Term::N, n, "m/s^2").primary.unit, "mg/sqrt(Hz)");
   // B = 0.0175 mg = 1.7162e-4 m/s^2; K = 0.0071 mg/sqrt(h) = 0.0071e-3 g / 60 per sqrt(s);
   // R = 0.0019 mg/h = 0.0019e-3 g / 3600 per s.
   EXPECT_NEAR(units::from_datasheet(Term::B, 0.0175, "mg", "m/s^2"), 0.0175e-3 * 9.80665, 1e-18);
@@ -70,7 +73,7 @@ TEST(Units, PaperTableAccelerometerValues) {
   EXPECT_NEAR(units::from_datasheet(Term::B, 0.0175, "mg", "mg"), 0.0175, 1e-16);
   // ADIS16488's VRW 0.029 m/s/sqrt(h) is 0.029/60 m/s^2*sqrt(s) = 0.0493 mg/sqrt(Hz).
   const double vrw = units::from_datasheet(Term::N, 0.029, "m/s/sqrt(h)", "m/s^2");
-  EXPECT_NEAR(secondary(Term::N, vrw, "m/s^2"), 0.029 / 60 / 9.80665e-3, 1e-15);
+  EXPECT_NEAR(primary(Term::N, vrw, "m/s^2"), 0.029 / 60 / 9.80665e-3, 1e-15);
 }
 
 TEST(Units, QuantizationForms) {

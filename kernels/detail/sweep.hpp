@@ -1,0 +1,254 @@
+// Private to the Allan-family kernels: the sums of squared differences over a list of
+// averaging factors that every public statistic shares (argument check, the cache-tiled
+// parallel sweep, the rows of the result).
+//
+// Determinism: every sum of squares is formed in one fixed order, whatever the thread count
+// and whichever path computes it: terms k = 0 .. n-1 in blocks of kBlock, inside a block
+// four interleaved partial sums (lane l takes the terms k = l mod 4), a block's value
+// (s0 + s1) + (s2 + s3), and the block values added in index order. Threads only decide who
+// computes a block, never how it is rounded.
+#pragma once
+
+#ifndef ALLANLOT_KERNELS_FAMILY_HEADER
+#error                                                                                             \
+    "kernels/detail/sweep.hpp is private: include kernels/allan.hpp (or another family header) first"
+#endif
+
+#include "kernels/parallel.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace allanlot::kernels::detail {
+
+/// Throws std::invalid_argument, naming the statistic, for any m < 1; called before any
+/// parallel region so that no exception is ever thrown inside one.
+inline void check_m_list(std::string_view stat, std::span<const std::int64_t> m_list) {
+  for (const std::int64_t m : m_list)
+    if (m < 1)
+      throw std::invalid_argument(std::string(stat) + ": m must be >= 1, got " + std::to_string(m));
+}
+
+/// Turns each (sum, n) with n >= 1 into a row with dev = sqrt(sum / (norm(m) n)); rows keep
+/// the order of m_list, an m without terms gives no row.
+template <class Norm>
+StatResult rows_from_sums(double tau0_s, std::span<const std::int64_t> m_list,
+                          const std::vector<SumCount>& sums, Norm norm) {
+  StatResult r;
+  for (std::size_t j = 0; j < m_list.size(); ++j) {
+    if (sums[j].n < 1) continue;
+    const std::int64_t m = m_list[j];
+    r.m.push_back(m);
+    r.tau_s.push_back(static_cast<double>(m) * tau0_s);
+    r.n.push_back(sums[j].n);
+    r.dev.push_back(std::sqrt(sums[j].sum / (norm(m) * static_cast<double>(sums[j].n))));
+  }
+  return r;
+}
+
+/// Runs `core(m) -> SumCount` for every m of m_list, one m per OpenMP iteration; used for
+/// gapped data, where each term needs a gap test and the plain loop is good enough.
+template <class Core>
+std::vector<SumCount> sums_per_m(std::span<const std::int64_t> m_list, int nthreads, Core core) {
+  const auto count = static_cast<std::int64_t>(m_list.size());
+  std::vector<SumCount> sums(m_list.size());
+  ExceptionCollector errors;
+  [[maybe_unused]] const int nt = resolve_threads(nthreads);  // unused without OpenMP
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 1)
+  for (std::int64_t j = 0; j < count; ++j)
+    errors.run(
+        [&] { sums[static_cast<std::size_t>(j)] = core(m_list[static_cast<std::size_t>(j)]); });
+  errors.rethrow();
+  return sums;
+}
+
+/// Terms per block of the blocked summation of squares: the rounding error of a sum of n
+/// squares is bounded by (kBlock/4 + n/kBlock) eps (~6e-13 for n = 5.4e6) instead of n eps
+/// for one running sum.
+inline constexpr std::int64_t kBlock = 1024;
+
+// Two-lane vectors (GCC/Clang vector extension, SSE2 registers): a pair of lanes is two of the
+// four partial sums, so the vector code rounds exactly as the scalar four-sum loop would.
+using V2 = double __attribute__((vector_size(16)));
+using U2 = std::uint64_t __attribute__((vector_size(16)));
+using I2 = std::int64_t __attribute__((vector_size(16)));
+
+inline V2 load2(const double* p) {
+  V2 v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+inline U2 load2(const std::uint64_t* p) {
+  U2 v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
+/// Second difference x_{k+2m} - 2 x_{k+m} + x_k (ADEV, OADEV, TOTDEV's inner centres).
+struct SecondDifference {
+  const double* x;
+  std::int64_t m;
+  double operator()(std::int64_t k) const { return x[k + 2 * m] - 2.0 * x[k + m] + x[k]; }
+  V2 pair(std::int64_t k) const {
+    return load2(x + k + 2 * m) - 2.0 * load2(x + k + m) + load2(x + k);
+  }
+};
+
+/// Third difference (x_{k+3m} - x_k) - 3 (x_{k+2m} - x_{k+m}) (HDEV, OHDEV): two differences of
+/// nearby points first keep the rounding relative to the increments rather than to x.
+struct ThirdDifference {
+  const double* x;
+  std::int64_t m;
+  double operator()(std::int64_t k) const {
+    return (x[k + 3 * m] - x[k]) - 3.0 * (x[k + 2 * m] - x[k + m]);
+  }
+  V2 pair(std::int64_t k) const {
+    return (load2(x + k + 3 * m) - load2(x + k)) - 3.0 * (load2(x + k + 2 * m) - load2(x + k + m));
+  }
+};
+
+/// Correctly rounded int64 -> double for both lanes with SSE2 integer operations only (SSE2
+/// has no packed int64 conversion; the compiler would go through scalar registers): with
+/// u = v + 2^63 = hi 2^32 + lo, v = (hi - 2^31) 2^32 + lo, where both parts are exact doubles
+/// (read off the bit patterns 2^52 + hi and 2^52 + lo) and the one addition rounds to
+/// nearest, exactly like static_cast<double>(v).
+inline V2 to_double(U2 v) {
+  const U2 u = v ^ U2 { 0x8000000000000000u, 0x8000000000000000u };
+  const U2 exp52 = {0x4330000000000000u, 0x4330000000000000u};  // bit pattern of 2^52
+  const V2 hi = (V2)((u >> 32) | exp52) - (4503599627370496.0 + 2147483648.0);
+  const V2 lo = (V2)((u & U2{0xffffffffu, 0xffffffffu}) | exp52) - 4503599627370496.0;
+  return hi * 4294967296.0 + lo;
+}
+
+/// MDEV inner sum, the exact integer third difference of the fixed-point window sums s
+/// (WindowSums; wrap-around cancels), rounded once to double and scaled by q = 2^-scale_bits.
+struct ModifiedInnerSum {
+  const std::uint64_t* s;
+  std::int64_t m;
+  double q;
+  double operator()(std::int64_t j) const {
+    const std::uint64_t a = s[j + 2 * m] - s[j + m];
+    const std::uint64_t d = (s[j + 3 * m] - s[j]) - (a + (a << 1));
+    return static_cast<double>(static_cast<std::int64_t>(d)) * q;
+  }
+  V2 pair(std::int64_t j) const {
+    const U2 a = load2(s + j + 2 * m) - load2(s + j + m);
+    const U2 d = (load2(s + j + 3 * m) - load2(s + j)) - (a + (a << 1));
+    return to_double(d) * q;
+  }
+};
+
+/// Any term function g(k) seen through the same interface (the pair is formed lane by lane,
+/// so the rounding is that of the contiguous functors): for strided or reflected terms.
+template <class G>
+struct ScalarTerm {
+  G g;
+  double operator()(std::int64_t k) const { return g(k); }
+  V2 pair(std::int64_t k) const { return V2{g(k), g(k + 1)}; }
+};
+template <class G>
+ScalarTerm<G> scalar_term(G g) {
+  return ScalarTerm<G>{g};
+}
+
+/// Sum of f(k)^2 for k in [b, e), e - b <= kBlock, in the fixed order above.
+template <class Term>
+double block_sum(const Term& f, std::int64_t b, std::int64_t e) {
+  V2 s01 = {0.0, 0.0}, s23 = {0.0, 0.0};
+  std::int64_t k = b;
+  for (; k + 4 <= e; k += 4) {
+    const V2 d01 = f.pair(k), d23 = f.pair(k + 2);
+    s01 += d01 * d01;
+    s23 += d23 * d23;
+  }
+  double s0 = s01[0];
+  for (; k < e; ++k) {
+    const double d = f(k);
+    s0 += d * d;
+  }
+  return (s0 + s01[1]) + (s23[0] + s23[1]);
+}
+
+/// Sum of f(k)^2 for k = 0 .. n-1 in the fixed blocked order.
+template <class Term>
+double blocked_sum_of_squares(const Term& f, std::int64_t n) {
+  double total = 0.0;
+  for (std::int64_t b = 0; b < n; b += kBlock)
+    total += block_sum(f, b, std::min(n, b + kBlock));
+  return total;
+}
+
+/// Largest span k .. k + reach m (in samples) of the averaging factors that are swept tile
+/// by tile: a tile's terms then read at most kTileBlocks kBlock + kTileReach samples
+/// (1.1 MiB), which stay in a core's L2 cache (2 MiB on the target Xeons) while every small m
+/// uses them, so the small m cost one pass over the array together instead of one each.
+inline constexpr std::int64_t kTileReach = 131072;
+inline constexpr std::int64_t kTileBlocks = 16;
+
+/// Sums of squared terms for every m of m_list on gap-free data. `make(m)` returns the term
+/// functor for m and `count(m)` its number of terms; `reach` is the term's span in units of m
+/// (2 for second differences, 3 for third). The small m are swept in tiles of kTileBlocks
+/// blocks (one OpenMP work item per tile, all small m), the large m one per work item; both
+/// produce each block value in the fixed order and add them in index order, so a result
+/// depends on neither the thread count nor the path.
+template <class Make, class Count>
+std::vector<SumCount> sums_tiled(std::span<const std::int64_t> m_list, std::int64_t reach,
+                                 int nthreads, Make make, Count count) {
+  std::vector<SumCount> sums(m_list.size());
+  std::vector<std::size_t> small, large;
+  std::int64_t max_blocks = 0;
+  for (std::size_t j = 0; j < m_list.size(); ++j) {
+    sums[j].n = std::max<std::int64_t>(0, count(m_list[j]));
+    if (sums[j].n == 0) continue;
+    if (reach * m_list[j] <= kTileReach) {
+      small.push_back(j);
+      max_blocks = std::max(max_blocks, (sums[j].n + kBlock - 1) / kBlock);
+    } else {
+      large.push_back(j);
+    }
+  }
+  const auto n_small = static_cast<std::int64_t>(small.size());
+  const auto n_large = static_cast<std::int64_t>(large.size());
+  const std::int64_t n_tiles = (max_blocks + kTileBlocks - 1) / kTileBlocks;
+  // block_value[s * max_blocks + b]: block b of small m number s.
+  std::vector<double> block_value(static_cast<std::size_t>(n_small * max_blocks), 0.0);
+  ExceptionCollector errors;
+  [[maybe_unused]] const int nt = resolve_threads(nthreads);  // unused without OpenMP
+  // Large m first: they are the longest items, which helps the dynamic schedule's balance.
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 1)
+  for (std::int64_t w = 0; w < n_large + n_tiles; ++w)
+    errors.run([&] {
+      if (w < n_large) {
+        const std::size_t j = large[static_cast<std::size_t>(w)];
+        sums[j].sum = blocked_sum_of_squares(make(m_list[j]), sums[j].n);
+        return;
+      }
+      const std::int64_t b0 = (w - n_large) * kTileBlocks;
+      for (std::int64_t s = 0; s < n_small; ++s) {
+        const std::size_t j = small[static_cast<std::size_t>(s)];
+        const auto f = make(m_list[j]);
+        const std::int64_t n = sums[j].n;
+        for (std::int64_t b = b0; b < b0 + kTileBlocks && b * kBlock < n; ++b)
+          block_value[static_cast<std::size_t>(s * max_blocks + b)] =
+              block_sum(f, b * kBlock, std::min(n, (b + 1) * kBlock));
+      }
+    });
+  errors.rethrow();
+  for (std::int64_t s = 0; s < n_small; ++s) {
+    const std::size_t j = small[static_cast<std::size_t>(s)];
+    double total = 0.0;
+    for (std::int64_t b = 0; b * kBlock < sums[j].n; ++b)
+      total += block_value[static_cast<std::size_t>(s * max_blocks + b)];
+    sums[j].sum = total;
+  }
+  return sums;
+}
+
+}  // namespace allanlot::kernels::detail
