@@ -173,6 +173,7 @@ void write_results(const std::filesystem::path& path, const RecordingResult& r) 
         h5::write_attribute(g.get(), "n_gaps", ch.n_gaps, file, ch.path);
         h5::write_attribute(g.get(), "data_type", ch.data_type, file, ch.path);
         h5::write_attribute(g.get(), "status", ch.status, file, ch.path);
+        if (!ch.notes.empty()) h5::write_attribute(g.get(), "notes", ch.notes, file, ch.path);
         if (ch.fit) write_fit(g.get(), "fit", *ch.fit, file, ch.path + "/fit");
         if (ch.stats.empty()) continue;
         Handle gcpl = h5::group_create_plist(file, ch.path + "/allan");
@@ -224,6 +225,7 @@ RecordingResult read_results(const std::filesystem::path& path) {
     ch.n_gaps = static_cast<std::int64_t>(read_double_attr(g.get(), "n_gaps", file, gp));
     ch.data_type = read_string_attr(g.get(), "data_type", file, gp);
     ch.status = read_string_attr(g.get(), "status", file, gp);
+    ch.notes = read_string_attr(g.get(), "notes", file, gp);
     if (H5Lexists(g.get(), "allan", H5P_DEFAULT) > 0) {
       for (const kernels::Stat s : kernels::all_stats()) {
         const std::string name(kernels::stat_name(s));

@@ -56,6 +56,7 @@ struct ChannelResult {
   std::int64_t n_gaps = 0;
   std::string data_type = "rate";  // "rate" or "phase"
   std::string status = "ok";       // "ok" or "failed: <reason>"
+  std::string notes;               // what was not computed and why, e.g. a skipped statistic
   /// (statistic name, result) in the order computed; written to allan/<name>/.
   std::vector<std::pair<std::string, kernels::StatResult>> stats;
   std::optional<FitRecord> fit;  // fit/: the equation (3) fit of the oadev curve

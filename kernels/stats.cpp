@@ -40,6 +40,10 @@ std::optional<Stat> parse_stat(std::string_view name) {
   return std::nullopt;
 }
 
+bool supports_gaps(Stat s) {
+  return s != Stat::Totdev;
+}
+
 std::span<const Stat> all_stats() {
   return kAll;
 }

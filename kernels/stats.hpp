@@ -44,6 +44,9 @@ struct StatResult {
 std::string_view stat_name(Stat s);
 /// Inverse of stat_name; nullopt for an unknown name.
 std::optional<Stat> parse_stat(std::string_view name);
+/// False for the statistics that refuse gapped data (totdev: its reflections have no meaning
+/// across a gap; see kernels/total.hpp); the others leave out the terms that touch a gap.
+bool supports_gaps(Stat s);
 /// Every statistic this build computes, in the order results are written.
 std::span<const Stat> all_stats();
 

@@ -72,6 +72,13 @@ void compute_channel(Prepared& c, const AnalyzeOptions& opt, int kernel_threads)
   std::optional<kernels::StatResult> oadev_for_fit;
   c.result.stats.reserve(opt.stats.size());  // `mdev` points into it: no reallocation
   for (const kernels::Stat s : opt.stats) {
+    if (c.phase.has_gaps() && !kernels::supports_gaps(s)) {
+      // Skipped, not failed: the channel's other statistics stand, and the note says why.
+      c.result.notes += (c.result.notes.empty() ? "" : "; ") + std::string(kernels::stat_name(s)) +
+                        " not computed: it cannot run on data with gaps (" +
+                        std::to_string(c.phase.n_gaps) + " missing samples)";
+      continue;
+    }
     const auto ms =
         kernels::make_m_list(opt.grid, kernels::max_m(s, c.phase.n_points()), c.phase.n_points());
     kernels::StatResult r = (s == kernels::Stat::Tdev && mdev && mdev->m == ms)
@@ -193,6 +200,8 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
 
   std::size_t n_ok = 0;
   for (Prepared& c : work) {
+    if (!c.result.notes.empty())
+      err << "allanlot: note: " << file << ":" << c.result.path << ": " << c.result.notes << "\n";
     if (!c.ok) {
       err << "allanlot: error: " << file << ":" << c.result.path << ": "
           << c.result.status.substr(8) << "\n";

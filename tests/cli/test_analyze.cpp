@@ -237,3 +237,40 @@ TEST(Analyze, ChannelGlobAndSummarize) {
 
 }  // namespace
 }  // namespace allanlot
+
+namespace allanlot {
+namespace {
+
+// A channel with gaps: every statistic that can leave out the terms touching a gap does, and
+// totdev, which cannot, is skipped with a note instead of failing the channel.
+TEST(Analyze, GappedChannelSkipsTotdevWithANote) {
+  const auto dir = test::fresh_dir("analyze_gaps");
+  auto v = noise(20000, 0.0, 31);
+  for (const std::size_t i : {100u, 5000u, 5001u, 17000u})
+    v[i] = std::nan("");
+  {
+    test::H5Fixture f(dir / "g.h5");
+    f.dataset("/imu/gyro_x", v, H5T_IEEE_F64LE);
+    f.attr("/imu", "sample_rate_hz", 100.0);
+  }
+  std::string out;
+  ASSERT_EQ(run_command(binary() + " analyze --stats oadev,totdev --taus octave -o " +
+                            (dir / "out").string() + " " + (dir / "g.h5").string(),
+                        &out),
+            0)
+      << out;
+  EXPECT_NE(out.find("totdev not computed"), std::string::npos) << out;
+  const auto r = io::read_results(dir / "out" / "g.allan.h5");
+  ASSERT_EQ(r.channels.size(), 1u);
+  const auto& ch = r.channels[0];
+  EXPECT_EQ(ch.status, "ok");
+  EXPECT_EQ(ch.n_gaps, 4);
+  EXPECT_NE(ch.notes.find("totdev"), std::string::npos);
+  ASSERT_EQ(ch.stats.size(), 1u);
+  EXPECT_EQ(ch.stats[0].first, "oadev");
+  EXPECT_LT(ch.stats[0].second.n[0], 20000);  // terms touching the gaps left out
+  EXPECT_TRUE(ch.fit.has_value());
+}
+
+}  // namespace
+}  // namespace allanlot
