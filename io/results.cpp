@@ -104,6 +104,33 @@ void write_fit(hid_t channel_group, const std::string& name, const FitRecord& fi
   h5::write_dataset(r.get(), "unit_datasheet", runit, file, ro);
 }
 
+void write_psd(hid_t channel_group, const PsdRecord& psd, const std::string& file,
+               const std::string& object) {
+  Handle gcpl = h5::group_create_plist(file, object);
+  Handle g = check(H5Gcreate2(channel_group, "psd", H5P_DEFAULT, gcpl.get(), H5P_DEFAULT), H5Gclose,
+                   file, object, "H5Gcreate2");
+  h5::write_dataset(g.get(), "f", psd.f, file, object);
+  h5::write_dataset(g.get(), "psd", psd.psd, file, object);
+  h5::write_dataset(g.get(), "edf", psd.edf, file, object);
+  h5::write_dataset(g.get(), "n_avg", psd.n_avg, file, object);
+  h5::write_attribute(g.get(), "method", psd.method, file, object);
+  h5::write_attribute(g.get(), "convention", psd.convention, file, object);
+}
+
+void write_crosscheck(hid_t channel_group, const CrosscheckRecord& c, const std::string& file,
+                      const std::string& object) {
+  Handle gcpl = h5::group_create_plist(file, object);
+  Handle g = check(H5Gcreate2(channel_group, "crosscheck", H5P_DEFAULT, gcpl.get(), H5P_DEFAULT),
+                   H5Gclose, file, object, "H5Gcreate2");
+  h5::write_dataset(g.get(), "tau", c.tau, file, object);
+  h5::write_dataset(g.get(), "avar_time", c.avar_time, file, object);
+  h5::write_dataset(g.get(), "avar_psd", c.avar_psd, file, object);
+  h5::write_dataset(g.get(), "ratio", c.ratio, file, object);
+  h5::write_dataset(g.get(), "valid", c.valid, file, object);
+  h5::write_attribute(g.get(), "max_abs_log10_ratio", c.max_abs_log10_ratio, file, object);
+  h5::write_attribute(g.get(), "valid_tau_range", c.valid_tau_range, file, object);
+}
+
 FitRecord read_fit(hid_t g, const std::string& file, const std::string& object) {
   FitRecord fit;
   const auto term = h5::read_strings(g, "term", file, object);
@@ -175,6 +202,8 @@ void write_results(const std::filesystem::path& path, const RecordingResult& r) 
         h5::write_attribute(g.get(), "status", ch.status, file, ch.path);
         if (!ch.notes.empty()) h5::write_attribute(g.get(), "notes", ch.notes, file, ch.path);
         if (ch.fit) write_fit(g.get(), "fit", *ch.fit, file, ch.path + "/fit");
+        if (ch.psd) write_psd(g.get(), *ch.psd, file, ch.path + "/psd");
+        if (ch.crosscheck) write_crosscheck(g.get(), *ch.crosscheck, file, ch.path + "/crosscheck");
         if (ch.stats.empty()) continue;
         Handle gcpl = h5::group_create_plist(file, ch.path + "/allan");
         Handle allan = check(H5Gcreate2(g.get(), "allan", H5P_DEFAULT, gcpl.get(), H5P_DEFAULT),
@@ -254,6 +283,32 @@ RecordingResult read_results(const std::filesystem::path& path) {
           check(H5Gopen2(g.get(), "fit", H5P_DEFAULT), H5Gclose, file, gp + "/fit", "H5Gopen2");
       ch.fit = read_fit(fg.get(), file, gp + "/fit");
     }
+    if (H5Lexists(g.get(), "psd", H5P_DEFAULT) > 0) {
+      const std::string pp = gp + "/psd";
+      Handle pg = check(H5Gopen2(g.get(), "psd", H5P_DEFAULT), H5Gclose, file, pp, "H5Gopen2");
+      PsdRecord psd;
+      psd.f = h5::read_doubles(pg.get(), "f", file, pp);
+      psd.psd = h5::read_doubles(pg.get(), "psd", file, pp);
+      psd.edf = h5::read_doubles(pg.get(), "edf", file, pp);
+      psd.n_avg = h5::read_int64s(pg.get(), "n_avg", file, pp);
+      h5::read_attribute(pg.get(), "method", psd.method, file, pp);
+      h5::read_attribute(pg.get(), "convention", psd.convention, file, pp);
+      ch.psd = std::move(psd);
+    }
+    if (H5Lexists(g.get(), "crosscheck", H5P_DEFAULT) > 0) {
+      const std::string cp = gp + "/crosscheck";
+      Handle cg =
+          check(H5Gopen2(g.get(), "crosscheck", H5P_DEFAULT), H5Gclose, file, cp, "H5Gopen2");
+      CrosscheckRecord c;
+      c.tau = h5::read_doubles(cg.get(), "tau", file, cp);
+      c.avar_time = h5::read_doubles(cg.get(), "avar_time", file, cp);
+      c.avar_psd = h5::read_doubles(cg.get(), "avar_psd", file, cp);
+      c.ratio = h5::read_doubles(cg.get(), "ratio", file, cp);
+      const auto valid = h5::read_int64s(cg.get(), "valid", file, cp);
+      c.valid.assign(valid.begin(), valid.end());
+      h5::read_attribute(cg.get(), "max_abs_log10_ratio", c.max_abs_log10_ratio, file, cp);
+      ch.crosscheck = std::move(c);
+    }
     r.channels.push_back(std::move(ch));
   }
   return r;
@@ -278,6 +333,7 @@ std::vector<SummaryRow> summary_rows(const RecordingResult& r) {
         }
       row.chi2_dof = ch.fit->chi2_dof;
     }
+    if (ch.crosscheck) row.max_abs_log10_ratio = ch.crosscheck->max_abs_log10_ratio;
     rows.push_back(std::move(row));
   }
   return rows;
@@ -318,6 +374,7 @@ struct SummaryRecord {
   const char* unit[5];
   std::uint8_t detected[5];
   double chi2_dof;
+  double max_abs_log10_ratio;
 };
 
 Handle summary_type(const std::string& file) {
@@ -344,6 +401,8 @@ Handle summary_type(const std::string& file) {
               H5T_NATIVE_UINT8);
   }
   H5Tinsert(t.get(), "chi2_dof", offsetof(SummaryRecord, chi2_dof), H5T_NATIVE_DOUBLE);
+  H5Tinsert(t.get(), "max_abs_log10_ratio", offsetof(SummaryRecord, max_abs_log10_ratio),
+            H5T_NATIVE_DOUBLE);
   return t;
 }
 
@@ -355,7 +414,7 @@ void write_lot_summary(const std::filesystem::path& outdir, const std::vector<Su
   csv << "device_id,channel,units,n_samples,status,source_file";
   for (const char* t : kTermNames)
     csv << ',' << t << ',' << t << "_sigma," << t << "_unit," << t << "_detected";
-  csv << ",chi2_dof\n";
+  csv << ",chi2_dof,max_abs_log10_ratio\n";
   for (const SummaryRow& r : rows) {
     csv << csv_field(r.device_id) << ',' << csv_field(r.channel) << ',' << csv_field(r.units) << ','
         << r.n_samples << ',' << csv_field(r.status) << ',' << csv_field(r.source_file);
@@ -365,7 +424,7 @@ void write_lot_summary(const std::filesystem::path& outdir, const std::vector<Su
           << (std::isnan(r.value[i]) ? ""
               : r.detected[i]        ? "1"
                                      : "0");
-    csv << ',' << csv_number(r.chi2_dof) << '\n';
+    csv << ',' << csv_number(r.chi2_dof) << ',' << csv_number(r.max_abs_log10_ratio) << '\n';
   }
   write_text_atomic(outdir / "lot_summary.csv", csv.str());
 
@@ -392,6 +451,7 @@ void write_lot_summary(const std::filesystem::path& outdir, const std::vector<Su
         rec.detected[i] = r.detected[i];
       }
       rec.chi2_dof = r.chi2_dof;
+      rec.max_abs_log10_ratio = r.max_abs_log10_ratio;
       recs.push_back(rec);
     }
     Handle type = summary_type(file);
@@ -438,6 +498,7 @@ std::vector<SummaryRow> read_lot_summary(const std::filesystem::path& h5_path) {
       row.detected[i] = r.detected[i];
     }
     row.chi2_dof = r.chi2_dof;
+    row.max_abs_log10_ratio = r.max_abs_log10_ratio;
     rows.push_back(std::move(row));
   }
   if (n > 0) H5Dvlen_reclaim(type.get(), space.get(), H5P_DEFAULT, recs.data());

@@ -47,6 +47,23 @@ struct FitRecord {
   std::vector<ReadoutRecord> readouts;
 };
 
+/// The psd/ group: the Welch PSD, log-binned for compact storage and plots.
+struct PsdRecord {
+  std::string method;  // e.g. "welch hann 50% overlap, L=131072, 81 segments"
+  std::string convention = "one-sided";
+  std::vector<double> f, psd, edf;  // Hz, u^2/Hz (one-sided), chi-square dof of each value
+  std::vector<std::int64_t> n_avg;  // Welch bins averaged into each value
+};
+
+/// The crosscheck/ group: equation (2) applied to the measured PSD against the overlapping
+/// Allan variance, tau by tau.
+struct CrosscheckRecord {
+  std::vector<double> tau, avar_time, avar_psd, ratio;
+  std::vector<std::uint8_t> valid;      // 1 where eq. (2) on the PSD is trustworthy
+  double max_abs_log10_ratio = 0;       // over the valid taus (NaN when none)
+  std::vector<double> valid_tau_range;  // {min, max} of the valid taus
+};
+
 /// Everything written for one channel.
 struct ChannelResult {
   std::string path;  // the channel's own path, e.g. "/imu/gyro_x"
@@ -59,7 +76,9 @@ struct ChannelResult {
   std::string notes;               // what was not computed and why, e.g. a skipped statistic
   /// (statistic name, result) in the order computed; written to allan/<name>/.
   std::vector<std::pair<std::string, kernels::StatResult>> stats;
-  std::optional<FitRecord> fit;  // fit/: the equation (3) fit of the oadev curve
+  std::optional<FitRecord> fit;                // fit/: the equation (3) fit of the oadev curve
+  std::optional<PsdRecord> psd;                // psd/
+  std::optional<CrosscheckRecord> crosscheck;  // crosscheck/
 };
 
 /// One results file: one input recording.
@@ -95,6 +114,7 @@ struct SummaryRow {
   std::array<std::string, 5> unit;
   std::array<std::uint8_t, 5> detected{};
   double chi2_dof = nan();
+  double max_abs_log10_ratio = nan();  // the eq. (2) cross-check (crosscheck/)
 
   SummaryRow() = default;
   SummaryRow(std::string device, std::string chan, std::string u, std::int64_t n, std::string st,

@@ -7,11 +7,13 @@
 #include "kernels/confidence.hpp"
 #include "kernels/parallel.hpp"
 #include "kernels/phase.hpp"
+#include "kernels/psd.hpp"
 
 #include <allanlot/version.hpp>
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <fnmatch.h>
@@ -61,6 +63,54 @@ struct Prepared {
   bool ok = false;
 };
 
+// The Welch PSD of the channel's rate (psd/, log-binned) and equation (2) applied to it at the
+// oadev taus against the time-domain variance (crosscheck/). The rate is rebuilt from the
+// phase (mean removed, NaN where an increment is missing) so that phase and rate input are
+// treated alike. A record too short for a PSD is a note, not a failure of the channel.
+void psd_and_crosscheck(Prepared& c, const kernels::StatResult& oadev, int threads) {
+  const std::vector<double>& x = c.phase.x;
+  std::vector<double> rate(x.size() - 1);
+  const double rate_hz = 1.0 / c.phase.tau0_s;
+  for (std::size_t k = 0; k + 1 < x.size(); ++k)
+    rate[k] = c.phase.clean(static_cast<std::int64_t>(k), static_cast<std::int64_t>(k) + 1)
+                  ? (x[k + 1] - x[k]) * rate_hz
+                  : std::nan("");
+  kernels::PsdResult psd;
+  try {
+    psd = kernels::welch_psd(rate, rate_hz, threads);
+  } catch (const std::invalid_argument& e) {
+    c.result.notes += (c.result.notes.empty() ? "" : "; ") + std::string("no PSD: ") + e.what();
+    return;
+  }
+  const kernels::BinnedPsd binned = kernels::log_bin(psd);
+  io::PsdRecord pr;
+  pr.method = "welch, hann window, 50% overlap, segment length " +
+              std::to_string(psd.segment_length) + ", " + std::to_string(psd.n_segments) +
+              " segments (" + std::to_string(psd.n_skipped) + " skipped for gaps), log-binned";
+  pr.f = binned.f_hz;
+  pr.psd = binned.psd;
+  pr.edf = binned.edf;
+  pr.n_avg = binned.n_avg;
+  c.result.psd = std::move(pr);
+
+  const kernels::AvarPsdResult ap = kernels::avar_from_psd(psd, oadev.tau_s, {}, threads);
+  io::CrosscheckRecord cc;
+  cc.tau = oadev.tau_s;
+  cc.avar_psd = ap.avar;
+  cc.valid = ap.valid;
+  double worst = -1.0;
+  for (std::size_t i = 0; i < oadev.size(); ++i) {
+    const double avar = oadev.dev[i] * oadev.dev[i];
+    cc.avar_time.push_back(avar);
+    cc.ratio.push_back(ap.avar[i] / avar);
+    if (ap.valid[i] && std::isfinite(cc.ratio.back()) && cc.ratio.back() > 0.0)
+      worst = std::max(worst, std::abs(std::log10(cc.ratio.back())));
+  }
+  cc.max_abs_log10_ratio = worst >= 0.0 ? worst : std::nan("");
+  cc.valid_tau_range = {ap.tau_valid_min, ap.tau_valid_max};
+  c.result.crosscheck = std::move(cc);
+}
+
 // Computes every requested statistic of one prepared channel, then the eq. (3) fit of its
 // overlapping Allan curve (computed for the fit when not requested: CONTRACT writes fit/
 // whatever --stats says). TDEV is derived from MDEV when both are requested (tau/sqrt(3) times
@@ -95,7 +145,7 @@ void compute_channel(Prepared& c, const AnalyzeOptions& opt, int kernel_threads)
     throw std::invalid_argument("too short for any tau of the requested statistics (" +
                                 std::to_string(c.result.n_samples) + " samples)");
   }
-  if (!opt.fit) return;
+  if (!opt.fit && !opt.psd) return;
   if (!oadev_for_fit) {
     const auto ms = kernels::make_m_list(
         opt.grid, kernels::max_m(kernels::Stat::Oadev, c.phase.n_points()), c.phase.n_points());
@@ -103,7 +153,8 @@ void compute_channel(Prepared& c, const AnalyzeOptions& opt, int kernel_threads)
     kernels::add_confidence(kernels::Stat::Oadev, c.phase, *oadev_for_fit, opt.confidence,
                             kernel_threads);
   }
-  c.result.fit = fit_channel(*oadev_for_fit, c.phase, c.result.units);
+  if (opt.fit) c.result.fit = fit_channel(*oadev_for_fit, c.phase, c.result.units);
+  if (opt.psd) psd_and_crosscheck(c, *oadev_for_fit, kernel_threads);
 }
 
 std::string join_stats(const std::vector<kernels::Stat>& stats) {

@@ -89,6 +89,8 @@ int run(int argc, char** argv) {
       ->check(kThreads);
   bool no_fit = false;
   analyze->add_flag("--no-fit", no_fit, "Do not fit equation (3) (no fit/ group)");
+  bool no_psd = false;
+  analyze->add_flag("--no-psd", no_psd, "Do not compute the PSD and the eq. (2) cross-check");
   analyze->add_flag("--table", aopt.table,
                     "Print each unit's coefficient table (default: when at most 10 inputs)");
   analyze->add_flag("-v,--verbose", aopt.verbose, "Print per-stage timings");
@@ -130,6 +132,7 @@ int run(int argc, char** argv) {
       }
       aopt.outdir = outdir;
       aopt.fit = !no_fit;
+      aopt.psd = !no_psd;
       aopt.command_line = join_args(argc, argv);
       return run_analyze(aopt, std::cout, std::cerr);
     }
