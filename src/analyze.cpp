@@ -231,7 +231,6 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
   const auto n = static_cast<std::int64_t>(work.size());
   const bool across = n >= threads && threads > 1;
   const int kernel_threads = across ? 1 : threads;
-  std::vector<std::string> failures(work.size());
 #pragma omp parallel for num_threads(across ? threads : 1) schedule(dynamic, 1)
   for (std::int64_t i = 0; i < n; ++i) {
     Prepared& c = work[static_cast<std::size_t>(i)];

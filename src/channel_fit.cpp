@@ -120,6 +120,14 @@ io::FitRecord fit_channel(const kernels::StatResult& oadev, const kernels::Phase
 
 namespace {
 
+// Columns are aligned by UTF-8 code points, not bytes ("±" is two bytes, one column).
+std::size_t display_width(const std::string& s) {
+  std::size_t w = 0;
+  for (const unsigned char ch : s)
+    w += (ch & 0xC0) != 0x80;
+  return w;
+}
+
 std::string format_term(const io::TermRecord& t) {
   char buf[64];
   if (t.detected)
@@ -160,21 +168,12 @@ std::string fit_table(const io::RecordingResult& r) {
     }
     std::vector<std::size_t> width(header.size(), 0);
     for (const auto& row : rows)
-      for (std::size_t c = 0; c < row.size(); ++c) {
-        // Display width: count UTF-8 code points, not bytes ("±").
-        std::size_t w = 0;
-        for (const unsigned char ch : row[c])
-          w += (ch & 0xC0) != 0x80;
-        width[c] = std::max(width[c], w);
-      }
+      for (std::size_t c = 0; c < row.size(); ++c)
+        width[c] = std::max(width[c], display_width(row[c]));
     for (const auto& row : rows) {
       out << "  ";
-      for (std::size_t c = 0; c < row.size(); ++c) {
-        std::size_t w = 0;
-        for (const unsigned char ch : row[c])
-          w += (ch & 0xC0) != 0x80;
-        out << row[c] << std::string(width[c] - w + 2, ' ');
-      }
+      for (std::size_t c = 0; c < row.size(); ++c)
+        out << row[c] << std::string(width[c] - display_width(row[c]) + 2, ' ');
       out << "\n";
     }
   }
