@@ -9,6 +9,7 @@
 
 #include <iostream>
 #include <sstream>
+#include <vector>
 
 namespace allanlot::cli {
 namespace {
@@ -121,8 +122,13 @@ int run(int argc, char** argv) {
   summarize->add_option("outdir", sum_dir, "Output directory of analyze")->required();
   summarize->add_flag("-q,--quiet", sum_quiet, "Print only errors");
 
+  // Commands that live in their own files, one line each.
+  std::vector<Command> commands;
+
   try {
     app.parse(argc, argv);
+    for (const auto& c : commands)
+      if (*c.app) return c.run();
     if (*analyze) {
       aopt.stats = parse_stats(stats_text);
       try {

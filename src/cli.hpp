@@ -2,6 +2,12 @@
 // subcommands and turns exceptions into exit statuses.
 #pragma once
 
+#include <functional>
+
+namespace CLI {
+class App;
+}
+
 namespace allanlot::cli {
 
 /// Exit statuses (CONTRACT): every input analysed; some inputs failed; usage error or
@@ -9,5 +15,13 @@ namespace allanlot::cli {
 enum ExitStatus : int { kExitOk = 0, kExitSomeFailed = 1, kExitUsage = 2 };
 
 int run(int argc, char** argv);
+
+/// A command defined in its own file: `add_<name>_command(app)` adds its subcommand and
+/// options to `app` and returns the subcommand and the function that runs it once the
+/// command line is parsed (returning the exit status). `run` dispatches to whichever parsed.
+struct Command {
+  CLI::App* app = nullptr;
+  std::function<int()> run;
+};
 
 }  // namespace allanlot::cli
