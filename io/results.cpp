@@ -68,8 +68,21 @@ void write_fit(hid_t channel_group, const std::string& name, const FitRecord& fi
   h5::write_dataset(g.get(), "unit_datasheet", unit_ds, file, object);
   h5::write_dataset(g.get(), "value_datasheet_alt", value_alt, file, object);
   h5::write_dataset(g.get(), "unit_datasheet_alt", unit_alt, file, object);
-  h5::write_dataset(g.get(), "tau", fit.tau, file, object);
-  h5::write_dataset(g.get(), "adev_model", fit.adev_model, file, object);
+  if (!fit.tau.empty() || fit.f.empty()) {
+    h5::write_dataset(g.get(), "tau", fit.tau, file, object);
+    h5::write_dataset(g.get(), "adev_model", fit.adev_model, file, object);
+  }
+  if (!fit.f.empty()) {
+    h5::write_dataset(g.get(), "f", fit.f, file, object);
+    h5::write_dataset(g.get(), "psd_model", fit.psd_model, file, object);
+  }
+  if (fit.agree >= 0) {
+    h5::write_dataset(g.get(), "z_vs_fit", fit.z_vs_fit, file, object);
+    h5::write_attribute(g.get(), "agrees_with_fit", static_cast<std::int64_t>(fit.agree), file,
+                        object);
+    h5::write_attribute(g.get(), "max_abs_z", fit.max_abs_z, file, object);
+    h5::write_attribute(g.get(), "worst_term", fit.worst_term, file, object);
+  }
   h5::write_attribute(g.get(), "method", fit.method, file, object);
   h5::write_attribute(g.get(), "status", fit.status, file, object);
   h5::write_attribute(g.get(), "rank", static_cast<std::int64_t>(fit.rank), file, object);
@@ -129,6 +142,7 @@ void write_crosscheck(hid_t channel_group, const CrosscheckRecord& c, const std:
   h5::write_dataset(g.get(), "valid", c.valid, file, object);
   h5::write_attribute(g.get(), "max_abs_log10_ratio", c.max_abs_log10_ratio, file, object);
   h5::write_attribute(g.get(), "valid_tau_range", c.valid_tau_range, file, object);
+  h5::write_attribute(g.get(), "worst_tau", c.worst_tau, file, object);
 }
 
 FitRecord read_fit(hid_t g, const std::string& file, const std::string& object) {
@@ -149,8 +163,22 @@ FitRecord read_fit(hid_t g, const std::string& file, const std::string& object) 
     fit.terms.push_back({term[i], value.at(i), sigma.at(i), upper.at(i), detected.at(i) != 0,
                          unit.at(i), value_ds.at(i), sigma_ds.at(i), upper_ds.at(i), unit_ds.at(i),
                          value_alt.at(i), unit_alt.at(i)});
-  fit.tau = h5::read_doubles(g, "tau", file, object);
-  fit.adev_model = h5::read_doubles(g, "adev_model", file, object);
+  if (H5Lexists(g, "tau", H5P_DEFAULT) > 0) {
+    fit.tau = h5::read_doubles(g, "tau", file, object);
+    fit.adev_model = h5::read_doubles(g, "adev_model", file, object);
+  }
+  if (H5Lexists(g, "f", H5P_DEFAULT) > 0) {
+    fit.f = h5::read_doubles(g, "f", file, object);
+    fit.psd_model = h5::read_doubles(g, "psd_model", file, object);
+  }
+  if (H5Lexists(g, "z_vs_fit", H5P_DEFAULT) > 0) {
+    fit.z_vs_fit = h5::read_doubles(g, "z_vs_fit", file, object);
+    double agree = -1;
+    h5::read_attribute(g, "agrees_with_fit", agree, file, object);
+    fit.agree = static_cast<int>(agree);
+    h5::read_attribute(g, "max_abs_z", fit.max_abs_z, file, object);
+    h5::read_attribute(g, "worst_term", fit.worst_term, file, object);
+  }
   h5::read_attribute(g, "method", fit.method, file, object);
   h5::read_attribute(g, "status", fit.status, file, object);
   double rank = 0;
@@ -202,6 +230,7 @@ void write_results(const std::filesystem::path& path, const RecordingResult& r) 
         h5::write_attribute(g.get(), "status", ch.status, file, ch.path);
         if (!ch.notes.empty()) h5::write_attribute(g.get(), "notes", ch.notes, file, ch.path);
         if (ch.fit) write_fit(g.get(), "fit", *ch.fit, file, ch.path + "/fit");
+        if (ch.psd_fit) write_fit(g.get(), "psd_fit", *ch.psd_fit, file, ch.path + "/psd_fit");
         if (ch.psd) write_psd(g.get(), *ch.psd, file, ch.path + "/psd");
         if (ch.crosscheck) write_crosscheck(g.get(), *ch.crosscheck, file, ch.path + "/crosscheck");
         if (ch.stats.empty()) continue;
@@ -283,6 +312,11 @@ RecordingResult read_results(const std::filesystem::path& path) {
           check(H5Gopen2(g.get(), "fit", H5P_DEFAULT), H5Gclose, file, gp + "/fit", "H5Gopen2");
       ch.fit = read_fit(fg.get(), file, gp + "/fit");
     }
+    if (H5Lexists(g.get(), "psd_fit", H5P_DEFAULT) > 0) {
+      Handle fg = check(H5Gopen2(g.get(), "psd_fit", H5P_DEFAULT), H5Gclose, file, gp + "/psd_fit",
+                        "H5Gopen2");
+      ch.psd_fit = read_fit(fg.get(), file, gp + "/psd_fit");
+    }
     if (H5Lexists(g.get(), "psd", H5P_DEFAULT) > 0) {
       const std::string pp = gp + "/psd";
       Handle pg = check(H5Gopen2(g.get(), "psd", H5P_DEFAULT), H5Gclose, file, pp, "H5Gopen2");
@@ -307,6 +341,8 @@ RecordingResult read_results(const std::filesystem::path& path) {
       const auto valid = h5::read_int64s(cg.get(), "valid", file, cp);
       c.valid.assign(valid.begin(), valid.end());
       h5::read_attribute(cg.get(), "max_abs_log10_ratio", c.max_abs_log10_ratio, file, cp);
+      if (H5Aexists(cg.get(), "worst_tau") > 0)
+        h5::read_attribute(cg.get(), "worst_tau", c.worst_tau, file, cp);
       ch.crosscheck = std::move(c);
     }
     r.channels.push_back(std::move(ch));
@@ -333,7 +369,14 @@ std::vector<SummaryRow> summary_rows(const RecordingResult& r) {
         }
       row.chi2_dof = ch.fit->chi2_dof;
     }
-    if (ch.crosscheck) row.max_abs_log10_ratio = ch.crosscheck->max_abs_log10_ratio;
+    if (ch.crosscheck) {
+      row.max_abs_log10_ratio = ch.crosscheck->max_abs_log10_ratio;
+      row.crosscheck_worst_tau = ch.crosscheck->worst_tau;
+    }
+    if (ch.psd_fit && ch.psd_fit->agree >= 0) {
+      row.fits_agree = static_cast<std::int8_t>(ch.psd_fit->agree);
+      row.fits_max_abs_z = ch.psd_fit->max_abs_z;
+    }
     rows.push_back(std::move(row));
   }
   return rows;
@@ -375,6 +418,9 @@ struct SummaryRecord {
   std::uint8_t detected[5];
   double chi2_dof;
   double max_abs_log10_ratio;
+  double crosscheck_worst_tau;
+  std::int8_t fits_agree;
+  double fits_max_abs_z;
 };
 
 Handle summary_type(const std::string& file) {
@@ -403,6 +449,10 @@ Handle summary_type(const std::string& file) {
   H5Tinsert(t.get(), "chi2_dof", offsetof(SummaryRecord, chi2_dof), H5T_NATIVE_DOUBLE);
   H5Tinsert(t.get(), "max_abs_log10_ratio", offsetof(SummaryRecord, max_abs_log10_ratio),
             H5T_NATIVE_DOUBLE);
+  H5Tinsert(t.get(), "crosscheck_worst_tau", offsetof(SummaryRecord, crosscheck_worst_tau),
+            H5T_NATIVE_DOUBLE);
+  H5Tinsert(t.get(), "fits_agree", offsetof(SummaryRecord, fits_agree), H5T_NATIVE_INT8);
+  H5Tinsert(t.get(), "fits_max_abs_z", offsetof(SummaryRecord, fits_max_abs_z), H5T_NATIVE_DOUBLE);
   return t;
 }
 
@@ -414,7 +464,7 @@ void write_lot_summary(const std::filesystem::path& outdir, const std::vector<Su
   csv << "device_id,channel,units,n_samples,status,source_file";
   for (const char* t : kTermNames)
     csv << ',' << t << ',' << t << "_sigma," << t << "_unit," << t << "_detected";
-  csv << ",chi2_dof,max_abs_log10_ratio\n";
+  csv << ",chi2_dof,max_abs_log10_ratio,crosscheck_worst_tau,fits_agree,fits_max_abs_z\n";
   for (const SummaryRow& r : rows) {
     csv << csv_field(r.device_id) << ',' << csv_field(r.channel) << ',' << csv_field(r.units) << ','
         << r.n_samples << ',' << csv_field(r.status) << ',' << csv_field(r.source_file);
@@ -424,7 +474,10 @@ void write_lot_summary(const std::filesystem::path& outdir, const std::vector<Su
           << (std::isnan(r.value[i]) ? ""
               : r.detected[i]        ? "1"
                                      : "0");
-    csv << ',' << csv_number(r.chi2_dof) << ',' << csv_number(r.max_abs_log10_ratio) << '\n';
+    csv << ',' << csv_number(r.chi2_dof) << ',' << csv_number(r.max_abs_log10_ratio) << ','
+        << csv_number(r.crosscheck_worst_tau) << ','
+        << (r.fits_agree < 0 ? "" : std::to_string(r.fits_agree)) << ','
+        << csv_number(r.fits_max_abs_z) << '\n';
   }
   write_text_atomic(outdir / "lot_summary.csv", csv.str());
 
@@ -452,6 +505,9 @@ void write_lot_summary(const std::filesystem::path& outdir, const std::vector<Su
       }
       rec.chi2_dof = r.chi2_dof;
       rec.max_abs_log10_ratio = r.max_abs_log10_ratio;
+      rec.crosscheck_worst_tau = r.crosscheck_worst_tau;
+      rec.fits_agree = r.fits_agree;
+      rec.fits_max_abs_z = r.fits_max_abs_z;
       recs.push_back(rec);
     }
     Handle type = summary_type(file);
@@ -483,6 +539,12 @@ std::vector<SummaryRow> read_lot_summary(const std::filesystem::path& h5_path) {
   H5Sget_simple_extent_dims(space.get(), &n, nullptr);
   std::vector<SummaryRecord> recs(static_cast<std::size_t>(n));
   Handle type = summary_type(file);
+  // Files written before a column existed leave it at its initial value (H5Dread converts
+  // only the members the file has).
+  for (SummaryRecord& r : recs) {
+    r.crosscheck_worst_tau = r.fits_max_abs_z = std::numeric_limits<double>::quiet_NaN();
+    r.fits_agree = -1;
+  }
   if (n > 0)
     check(H5Dread(ds.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, recs.data()), file,
           "/summary", "H5Dread");
@@ -499,6 +561,9 @@ std::vector<SummaryRow> read_lot_summary(const std::filesystem::path& h5_path) {
     }
     row.chi2_dof = r.chi2_dof;
     row.max_abs_log10_ratio = r.max_abs_log10_ratio;
+    row.crosscheck_worst_tau = r.crosscheck_worst_tau;
+    row.fits_agree = r.fits_agree;
+    row.fits_max_abs_z = r.fits_max_abs_z;
     rows.push_back(std::move(row));
   }
   if (n > 0) H5Dvlen_reclaim(type.get(), space.get(), H5P_DEFAULT, recs.data());

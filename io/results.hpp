@@ -43,8 +43,17 @@ struct FitRecord {
   int rank = 0;
   double chi2_dof = 0;
   std::vector<TermRecord> terms;
-  std::vector<double> tau, adev_model;  // the model on the oadev taus
+  std::vector<double> tau, adev_model;  // fit/: the model on the oadev taus
   std::vector<ReadoutRecord> readouts;
+  // psd_fit/ only: the log-binned PSD frequencies fitted and the fitted model's expected Welch
+  // value there (u^2/Hz), and the term-by-term comparison with fit/ (kernels::compare_fits):
+  // z per term, its largest |z|, the term where it is reached, and agree (1 agree, 0 not,
+  // -1 not compared).
+  std::vector<double> f, psd_model;
+  std::vector<double> z_vs_fit;
+  double max_abs_z = std::numeric_limits<double>::quiet_NaN();
+  std::string worst_term;
+  int agree = -1;
 };
 
 /// The psd/ group: the Welch PSD, log-binned for compact storage and plots.
@@ -62,6 +71,7 @@ struct CrosscheckRecord {
   std::vector<std::uint8_t> valid;      // 1 where eq. (2) on the PSD is trustworthy
   double max_abs_log10_ratio = 0;       // over the valid taus (NaN when none)
   std::vector<double> valid_tau_range;  // {min, max} of the valid taus
+  double worst_tau = std::numeric_limits<double>::quiet_NaN();  // where |log10 ratio| peaks
 };
 
 /// Everything written for one channel.
@@ -77,6 +87,7 @@ struct ChannelResult {
   /// (statistic name, result) in the order computed; written to allan/<name>/.
   std::vector<std::pair<std::string, kernels::StatResult>> stats;
   std::optional<FitRecord> fit;                // fit/: the equation (3) fit of the oadev curve
+  std::optional<FitRecord> psd_fit;            // psd_fit/: the same five terms from the PSD
   std::optional<PsdRecord> psd;                // psd/
   std::optional<CrosscheckRecord> crosscheck;  // crosscheck/
 };
@@ -114,7 +125,12 @@ struct SummaryRow {
   std::array<std::string, 5> unit;
   std::array<std::uint8_t, 5> detected{};
   double chi2_dof = nan();
-  double max_abs_log10_ratio = nan();  // the eq. (2) cross-check (crosscheck/)
+  double max_abs_log10_ratio = nan();   // the eq. (2) cross-check (crosscheck/)
+  double crosscheck_worst_tau = nan();  // the tau where |log10 ratio| is largest [s]
+  // Allan fit (fit/) against PSD fit (psd_fit/): 1 the five terms agree within their
+  // uncertainties, 0 they do not, -1 not compared; and the largest |z| of the comparison.
+  std::int8_t fits_agree = -1;
+  double fits_max_abs_z = nan();
 
   SummaryRow() = default;
   SummaryRow(std::string device, std::string chan, std::string u, std::int64_t n, std::string st,

@@ -12,6 +12,7 @@
 #include <allanlot/version.hpp>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -67,7 +68,8 @@ struct Prepared {
 // oadev taus against the time-domain variance (crosscheck/). The rate is rebuilt from the
 // phase (mean removed, NaN where an increment is missing) so that phase and rate input are
 // treated alike. A record too short for a PSD is a note, not a failure of the channel.
-void psd_and_crosscheck(Prepared& c, const kernels::StatResult& oadev, int threads) {
+void psd_and_crosscheck(Prepared& c, const kernels::StatResult& oadev, int threads,
+                        const std::array<kernels::TermFit, kernels::kNumTerms>* allan_terms) {
   const std::vector<double>& x = c.phase.x;
   std::vector<double> rate(x.size() - 1);
   const double rate_hz = 1.0 / c.phase.tau0_s;
@@ -92,6 +94,7 @@ void psd_and_crosscheck(Prepared& c, const kernels::StatResult& oadev, int threa
   pr.edf = binned.edf;
   pr.n_avg = binned.n_avg;
   c.result.psd = std::move(pr);
+  c.result.psd_fit = psd_fit_channel(psd, c.result.units, allan_terms);
 
   const kernels::AvarPsdResult ap = kernels::avar_from_psd(psd, oadev.tau_s, {}, threads);
   io::CrosscheckRecord cc;
@@ -103,8 +106,11 @@ void psd_and_crosscheck(Prepared& c, const kernels::StatResult& oadev, int threa
     const double avar = oadev.dev[i] * oadev.dev[i];
     cc.avar_time.push_back(avar);
     cc.ratio.push_back(ap.avar[i] / avar);
-    if (ap.valid[i] && std::isfinite(cc.ratio.back()) && cc.ratio.back() > 0.0)
-      worst = std::max(worst, std::abs(std::log10(cc.ratio.back())));
+    if (ap.valid[i] && std::isfinite(cc.ratio.back()) && cc.ratio.back() > 0.0 &&
+        std::abs(std::log10(cc.ratio.back())) > worst) {
+      worst = std::abs(std::log10(cc.ratio.back()));
+      cc.worst_tau = oadev.tau_s[i];
+    }
   }
   cc.max_abs_log10_ratio = worst >= 0.0 ? worst : std::nan("");
   cc.valid_tau_range = {ap.tau_valid_min, ap.tau_valid_max};
@@ -153,8 +159,15 @@ void compute_channel(Prepared& c, const AnalyzeOptions& opt, int kernel_threads)
     kernels::add_confidence(kernels::Stat::Oadev, c.phase, *oadev_for_fit, opt.confidence,
                             kernel_threads);
   }
-  if (opt.fit) c.result.fit = fit_channel(*oadev_for_fit, c.phase, c.result.units);
-  if (opt.psd) psd_and_crosscheck(c, *oadev_for_fit, kernel_threads);
+  std::array<kernels::TermFit, kernels::kNumTerms> allan_terms{};
+  bool have_allan_terms = false;
+  if (opt.fit) {
+    c.result.fit = fit_channel(*oadev_for_fit, c.phase, c.result.units, &allan_terms);
+    have_allan_terms = c.result.fit->status == kernels::fit_status_name(kernels::FitStatus::Ok);
+  }
+  if (opt.psd)
+    psd_and_crosscheck(c, *oadev_for_fit, kernel_threads,
+                       have_allan_terms ? &allan_terms : nullptr);
 }
 
 std::string join_stats(const std::vector<kernels::Stat>& stats) {

@@ -1,6 +1,7 @@
 #include "src/channel_fit.hpp"
 
 #include "kernels/fit.hpp"
+#include "kernels/psd_fit.hpp"
 #include "kernels/units.hpp"
 
 #include <algorithm>
@@ -82,7 +83,8 @@ io::ReadoutRecord readout_record(const std::string& name, Term t, const kernels:
 }  // namespace
 
 io::FitRecord fit_channel(const kernels::StatResult& oadev, const kernels::PhaseData& p,
-                          const std::string& units) {
+                          const std::string& units,
+                          std::array<kernels::TermFit, kernels::kNumTerms>* terms_out) {
   // One fit object per thread: it caches the covariance model of a curve shape, which every
   // channel of the same length and grid shares (about 0.2 s to build, 0.5 ms per fit after).
   thread_local kernels::Eq3Fit fitter;
@@ -104,6 +106,7 @@ io::FitRecord fit_channel(const kernels::StatResult& oadev, const kernels::Phase
   rec.chi2_dof = f.chi2_dof;
   rec.tau = oadev.tau_s;
   if (f.status != kernels::FitStatus::Ok) return rec;
+  if (terms_out) *terms_out = f.terms;
   std::array<double, kernels::kNumTerms> theta{};
   for (const Term t : kernels::units::all_terms()) {
     const auto& tf = f[t];
@@ -115,6 +118,31 @@ io::FitRecord fit_channel(const kernels::StatResult& oadev, const kernels::Phase
   rec.readouts.push_back(readout_record("N_1s", Term::N, f.n_1s, units));
   rec.readouts.push_back(readout_record("bias_instability", Term::B, f.bias_instability, units));
   rec.readouts.push_back(readout_record("K_3s", Term::K, f.k_3s, units));
+  return rec;
+}
+
+io::FitRecord psd_fit_channel(const kernels::PsdResult& psd, const std::string& units,
+                              const std::array<kernels::TermFit, kernels::kNumTerms>* allan_terms) {
+  const kernels::PsdFitResult f = kernels::psd_fit(psd);
+  io::FitRecord rec;
+  rec.method = std::string(kernels::kPsdFitMethod);
+  rec.status = std::string(kernels::fit_status_name(f.status));
+  rec.rank = f.rank;
+  rec.chi2_dof = f.chi2_dof;
+  rec.f = f.f_hz;
+  rec.psd_model = f.psd_model;
+  if (f.status != kernels::FitStatus::Ok) return rec;
+  for (const Term t : kernels::units::all_terms())
+    rec.terms.push_back(term_record(t, f[t], units));
+  if (allan_terms) {
+    const kernels::FitAgreement g = kernels::compare_fits(*allan_terms, f.terms);
+    rec.z_vs_fit.assign(g.z.begin(), g.z.end());
+    rec.max_abs_z = g.max_abs_z;
+    rec.worst_term = g.worst_term >= 0
+                         ? std::string(kernels::units::term_name(static_cast<Term>(g.worst_term)))
+                         : "";
+    rec.agree = g.agree ? 1 : 0;
+  }
   return rec;
 }
 

@@ -3,8 +3,12 @@
 #pragma once
 
 #include "io/results.hpp"
+#include "kernels/fit.hpp"
 #include "kernels/phase.hpp"
+#include "kernels/psd.hpp"
 #include "kernels/stats.hpp"
+
+#include <array>
 
 #include <string>
 
@@ -16,8 +20,17 @@ namespace allanlot::cli {
 /// same information (neighbouring overlapping estimates are correlated above 0.9) at a
 /// fraction of the cost of the covariance model; adev_model is given on every oadev tau.
 /// Uses one reusable kernels::Eq3Fit per thread.
+/// `terms_out`, when given, receives the fitted terms (for the comparison with the PSD fit).
 io::FitRecord fit_channel(const kernels::StatResult& oadev, const kernels::PhaseData& p,
-                          const std::string& units);
+                          const std::string& units,
+                          std::array<kernels::TermFit, kernels::kNumTerms>* terms_out = nullptr);
+
+/// Fits the same five terms to the channel's Welch PSD (kernels::psd_fit) for psd_fit/, with
+/// f and psd_model on the binned frequencies; when `allan_terms` is given (the fit/ terms of
+/// the same channel), adds the term-by-term comparison (kernels::compare_fits): z_vs_fit,
+/// max_abs_z, worst_term and agree.
+io::FitRecord psd_fit_channel(const kernels::PsdResult& psd, const std::string& units,
+                              const std::array<kernels::TermFit, kernels::kNumTerms>* allan_terms);
 
 /// The fitted coefficients of every channel of a unit in datasheet units, laid out as the
 /// paper's Table: one block per sensor family, one row per term, one column per channel;

@@ -42,6 +42,17 @@ io::RecordingResult sample_result() {
   fit.adev_model = {1e-3, 7.1e-4, 5e-4};
   fit.readouts.push_back({"N_1s", true, 0.005, 4e-5, 1.0, 0.00505, 18.0, 0.14, "deg/h/sqrt(Hz)"});
   ch.fit = fit;
+  io::FitRecord pf = fit;  // psd_fit/: the same terms, f and psd_model instead of tau
+  pf.tau.clear();
+  pf.adev_model.clear();
+  pf.readouts.clear();
+  pf.f = {0.01, 0.1, 1.0};
+  pf.psd_model = {5e-5, 5e-5, 5e-5};
+  pf.z_vs_fit = {0.0, 0.0, 0.5, -1.2, 0.1};
+  pf.max_abs_z = 1.2;
+  pf.worst_term = "N";
+  pf.agree = 1;
+  ch.psd_fit = pf;
   r.channels.push_back(ch);
   io::ChannelResult bad;
   bad.path = "/imu/temp";
@@ -84,6 +95,17 @@ TEST(Results, RoundTrip) {
     EXPECT_EQ(fit.terms[i].value_datasheet_alt, want.terms[i].value_datasheet_alt);
   }
   EXPECT_EQ(fit.adev_model, want.adev_model);
+  ASSERT_TRUE(ch.psd_fit.has_value());
+  const auto& pf = *ch.psd_fit;
+  const auto& pwant = *r.channels[0].psd_fit;
+  EXPECT_TRUE(pf.tau.empty());
+  EXPECT_EQ(pf.f, pwant.f);
+  EXPECT_EQ(pf.psd_model, pwant.psd_model);
+  EXPECT_EQ(pf.z_vs_fit, pwant.z_vs_fit);
+  EXPECT_EQ(pf.max_abs_z, 1.2);
+  EXPECT_EQ(pf.worst_term, "N");
+  EXPECT_EQ(pf.agree, 1);
+  EXPECT_EQ(pf.terms.size(), 2u);
   // The summary row carries the fit in datasheet units.
   const auto rows = io::summary_rows(back);
   const auto& row = rows[0].channel == "/imu/gyro_x" ? rows[0] : rows[1];
@@ -92,6 +114,8 @@ TEST(Results, RoundTrip) {
   EXPECT_EQ(row.detected[3], 1);
   EXPECT_EQ(row.value[4], 0.0);  // Q: fitted as zero, not detected
   EXPECT_EQ(row.detected[4], 0);
+  EXPECT_EQ(row.fits_agree, 1);
+  EXPECT_EQ(row.fits_max_abs_z, 1.2);
   EXPECT_TRUE(std::isnan(row.value[0]));  // R was not in this fit: no value
   EXPECT_EQ(row.chi2_dof, 0.97);
   // Only the final file is left: the temporary was renamed.
@@ -113,6 +137,8 @@ TEST(Results, LotSummaryRoundTripAndCsv) {
   const auto dir = test::fresh_dir("summary_rt");
   std::vector<io::SummaryRow> rows = io::summary_rows(sample_result());
   rows.push_back({"broken", "", "", 0, "failed: not an HDF5 file, \"really\"", "/x/broken.h5"});
+  rows[0].fits_agree = 0;
+  rows[0].fits_max_abs_z = 4.5;
   io::write_lot_summary(dir, rows);
   const auto back = io::read_lot_summary(dir / "lot_summary.h5");
   ASSERT_EQ(back.size(), rows.size());
@@ -121,16 +147,19 @@ TEST(Results, LotSummaryRoundTripAndCsv) {
     EXPECT_EQ(back[i].channel, rows[i].channel);
     EXPECT_EQ(back[i].n_samples, rows[i].n_samples);
     EXPECT_EQ(back[i].status, rows[i].status);
+    EXPECT_EQ(back[i].fits_agree, rows[i].fits_agree);
   }
+  EXPECT_EQ(back[0].fits_max_abs_z, 4.5);
+  EXPECT_TRUE(std::isnan(back[1].fits_max_abs_z));
   const std::string csv = test::file_bytes(dir / "lot_summary.csv");
   EXPECT_EQ(csv.rfind("device_id,channel,units,n_samples,status,source_file,R,R_sigma,R_unit,"
                       "R_detected,K,K_sigma,K_unit,K_detected,B,B_sigma,B_unit,B_detected,N,"
                       "N_sigma,N_unit,N_detected,Q,Q_sigma,Q_unit,Q_detected,chi2_dof,"
-                      "max_abs_log10_ratio\n",
+                      "max_abs_log10_ratio,crosscheck_worst_tau,fits_agree,fits_max_abs_z\n",
                       0),
             0u);
   EXPECT_NE(csv.find("SN 1,/imu/gyro_x,deg/s,5400000,ok,/data/sn1.h5,,,,,,,,,,,,,18,0.036,deg/h/"
-                     "sqrt(Hz),1,0,1.7,urad,0,0.97,\n"),
+                     "sqrt(Hz),1,0,1.7,urad,0,0.97,,,0,4.5\n"),
             std::string::npos)
       << csv;
   EXPECT_NE(csv.find("\"failed: not an HDF5 file, \"\"really\"\"\""), std::string::npos);

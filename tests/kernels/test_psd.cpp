@@ -311,6 +311,52 @@ TEST(PsdEq2, CrossCheckAgainstOadev) {
   EXPECT_TRUE(seen_invalid);  // the record's longest taus are beyond the PSD's resolution
 }
 
+// A narrow-band disturbance: a line at f0 = 0.05 Hz (period 20 s, as a thermal cycle or a
+// rotating-table wobble would give) strong enough to dominate the Allan curve around
+// tau ~ 0.37 / f0. The Allan variance of a sinusoid is A^2 sin^4(pi f0 tau) / (pi f0 tau)^2
+// (kernel of eq. (2) at one frequency), zero at tau = 1 / f0; the Welch PSD cannot hold a line:
+// Hann spreads it over +-2 bins (+-0.015 Hz here, 30 % of f0), and eq. (2) on that smeared
+// line does not fall to zero at 1 / f0. So the cross-check must (a) stay within 12 % where the
+// line is resolved by the kernel (tau <= 0.25 / f0: the kernel's first lobe is many bins
+// wide), and (b) depart by far more than 12 % approaching the kernel's zero, with its worst
+// tau between 0.5 / f0 and 1 / f0. That is what the crosscheck/ datasets and the summary's
+// max_abs_log10_ratio and crosscheck_worst_tau show the user.
+TEST(PsdEq2, CrossCheckDepartsNearALowFrequencyLine) {
+  auto spec = gyro_spec();
+  const double A = 0.05, f0 = 0.05;
+  spec.sinusoids.push_back({A, f0, 0.3});
+  const auto y = simulate(spec, std::size_t{1} << 21, 9);
+  const auto r = kernels::welch_psd(y, spec.rate_hz, 0);
+  std::vector<std::int64_t> ms;
+  for (double m = 1; m <= static_cast<double>(y.size()) / 4; m *= std::pow(10.0, 1.0 / 16)) {
+    const auto mi = static_cast<std::int64_t>(std::llround(m));
+    if (ms.empty() || mi != ms.back()) ms.push_back(mi);
+  }
+  const auto od = kernels::oadev(kernels::phase_from_rate(y, spec.rate_hz), ms, 0);
+  std::vector<double> taus;
+  for (auto m : ms)
+    taus.push_back(static_cast<double>(m) / spec.rate_hz);
+  const auto a = kernels::avar_from_psd(r, taus);
+  double worst = 0, worst_tau = 0, worst_resolved = 0;
+  for (std::size_t i = 0; i < ms.size(); ++i) {
+    if (!a.valid[i]) continue;
+    const double d = std::abs(std::log10(a.avar[i] / (od.dev[i] * od.dev[i])));
+    if (taus[i] <= 0.25 / f0) worst_resolved = std::max(worst_resolved, d);
+    if (d > worst) {
+      worst = d;
+      worst_tau = taus[i];
+    }
+  }
+  std::printf("line at %.3g Hz: |log10 ratio| <= %.4f up to tau = %.3g s; worst %.4f "
+              "(ratio %.3g) at tau = %.4g s; valid up to %.4g s\n",
+              f0, worst_resolved, 0.25 / f0, worst, std::pow(10.0, worst), worst_tau,
+              a.tau_valid_max);
+  EXPECT_LE(worst_resolved, std::log10(1.12));
+  EXPECT_GT(worst, std::log10(1.3));
+  EXPECT_GE(worst_tau, 0.5 / f0);
+  EXPECT_LE(worst_tau, 1.0 / f0);
+}
+
 TEST(PsdSinusoid, LineAtItsFrequencyWithItsPower) {
   auto spec = white_spec(1000, 0.005);
   const double A = 0.02, f0 = 37.3;
