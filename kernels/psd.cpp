@@ -258,27 +258,12 @@ BinnedPsd log_bin(const PsdResult& p, int bins_per_decade, int n_linear) {
       p.segment_length < 2)
     throw std::invalid_argument("log_bin: psd is not a Welch result (sizes disagree)");
   // Correlation of periodogram bins d apart for a locally white spectrum, from the window
-  // (Percival & Walden sec. 6.6): r_d = |sum w^2 e^{-2 pi i d t / L}|^2 / (sum w^2)^2.
-  const auto L = p.segment_length;
-  std::vector<double> w2(static_cast<std::size_t>(L));
-  double s2 = 0;
-  for (std::int64_t t = 0; t < L; ++t) {
-    const double w = 0.5 - 0.5 * std::cos(2 * std::numbers::pi * static_cast<double>(t) /
-                                          static_cast<double>(L));
-    w2[static_cast<std::size_t>(t)] = w * w;
-    s2 += w * w;
-  }
-  constexpr int kMaxLag = 4;  // Hann: r_d = 0 exactly for d >= 3
-  double r[kMaxLag + 1] = {1, 0, 0, 0, 0};
-  for (int dl = 1; dl <= kMaxLag; ++dl) {
-    double re = 0, im = 0;
-    for (std::int64_t t = 0; t < L; ++t) {
-      const double ph = 2 * std::numbers::pi * static_cast<double>(dl * t) / static_cast<double>(L);
-      re += w2[static_cast<std::size_t>(t)] * std::cos(ph);
-      im -= w2[static_cast<std::size_t>(t)] * std::sin(ph);
-    }
-    r[dl] = (re * re + im * im) / (s2 * s2);
-  }
+  // (Percival & Walden sec. 6.6): r_d = |sum w^2 e^{-2 pi i d t / L}|^2 / (sum w^2)^2. For the
+  // periodic Hann, w^2 = 3/8 - cos(2 pi t/L)/2 + cos(4 pi t/L)/8 has exactly three DFT lines,
+  // so r_1 = ((1/4) / (3/8))^2 = 4/9, r_2 = ((1/16) / (3/8))^2 = 1/36 and r_d = 0 beyond, for
+  // every L >= 8 (checked against the direct sum in test_psd.cpp).
+  constexpr int kMaxLag = 2;
+  constexpr double r[kMaxLag + 1] = {1.0, 4.0 / 9.0, 1.0 / 36.0};
   auto edf_of_mean = [&](double nu, std::int64_t cnt) {
     const double c = static_cast<double>(cnt);
     double den = c;
@@ -431,16 +416,45 @@ AvarPsdResult avar_from_psd(const PsdResult& p, std::span<const double> tau_s,
   r.avar_low.resize(nt_tau);
   r.valid.resize(nt_tau);
   const double L = static_cast<double>(p.segment_length);
+  const std::int64_t Li = p.segment_length;
+  // At the Welch bins f_k = k rate_hz / L and an integer m, both sines of the discrete kernel
+  // are sin(pi j / L) at integers j: the denominator's at j = k, the numerator's at
+  // j = k m mod L (|sin| has period L and is symmetric about L/2). One table of
+  // |sin(pi j / L)|, j = 0 .. L/2, and an exact integer argument reduction replace two sin()
+  // per bin and tau: about 20x faster, and more accurate at large m than sin(pi f m tau0) of a
+  // rounded product. Non-integer m (a tau not on the sample grid) takes the direct formula.
+  std::vector<double> sin_tab(static_cast<std::size_t>(Li / 2 + 1));
+  for (std::int64_t j = 0; j <= Li / 2; ++j)
+    sin_tab[static_cast<std::size_t>(j)] =
+        std::sin(std::numbers::pi * static_cast<double>(j) / static_cast<double>(Li));
   [[maybe_unused]] const int nt = resolve_threads(nthreads);
 #pragma omp parallel for num_threads(nt) schedule(dynamic)
   for (std::int64_t i = 0; i < static_cast<std::int64_t>(nt_tau); ++i) {
     const auto iu = static_cast<std::size_t>(i);
     const double tau = tau_s[iu];
+    const double m_real = tau * p.rate_hz;
+    const double m_round = std::round(m_real);
     double band = 0;
-    for (auto k = static_cast<std::int64_t>(kb); k < nb; ++k) {
-      const auto ku = static_cast<std::size_t>(k);
-      const double wgt = k == nb - 1 ? 0.5 : 1.0;  // the Nyquist bin's cell is half inside
-      band += wgt * p.psd[ku] * allan_kernel_discrete(p.f_hz[ku], tau, p.rate_hz);
+    if (std::abs(m_real - m_round) <= 1e-9 * m_round && m_round >= 1) {
+      const auto m = static_cast<std::int64_t>(m_round);
+      const std::int64_t step = m % Li;
+      std::int64_t j = (static_cast<std::int64_t>(kb) * step) % Li;
+      const double inv_m2 = 1.0 / (m_round * m_round);
+      for (auto k = static_cast<std::int64_t>(kb); k < nb; ++k) {
+        const auto ku = static_cast<std::size_t>(k);
+        const double sn = sin_tab[static_cast<std::size_t>(j <= Li / 2 ? j : Li - j)];
+        const double sd = sin_tab[ku];
+        const double wgt = k == nb - 1 ? 0.5 : 1.0;  // the Nyquist bin's cell is half inside
+        band += wgt * p.psd[ku] * (2.0 * (sn * sn) * (sn * sn) * inv_m2 / (sd * sd));
+        j += step;
+        if (j >= Li) j -= Li;
+      }
+    } else {
+      for (auto k = static_cast<std::int64_t>(kb); k < nb; ++k) {
+        const auto ku = static_cast<std::size_t>(k);
+        const double wgt = k == nb - 1 ? 0.5 : 1.0;
+        band += wgt * p.psd[ku] * allan_kernel_discrete(p.f_hz[ku], tau, p.rate_hz);
+      }
     }
     band *= p.df_hz;
     double low = std::numeric_limits<double>::quiet_NaN();

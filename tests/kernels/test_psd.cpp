@@ -217,6 +217,21 @@ TEST(PsdLogBin, KeepsLinearBinsAndCountsAveraged) {
   // edf of a mean of 6 Hann bins: 10 * 36 / (6 + 2 * 5 * 4/9 + 2 * 4 / 36).
   EXPECT_NEAR(b.edf[3], 10.0 * 36 / (6 + 10 * 4.0 / 9 + 8.0 / 36), 1e-9);
   EXPECT_EQ(b.edf[0], 10);
+  // The Hann bin correlations log_bin uses, against the direct sum over the window.
+  for (const int L : {16, 64, 1 << 12}) {
+    double s2 = 0, re[4] = {}, im[4] = {};
+    for (int t = 0; t < L; ++t) {
+      const double w = 0.5 - 0.5 * std::cos(2 * std::numbers::pi * t / L);
+      s2 += w * w;
+      for (int d = 1; d <= 3; ++d) {
+        re[d] += w * w * std::cos(2 * std::numbers::pi * d * t / L);
+        im[d] += w * w * std::sin(2 * std::numbers::pi * d * t / L);
+      }
+    }
+    const double want[4] = {1, 4.0 / 9, 1.0 / 36, 0};
+    for (int d = 1; d <= 3; ++d)
+      EXPECT_NEAR((re[d] * re[d] + im[d] * im[d]) / (s2 * s2), want[d], 1e-12) << L << " " << d;
+  }
 }
 
 // The paper's gyro X: measured PSD against model_psd_one_sided over mid frequencies (from the
