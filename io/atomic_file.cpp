@@ -3,6 +3,7 @@
 #include "io/error.hpp"
 
 #include <atomic>
+#include <cctype>
 #include <cerrno>
 #include <cstring>
 #include <fcntl.h>
@@ -26,10 +27,16 @@ void fsync_path(const std::filesystem::path& p, bool directory, const std::strin
 }  // namespace
 
 AtomicFile::AtomicFile(std::filesystem::path final_path) : final_(std::move(final_path)) {
-  // Hidden, and unique per process and per call: two processes writing the same OUTDIR never
-  // share a temporary file, and `summarize` skips names starting with '.'.
-  const std::string name = "." + final_.filename().string() + ".tmp." + std::to_string(::getpid()) +
-                           "." + std::to_string(g_counter++);
+  // Hidden, and unique per host, process and call: two processes writing the same OUTDIR
+  // never share a temporary file, also not Slurm tasks on different nodes of a shared file
+  // system that happen to have the same pid; `summarize` skips names starting with '.'.
+  char host[256] = {};
+  if (::gethostname(host, sizeof host - 1) != 0) host[0] = '\0';
+  std::string h;
+  for (const char* c = host; *c; ++c)
+    h += std::isalnum(static_cast<unsigned char>(*c)) || *c == '-' ? *c : '_';
+  const std::string name = "." + final_.filename().string() + ".tmp." + h + "." +
+                           std::to_string(::getpid()) + "." + std::to_string(g_counter++);
   temp_ = final_.parent_path() / name;
 }
 

@@ -351,8 +351,117 @@ RecordingResult read_results(const std::filesystem::path& path) {
 }
 
 namespace {
+
 constexpr const char* kTermNames[5] = {"R", "K", "B", "N", "Q"};
+
+// The fit/ terms in datasheet units and the attributes summary_rows uses; the per-tau model
+// curve, the read-outs and the channel-unit values are left unread.
+FitRecord read_fit_summary(hid_t g, const std::string& file, const std::string& object) {
+  FitRecord fit;
+  const auto term = h5::read_strings(g, "term", file, object);
+  const auto detected = h5::read_int64s(g, "detected", file, object);
+  const auto value_ds = h5::read_doubles(g, "value_datasheet", file, object);
+  const auto sigma_ds = h5::read_doubles(g, "sigma_datasheet", file, object);
+  const auto unit_ds = h5::read_strings(g, "unit_datasheet", file, object);
+  const auto upper_ds = H5Lexists(g, "upper_datasheet", H5P_DEFAULT) > 0
+                            ? h5::read_doubles(g, "upper_datasheet", file, object)
+                            : std::vector<double>(term.size(), std::nan(""));
+  for (std::size_t i = 0; i < term.size(); ++i) {
+    TermRecord t;
+    t.term = term[i];
+    t.detected = detected.at(i) != 0;
+    t.value_datasheet = value_ds.at(i);
+    t.sigma_datasheet = sigma_ds.at(i);
+    t.upper_datasheet = upper_ds.at(i);
+    t.unit_datasheet = unit_ds.at(i);
+    fit.terms.push_back(std::move(t));
+  }
+  h5::read_attribute(g, "chi2_dof", fit.chi2_dof, file, object);
+  return fit;
+}
+
+// Depth-first, in name order (the order H5Ovisit gives read_results), collects the channel
+// groups under `g` (`path` its name): groups with `status` and `data_type` attributes. A
+// channel group's own subgroups (allan/, psd/, ...) are results, never channels, and are not
+// entered: this is what keeps the walk from touching the statistics' datasets.
+void find_channel_groups(hid_t g, const std::string& path, const std::string& file,
+                         std::vector<std::string>& out) {
+  H5G_info_t info{};
+  check(H5Gget_info(g, &info), file, path.empty() ? "/" : path, "H5Gget_info");
+  for (hsize_t i = 0; i < info.nlinks; ++i) {
+    const ssize_t len =
+        H5Lget_name_by_idx(g, ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0, H5P_DEFAULT);
+    if (len <= 0) throw Error(file, path, "H5Lget_name_by_idx failed");
+    std::string name(static_cast<std::size_t>(len), '\0');
+    H5Lget_name_by_idx(g, ".", H5_INDEX_NAME, H5_ITER_INC, i, name.data(), name.size() + 1,
+                       H5P_DEFAULT);
+    if (name.starts_with(".")) continue;
+    const std::string child = path + "/" + name;
+    Handle o = check(H5Oopen(g, name.c_str(), H5P_DEFAULT), H5Oclose, file, child, "H5Oopen");
+    if (H5Iget_type(o.get()) != H5I_GROUP) continue;
+    if (H5Aexists(o.get(), "status") > 0 && H5Aexists(o.get(), "data_type") > 0)
+      out.push_back(child);
+    else
+      find_channel_groups(o.get(), child, file, out);
+  }
+}
+
 }  // namespace
+
+RecordingResult read_summary_results(const std::filesystem::path& path) {
+  h5::quiet_library();
+  const std::string file = path.string();
+  if (H5Fis_hdf5(file.c_str()) <= 0) throw Error(file, "", "not an HDF5 results file");
+  Handle f =
+      check(H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, file, "", "H5Fopen");
+  RecordingResult r;
+  Handle root = check(H5Gopen2(f.get(), "/", H5P_DEFAULT), H5Gclose, file, "/", "H5Gopen2");
+  r.device_id = read_string_attr(root.get(), "device_id", file, "/");
+  r.source_file = read_string_attr(root.get(), "source_file", file, "/");
+  r.tool_version = read_string_attr(root.get(), "tool_version", file, "/");
+  r.created_utc = read_string_attr(root.get(), "created_utc", file, "/");
+  r.command_line = read_string_attr(root.get(), "command_line", file, "/");
+  std::vector<std::string> groups;
+  find_channel_groups(root.get(), "", file, groups);
+  for (const std::string& gp : groups) {
+    Handle g = check(H5Gopen2(f.get(), gp.c_str(), H5P_DEFAULT), H5Gclose, file, gp, "H5Gopen2");
+    ChannelResult ch;
+    ch.path = gp;
+    ch.units = read_string_attr(g.get(), "units", file, gp);
+    ch.sample_rate_hz = read_double_attr(g.get(), "sample_rate_hz", file, gp);
+    ch.n_samples = static_cast<std::int64_t>(read_double_attr(g.get(), "n_samples", file, gp));
+    ch.n_gaps = static_cast<std::int64_t>(read_double_attr(g.get(), "n_gaps", file, gp));
+    ch.data_type = read_string_attr(g.get(), "data_type", file, gp);
+    ch.status = read_string_attr(g.get(), "status", file, gp);
+    ch.notes = read_string_attr(g.get(), "notes", file, gp);
+    if (H5Lexists(g.get(), "fit", H5P_DEFAULT) > 0) {
+      Handle fg =
+          check(H5Gopen2(g.get(), "fit", H5P_DEFAULT), H5Gclose, file, gp + "/fit", "H5Gopen2");
+      ch.fit = read_fit_summary(fg.get(), file, gp + "/fit");
+    }
+    if (H5Lexists(g.get(), "psd_fit", H5P_DEFAULT) > 0) {
+      const std::string pp = gp + "/psd_fit";
+      Handle pg = check(H5Gopen2(g.get(), "psd_fit", H5P_DEFAULT), H5Gclose, file, pp, "H5Gopen2");
+      FitRecord pf;
+      double agree = -1;
+      h5::read_attribute(pg.get(), "agrees_with_fit", agree, file, pp);
+      pf.agree = static_cast<int>(agree);
+      h5::read_attribute(pg.get(), "max_abs_z", pf.max_abs_z, file, pp);
+      ch.psd_fit = std::move(pf);
+    }
+    if (H5Lexists(g.get(), "crosscheck", H5P_DEFAULT) > 0) {
+      const std::string cp = gp + "/crosscheck";
+      Handle cg =
+          check(H5Gopen2(g.get(), "crosscheck", H5P_DEFAULT), H5Gclose, file, cp, "H5Gopen2");
+      CrosscheckRecord c;
+      h5::read_attribute(cg.get(), "max_abs_log10_ratio", c.max_abs_log10_ratio, file, cp);
+      h5::read_attribute(cg.get(), "worst_tau", c.worst_tau, file, cp);
+      ch.crosscheck = std::move(c);
+    }
+    r.channels.push_back(std::move(ch));
+  }
+  return r;
+}
 
 std::vector<SummaryRow> summary_rows(const RecordingResult& r) {
   std::vector<SummaryRow> rows;
@@ -366,6 +475,7 @@ std::vector<SummaryRow> summary_rows(const RecordingResult& r) {
           row.sigma[i] = t.sigma_datasheet;
           row.unit[i] = t.unit_datasheet;
           row.detected[i] = t.detected ? 1 : 0;
+          row.upper[i] = t.upper_datasheet;
         }
       row.chi2_dof = ch.fit->chi2_dof;
     }
@@ -421,12 +531,24 @@ struct SummaryRecord {
   double crosscheck_worst_tau;
   std::int8_t fits_agree;
   double fits_max_abs_z;
+  double upper[5];
+  const char* spec_status;
+  const char* spec_detail;
+  std::uint8_t outlier;
+  const char* outlier_terms;
+  const char* spec_term_status[5];
 };
 
-Handle summary_type(const std::string& file) {
-  Handle str = check(H5Tcopy(H5T_C_S1), H5Tclose, file, "/summary", "H5Tcopy");
+// A variable-length UTF-8 string type (every string column of the summary files).
+Handle vlen_string_type(const std::string& file, const std::string& object) {
+  Handle str = check(H5Tcopy(H5T_C_S1), H5Tclose, file, object, "H5Tcopy");
   H5Tset_size(str.get(), H5T_VARIABLE);
   H5Tset_cset(str.get(), H5T_CSET_UTF8);
+  return str;
+}
+
+Handle summary_type(const std::string& file) {
+  Handle str = vlen_string_type(file, "/summary");
   Handle t = check(H5Tcreate(H5T_COMPOUND, sizeof(SummaryRecord)), H5Tclose, file, "/summary",
                    "H5Tcreate");
   H5Tinsert(t.get(), "device_id", offsetof(SummaryRecord, device_id), str.get());
@@ -453,18 +575,95 @@ Handle summary_type(const std::string& file) {
             H5T_NATIVE_DOUBLE);
   H5Tinsert(t.get(), "fits_agree", offsetof(SummaryRecord, fits_agree), H5T_NATIVE_INT8);
   H5Tinsert(t.get(), "fits_max_abs_z", offsetof(SummaryRecord, fits_max_abs_z), H5T_NATIVE_DOUBLE);
+  // Columns added after the first release go last, so that readers by position keep working.
+  for (std::size_t i = 0; i < 5; ++i)
+    H5Tinsert(t.get(), (std::string(kTermNames[i]) + "_upper").c_str(),
+              offsetof(SummaryRecord, upper) + i * sizeof(double), H5T_NATIVE_DOUBLE);
+  H5Tinsert(t.get(), "spec_status", offsetof(SummaryRecord, spec_status), str.get());
+  H5Tinsert(t.get(), "spec_detail", offsetof(SummaryRecord, spec_detail), str.get());
+  H5Tinsert(t.get(), "outlier", offsetof(SummaryRecord, outlier), H5T_NATIVE_UINT8);
+  H5Tinsert(t.get(), "outlier_terms", offsetof(SummaryRecord, outlier_terms), str.get());
+  for (std::size_t i = 0; i < 5; ++i)
+    H5Tinsert(t.get(), (std::string(kTermNames[i]) + "_spec_status").c_str(),
+              offsetof(SummaryRecord, spec_term_status) + i * sizeof(const char*), str.get());
   return t;
+}
+
+// In-memory layout of one /statistics record.
+struct StatisticsRecord {
+  const char* channel;
+  const char* term;
+  const char* unit;
+  std::int64_t n;
+  std::int64_t n_detected;
+  std::int64_t n_outliers;
+  double median, spread, p5, p25, p75, p95, min, max;
+};
+
+Handle statistics_type(const std::string& file) {
+  Handle str = vlen_string_type(file, "/statistics");
+  Handle t = check(H5Tcreate(H5T_COMPOUND, sizeof(StatisticsRecord)), H5Tclose, file, "/statistics",
+                   "H5Tcreate");
+  H5Tinsert(t.get(), "channel", offsetof(StatisticsRecord, channel), str.get());
+  H5Tinsert(t.get(), "term", offsetof(StatisticsRecord, term), str.get());
+  H5Tinsert(t.get(), "unit", offsetof(StatisticsRecord, unit), str.get());
+  H5Tinsert(t.get(), "n", offsetof(StatisticsRecord, n), H5T_NATIVE_INT64);
+  H5Tinsert(t.get(), "n_detected", offsetof(StatisticsRecord, n_detected), H5T_NATIVE_INT64);
+  H5Tinsert(t.get(), "n_outliers", offsetof(StatisticsRecord, n_outliers), H5T_NATIVE_INT64);
+  H5Tinsert(t.get(), "median", offsetof(StatisticsRecord, median), H5T_NATIVE_DOUBLE);
+  H5Tinsert(t.get(), "spread", offsetof(StatisticsRecord, spread), H5T_NATIVE_DOUBLE);
+  H5Tinsert(t.get(), "p5", offsetof(StatisticsRecord, p5), H5T_NATIVE_DOUBLE);
+  H5Tinsert(t.get(), "p25", offsetof(StatisticsRecord, p25), H5T_NATIVE_DOUBLE);
+  H5Tinsert(t.get(), "p75", offsetof(StatisticsRecord, p75), H5T_NATIVE_DOUBLE);
+  H5Tinsert(t.get(), "p95", offsetof(StatisticsRecord, p95), H5T_NATIVE_DOUBLE);
+  H5Tinsert(t.get(), "min", offsetof(StatisticsRecord, min), H5T_NATIVE_DOUBLE);
+  H5Tinsert(t.get(), "max", offsetof(StatisticsRecord, max), H5T_NATIVE_DOUBLE);
+  return t;
+}
+
+// Writes `recs` (n records of `type`) as the 1-D compound dataset `name` of file `f`.
+void write_compound(hid_t f, const char* name, hid_t type, const void* recs, hsize_t n,
+                    const std::string& file) {
+  const std::string object = std::string("/") + name;
+  Handle space =
+      check(H5Screate_simple(1, &n, nullptr), H5Sclose, file, object, "H5Screate_simple");
+  Handle dcpl = h5::dataset_create_plist(file, object);
+  Handle ds = check(H5Dcreate2(f, name, type, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
+                    H5Dclose, file, object, "H5Dcreate2");
+  if (n > 0)
+    check(H5Dwrite(ds.get(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, recs), file, object, "H5Dwrite");
+  if (ds.close() < 0) throw Error(file, object, "H5Dclose failed");
+}
+
+std::string statistics_csv(const std::vector<StatisticsRow>& statistics) {
+  std::ostringstream csv;
+  csv << "channel,term,unit,n,n_detected,n_outliers,median,spread,p5,p25,p75,p95,min,max\n";
+  for (const StatisticsRow& s : statistics)
+    csv << csv_field(s.channel) << ',' << csv_field(s.term) << ',' << csv_field(s.unit) << ','
+        << s.n << ',' << s.n_detected << ',' << s.n_outliers << ',' << csv_number(s.median) << ','
+        << csv_number(s.spread) << ',' << csv_number(s.p5) << ',' << csv_number(s.p25) << ','
+        << csv_number(s.p75) << ',' << csv_number(s.p95) << ',' << csv_number(s.min) << ','
+        << csv_number(s.max) << '\n';
+  return csv.str();
 }
 
 }  // namespace
 
-void write_lot_summary(const std::filesystem::path& outdir, const std::vector<SummaryRow>& rows) {
+void write_lot_summary(const std::filesystem::path& outdir, const std::vector<SummaryRow>& rows,
+                       const std::vector<StatisticsRow>& statistics,
+                       const std::vector<std::pair<std::string, std::string>>& attributes) {
   h5::quiet_library();
   std::ostringstream csv;
   csv << "device_id,channel,units,n_samples,status,source_file";
   for (const char* t : kTermNames)
     csv << ',' << t << ',' << t << "_sigma," << t << "_unit," << t << "_detected";
-  csv << ",chi2_dof,max_abs_log10_ratio,crosscheck_worst_tau,fits_agree,fits_max_abs_z\n";
+  csv << ",chi2_dof,max_abs_log10_ratio,crosscheck_worst_tau,fits_agree,fits_max_abs_z";
+  for (const char* t : kTermNames)
+    csv << ',' << t << "_upper";
+  csv << ",spec_status,spec_detail,outlier,outlier_terms";
+  for (const char* t : kTermNames)
+    csv << ',' << t << "_spec_status";
+  csv << '\n';
   for (const SummaryRow& r : rows) {
     csv << csv_field(r.device_id) << ',' << csv_field(r.channel) << ',' << csv_field(r.units) << ','
         << r.n_samples << ',' << csv_field(r.status) << ',' << csv_field(r.source_file);
@@ -477,9 +676,17 @@ void write_lot_summary(const std::filesystem::path& outdir, const std::vector<Su
     csv << ',' << csv_number(r.chi2_dof) << ',' << csv_number(r.max_abs_log10_ratio) << ','
         << csv_number(r.crosscheck_worst_tau) << ','
         << (r.fits_agree < 0 ? "" : std::to_string(r.fits_agree)) << ','
-        << csv_number(r.fits_max_abs_z) << '\n';
+        << csv_number(r.fits_max_abs_z);
+    for (const double u : r.upper)
+      csv << ',' << csv_number(u);
+    csv << ',' << csv_field(r.spec_status) << ',' << csv_field(r.spec_detail) << ','
+        << static_cast<int>(r.outlier) << ',' << csv_field(r.outlier_terms);
+    for (const std::string& t : r.spec_term_status)
+      csv << ',' << csv_field(t);
+    csv << '\n';
   }
   write_text_atomic(outdir / "lot_summary.csv", csv.str());
+  write_text_atomic(outdir / "lot_statistics.csv", statistics_csv(statistics));
 
   const std::filesystem::path h5path = outdir / "lot_summary.h5";
   const std::string file = h5path.string();
@@ -508,20 +715,30 @@ void write_lot_summary(const std::filesystem::path& outdir, const std::vector<Su
       rec.crosscheck_worst_tau = r.crosscheck_worst_tau;
       rec.fits_agree = r.fits_agree;
       rec.fits_max_abs_z = r.fits_max_abs_z;
+      for (std::size_t i = 0; i < 5; ++i)
+        rec.upper[i] = r.upper[i];
+      rec.spec_status = r.spec_status.c_str();
+      rec.spec_detail = r.spec_detail.c_str();
+      rec.outlier = r.outlier;
+      rec.outlier_terms = r.outlier_terms.c_str();
+      for (std::size_t i = 0; i < 5; ++i)
+        rec.spec_term_status[i] = r.spec_term_status[i].c_str();
       recs.push_back(rec);
     }
     Handle type = summary_type(file);
-    const hsize_t n = recs.size();
-    Handle space =
-        check(H5Screate_simple(1, &n, nullptr), H5Sclose, file, "/summary", "H5Screate_simple");
-    Handle dcpl = h5::dataset_create_plist(file, "/summary");
-    Handle ds = check(H5Dcreate2(f.get(), "summary", type.get(), space.get(), H5P_DEFAULT,
-                                 dcpl.get(), H5P_DEFAULT),
-                      H5Dclose, file, "/summary", "H5Dcreate2");
-    if (n > 0)
-      check(H5Dwrite(ds.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, recs.data()), file,
-            "/summary", "H5Dwrite");
-    ds.close();
+    write_compound(f.get(), "summary", type.get(), recs.data(), recs.size(), file);
+    std::vector<StatisticsRecord> srecs;
+    srecs.reserve(statistics.size());
+    for (const StatisticsRow& s : statistics)
+      srecs.push_back({s.channel.c_str(), s.term.c_str(), s.unit.c_str(), s.n, s.n_detected,
+                       s.n_outliers, s.median, s.spread, s.p5, s.p25, s.p75, s.p95, s.min, s.max});
+    Handle stype = statistics_type(file);
+    write_compound(f.get(), "statistics", stype.get(), srecs.data(), srecs.size(), file);
+    if (!attributes.empty()) {
+      Handle root = check(H5Gopen2(f.get(), "/", H5P_DEFAULT), H5Gclose, file, "/", "H5Gopen2");
+      for (const auto& [name, value] : attributes)
+        h5::write_attribute(root.get(), name, value, file, "/");
+    }
     if (f.close() < 0) throw Error(file, "", "H5Fclose failed while flushing (disk full?)");
   }
   atomic.commit();
@@ -542,11 +759,32 @@ std::vector<SummaryRow> read_lot_summary(const std::filesystem::path& h5_path) {
   // Files written before a column existed leave it at its initial value (H5Dread converts
   // only the members the file has).
   for (SummaryRecord& r : recs) {
-    r.crosscheck_worst_tau = r.fits_max_abs_z = std::numeric_limits<double>::quiet_NaN();
+    constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+    r = SummaryRecord{};  // strings nullptr: read back as ""; outlier 0
+    r.chi2_dof = r.max_abs_log10_ratio = r.crosscheck_worst_tau = r.fits_max_abs_z = nan;
     r.fits_agree = -1;
+    for (std::size_t i = 0; i < 5; ++i)
+      r.value[i] = r.sigma[i] = r.upper[i] = nan;
+  }
+  // Read only the members the file has: a memory type with members the file lacks makes
+  // H5Dread fail, so the older files' reading type is the intersection, same offsets.
+  Handle ftype = check(H5Dget_type(ds.get()), H5Tclose, file, "/summary", "H5Dget_type");
+  Handle rtype = check(H5Tcreate(H5T_COMPOUND, sizeof(SummaryRecord)), H5Tclose, file, "/summary",
+                       "H5Tcreate");
+  const int n_members = H5Tget_nmembers(type.get());
+  for (int i = 0; i < n_members; ++i) {
+    char* name = H5Tget_member_name(type.get(), static_cast<unsigned>(i));
+    if (!name) continue;
+    if (H5Tget_member_index(ftype.get(), name) >= 0) {
+      Handle mt = check(H5Tget_member_type(type.get(), static_cast<unsigned>(i)), H5Tclose, file,
+                        "/summary", "H5Tget_member_type");
+      H5Tinsert(rtype.get(), name, H5Tget_member_offset(type.get(), static_cast<unsigned>(i)),
+                mt.get());
+    }
+    H5free_memory(name);
   }
   if (n > 0)
-    check(H5Dread(ds.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, recs.data()), file,
+    check(H5Dread(ds.get(), rtype.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, recs.data()), file,
           "/summary", "H5Dread");
   const auto str = [](const char* p) { return std::string(p ? p : ""); };
   std::vector<SummaryRow> rows;
@@ -564,10 +802,43 @@ std::vector<SummaryRow> read_lot_summary(const std::filesystem::path& h5_path) {
     row.crosscheck_worst_tau = r.crosscheck_worst_tau;
     row.fits_agree = r.fits_agree;
     row.fits_max_abs_z = r.fits_max_abs_z;
+    for (std::size_t i = 0; i < 5; ++i)
+      row.upper[i] = r.upper[i];
+    row.spec_status = str(r.spec_status);
+    row.spec_detail = str(r.spec_detail);
+    row.outlier = r.outlier;
+    row.outlier_terms = str(r.outlier_terms);
+    for (std::size_t i = 0; i < 5; ++i)
+      row.spec_term_status[i] = str(r.spec_term_status[i]);
     rows.push_back(std::move(row));
   }
-  if (n > 0) H5Dvlen_reclaim(type.get(), space.get(), H5P_DEFAULT, recs.data());
+  if (n > 0) H5Dvlen_reclaim(rtype.get(), space.get(), H5P_DEFAULT, recs.data());
   return rows;
+}
+
+std::vector<StatisticsRow> read_lot_statistics(const std::filesystem::path& h5_path) {
+  h5::quiet_library();
+  const std::string file = h5_path.string();
+  Handle f =
+      check(H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, file, "", "H5Fopen");
+  if (H5Lexists(f.get(), "statistics", H5P_DEFAULT) <= 0) return {};
+  Handle ds = check(H5Dopen2(f.get(), "statistics", H5P_DEFAULT), H5Dclose, file, "/statistics",
+                    "H5Dopen2");
+  Handle space = check(H5Dget_space(ds.get()), H5Sclose, file, "/statistics", "H5Dget_space");
+  hsize_t n = 0;
+  H5Sget_simple_extent_dims(space.get(), &n, nullptr);
+  std::vector<StatisticsRecord> recs(static_cast<std::size_t>(n), StatisticsRecord{});
+  Handle type = statistics_type(file);
+  if (n > 0)
+    check(H5Dread(ds.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, recs.data()), file,
+          "/statistics", "H5Dread");
+  const auto str = [](const char* p) { return std::string(p ? p : ""); };
+  std::vector<StatisticsRow> out;
+  for (const StatisticsRecord& r : recs)
+    out.push_back({str(r.channel), str(r.term), str(r.unit), r.n, r.n_detected, r.n_outliers,
+                   r.median, r.spread, r.p5, r.p25, r.p75, r.p95, r.min, r.max});
+  if (n > 0) H5Dvlen_reclaim(type.get(), space.get(), H5P_DEFAULT, recs.data());
+  return out;
 }
 
 }  // namespace allanlot::io

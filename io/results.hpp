@@ -131,6 +131,21 @@ struct SummaryRow {
   // uncertainties, 0 they do not, -1 not compared; and the largest |z| of the comparison.
   std::int8_t fits_agree = -1;
   double fits_max_abs_z = nan();
+  /// One-sided 95 % upper bound of each term in datasheet units (fit/upper_datasheet): what a
+  /// datasheet quotes for a term the fit does not detect.
+  std::array<double, 5> upper{nan(), nan(), nan(), nan(), nan()};
+  // Pass/fail against a spec file (src/spec.hpp): "pass", "fail", "undecided", "no spec" (no
+  // rule matches the channel), "no data" (failed input or channel, or no fit); "" when no spec
+  // was given. spec_detail: the terms that decided it, e.g. "N 18.3±0.04 > 18 deg/h/sqrt(Hz)".
+  std::string spec_status;
+  std::string spec_detail;
+  // 1 when a term of this unit lies more than 3.5 robust spreads from the lot median of its
+  // channel (src/lot_summary.hpp); outlier_terms says which, with the modified z-scores.
+  std::uint8_t outlier = 0;
+  std::string outlier_terms;
+  /// The decision of each term R, K, B, N, Q that the spec limits ("pass", "fail", "undecided");
+  /// "" for a term without a limit or without a spec.
+  std::array<std::string, 5> spec_term_status;
 
   SummaryRow() = default;
   SummaryRow(std::string device, std::string chan, std::string u, std::int64_t n, std::string st,
@@ -142,14 +157,47 @@ private:
   static constexpr double nan() { return std::numeric_limits<double>::quiet_NaN(); }
 };
 
-/// Writes OUTDIR/lot_summary.csv and OUTDIR/lot_summary.h5 (compound dataset /summary), each
-/// atomically.
-void write_lot_summary(const std::filesystem::path& outdir, const std::vector<SummaryRow>& rows);
+/// Lot statistics of one term of one channel kind (the same channel path across units), in
+/// datasheet units, over the units whose channel has a fitted value (src/lot_summary.hpp).
+struct StatisticsRow {
+  std::string channel;          // channel path, e.g. "/imu/gyro_x"
+  std::string term;             // "R", "K", "B", "N", "Q"
+  std::string unit;             // datasheet unit of every value in the row
+  std::int64_t n = 0;           // units with a value
+  std::int64_t n_detected = 0;  // of those, units where the fit detects the term
+  std::int64_t n_outliers = 0;  // units flagged as outliers on this term
+  double median = std::numeric_limits<double>::quiet_NaN();
+  double spread = std::numeric_limits<double>::quiet_NaN();  // 1.4826 * MAD
+  double p5 = std::numeric_limits<double>::quiet_NaN();
+  double p25 = std::numeric_limits<double>::quiet_NaN();
+  double p75 = std::numeric_limits<double>::quiet_NaN();
+  double p95 = std::numeric_limits<double>::quiet_NaN();
+  double min = std::numeric_limits<double>::quiet_NaN();
+  double max = std::numeric_limits<double>::quiet_NaN();
+};
 
-/// Reads the /summary compound dataset of a lot_summary.h5.
+/// Writes OUTDIR/lot_summary.csv, OUTDIR/lot_statistics.csv and OUTDIR/lot_summary.h5
+/// (compound datasets /summary and /statistics; `attributes` become string attributes of the
+/// file's root, e.g. the spec file used), each file atomically.
+void write_lot_summary(const std::filesystem::path& outdir, const std::vector<SummaryRow>& rows,
+                       const std::vector<StatisticsRow>& statistics = {},
+                       const std::vector<std::pair<std::string, std::string>>& attributes = {});
+
+/// Reads the /summary compound dataset of a lot_summary.h5. Columns missing from older files
+/// keep their defaults (NaN, "", 0, -1 for fits_agree).
 std::vector<SummaryRow> read_lot_summary(const std::filesystem::path& h5_path);
+
+/// Reads the /statistics compound dataset of a lot_summary.h5 (empty when the file predates it).
+std::vector<StatisticsRow> read_lot_statistics(const std::filesystem::path& h5_path);
 
 /// The summary rows of one recording's results.
 std::vector<SummaryRow> summary_rows(const RecordingResult& r);
+
+/// Reads only what summary_rows needs: the root attributes, each channel's attributes, the
+/// terms and attributes of fit/, the agreement attributes of psd_fit/ and the attributes of
+/// crosscheck/; allan/, psd/ and every per-tau or per-frequency array are never opened, so a
+/// lot of thousands of units is summarized quickly. summary_rows(read_summary_results(p)) ==
+/// summary_rows(read_results(p)).
+RecordingResult read_summary_results(const std::filesystem::path& path);
 
 }  // namespace allanlot::io

@@ -1,6 +1,7 @@
 #include "src/analyze.hpp"
 
 #include "io/error.hpp"
+#include "io/fingerprint.hpp"
 #include "io/recording.hpp"
 #include "io/results.hpp"
 #include "kernels/allan.hpp"
@@ -13,6 +14,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -22,10 +24,12 @@
 #include <map>
 #include <optional>
 #include <ostream>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include "src/channel_fit.hpp"
 #include "src/inputs.hpp"
+#include "src/lot_summary.hpp"
 
 namespace fs = std::filesystem;
 
@@ -177,12 +181,21 @@ std::string join_stats(const std::vector<kernels::Stat>& stats) {
   return s;
 }
 
+// Bytes one channel of n samples may hold while it is analysed: the phase (8 n), the rate
+// rebuilt for the PSD (8 n), the fixed-point prefix sums of MDEV/TDEV (8 n) and the samples
+// as read (8 n, freed once the phase is built); measured peak RSS of a six-channel 90-minute
+// unit on one thread is about 14 bytes per sample of the unit, below this bound.
+constexpr std::uint64_t kBytesPerSampleInFlight = 32;
+
 // Analyses one recording. Throws io::Error when the input as a whole cannot be analysed
 // (unreadable, no channel, every channel failed); channel failures inside a readable file are
-// recorded in the channel's status and reported on `err`.
+// recorded in the channel's status and reported on `err`. Channels are read and analysed in
+// waves of at most `memory_limit / (32 bytes x samples)` channels (at least one), so that the
+// memory held never exceeds the budget by more than one channel; the waves are in channel
+// order and every kernel is thread-invariant, so the wave size never changes a number.
 io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOptions& opt,
-                                      int threads, StageTimes& times, std::ostream& err,
-                                      bool& channel_failed) {
+                                      int threads, std::uint64_t memory_limit, StageTimes& times,
+                                      std::ostream& err, bool& channel_failed) {
   auto t0 = Clock::now();
   io::RecordingReader reader(file);
   const io::RecordingInfo& info = reader.info();
@@ -199,7 +212,6 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
                     {"confidence", std::to_string(opt.confidence)},
                     {"git_sha", kGitSha}};
 
-  std::vector<Prepared> work;
   for (const io::ChannelProblem& p : info.problems) {
     if (!channel_selected(opt.channels_glob, p.path)) continue;
     io::ChannelResult cr;
@@ -209,60 +221,84 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
     err << "allanlot: error: " << file << ":" << p.path << ": " << p.reason << "\n";
     channel_failed = true;
   }
-  for (const io::ChannelInfo& ch : info.channels) {
-    if (!channel_selected(opt.channels_glob, ch.path)) continue;
-    Prepared c;
-    c.result.path = ch.path;
-    c.result.units = ch.units;
-    c.result.sample_rate_hz = ch.sample_rate_hz;
-    c.result.n_samples = ch.n_samples;
-    c.result.data_type = ch.data_type == kernels::DataType::Rate ? "rate" : "phase";
-    try {
-      const std::vector<double> samples = reader.read(ch);
-      c.phase = kernels::make_phase(samples, ch.data_type, ch.sample_rate_hz, threads);
-      c.result.n_gaps = c.phase.n_gaps;
-      c.ok = true;
-    } catch (const io::Error& e) {
-      c.result.status = "failed: " + e.reason();
-    } catch (const std::exception& e) {
-      c.result.status = std::string("failed: ") + e.what();
+  std::vector<const io::ChannelInfo*> selected;
+  std::int64_t max_samples = 1;
+  for (const io::ChannelInfo& ch : info.channels)
+    if (channel_selected(opt.channels_glob, ch.path)) {
+      selected.push_back(&ch);
+      max_samples = std::max(max_samples, ch.n_samples);
     }
-    work.push_back(std::move(c));
-  }
   times.read += seconds_since(t0);
-  if (work.empty() && rec.channels.empty())
+  if (selected.empty() && rec.channels.empty())
     throw io::Error(file, "",
                     opt.channels_glob.empty()
                         ? "no channel found (no 1-D numeric dataset with a sample_rate_hz "
                           "attribute on itself or an ancestor group)"
                         : "no channel matches --channels '" + opt.channels_glob + "'");
 
-  // One level of parallelism (STYLE.md): across channels when there are at least as many
-  // channels as threads, otherwise inside the kernels over taus. The kernels give
-  // bit-identical results for any thread count, so the choice never changes a number.
-  t0 = Clock::now();
-  const auto n = static_cast<std::int64_t>(work.size());
-  const bool across = n >= threads && threads > 1;
-  const int kernel_threads = across ? 1 : threads;
-#pragma omp parallel for num_threads(across ? threads : 1) schedule(dynamic, 1)
-  for (std::int64_t i = 0; i < n; ++i) {
-    Prepared& c = work[static_cast<std::size_t>(i)];
-    if (!c.ok) continue;
-    try {
-      compute_channel(c, opt, kernel_threads);
-    } catch (const std::exception& e) {
-      c.result.status = std::string("failed: ") + e.what();
-      c.ok = false;
-    } catch (...) {
-      c.result.status = "failed: unexpected error";
-      c.ok = false;
+  const std::uint64_t per_channel =
+      kBytesPerSampleInFlight * static_cast<std::uint64_t>(max_samples);
+  const std::size_t wave =
+      std::clamp<std::size_t>(static_cast<std::size_t>(memory_limit / per_channel), 1,
+                              std::max<std::size_t>(selected.size(), 1));
+  std::uint64_t hash = io::kHashSeed;
+  std::vector<Prepared> done;
+  for (std::size_t start = 0; start < selected.size(); start += wave) {
+    t0 = Clock::now();
+    std::vector<Prepared> work;
+    for (std::size_t w = start; w < std::min(selected.size(), start + wave); ++w) {
+      const io::ChannelInfo& ch = *selected[w];
+      Prepared c;
+      c.result.path = ch.path;
+      c.result.units = ch.units;
+      c.result.sample_rate_hz = ch.sample_rate_hz;
+      c.result.n_samples = ch.n_samples;
+      c.result.data_type = ch.data_type == kernels::DataType::Rate ? "rate" : "phase";
+      try {
+        const std::vector<double> samples = reader.read(ch);
+        hash = io::hash_channel(hash, ch.path, samples);
+        c.phase = kernels::make_phase(samples, ch.data_type, ch.sample_rate_hz, threads);
+        c.result.n_gaps = c.phase.n_gaps;
+        c.ok = true;
+      } catch (const io::Error& e) {
+        c.result.status = "failed: " + e.reason();
+      } catch (const std::exception& e) {
+        c.result.status = std::string("failed: ") + e.what();
+      }
+      work.push_back(std::move(c));
     }
-    c.phase = kernels::PhaseData{};  // free the channel's memory as soon as it is done
+    times.read += seconds_since(t0);
+
+    // One level of parallelism (STYLE.md): across channels when there are at least as many
+    // channels as threads, otherwise inside the kernels over taus. The kernels give
+    // bit-identical results for any thread count, so the choice never changes a number.
+    t0 = Clock::now();
+    const auto n = static_cast<std::int64_t>(work.size());
+    const bool across = n >= threads && threads > 1;
+    const int kernel_threads = across ? 1 : threads;
+#pragma omp parallel for num_threads(across ? threads : 1) schedule(dynamic, 1)
+    for (std::int64_t i = 0; i < n; ++i) {
+      Prepared& c = work[static_cast<std::size_t>(i)];
+      if (!c.ok) continue;
+      try {
+        compute_channel(c, opt, kernel_threads);
+      } catch (const std::exception& e) {
+        c.result.status = std::string("failed: ") + e.what();
+        c.ok = false;
+      } catch (...) {
+        c.result.status = "failed: unexpected error";
+        c.ok = false;
+      }
+      c.phase = kernels::PhaseData{};  // free the channel's memory as soon as it is done
+    }
+    times.kernels += seconds_since(t0);
+    for (Prepared& c : work)
+      done.push_back(std::move(c));
   }
-  times.kernels += seconds_since(t0);
+  rec.attributes.emplace_back("input_hash", io::hash_hex(hash));
 
   std::size_t n_ok = 0;
-  for (Prepared& c : work) {
+  for (Prepared& c : done) {
     if (!c.result.notes.empty())
       err << "allanlot: note: " << file << ":" << c.result.path << ": " << c.result.notes << "\n";
     if (!c.ok) {
@@ -283,29 +319,104 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
   return rec;
 }
 
-// The lot summary is rebuilt from the complete results files present in OUTDIR, so it is
-// consistent with them whatever ran before (earlier runs, other Slurm tasks).
-std::vector<io::SummaryRow> rows_from_outdir(const fs::path& outdir, std::ostream& err) {
-  std::vector<fs::path> files;
-  std::error_code ec;
-  for (const auto& e : fs::directory_iterator(outdir, ec)) {
-    const std::string name = e.path().filename().string();
-    if (name.starts_with(".") || !name.ends_with(".allan.h5")) continue;
-    files.push_back(e.path());
-  }
-  std::sort(files.begin(), files.end());
-  std::vector<io::SummaryRow> rows;
-  for (const fs::path& f : files) {
-    try {
-      for (auto& r : io::summary_rows(io::read_results(f)))
-        rows.push_back(std::move(r));
-    } catch (const std::exception& e) {
-      err << "allanlot: warning: skipping unreadable results file " << f.string() << ": "
-          << e.what() << "\n";
-    }
-  }
-  return rows;
+// The options that change what a results file holds, canonically written (the resume stamp,
+// io/fingerprint.hpp). The thread count and the output switches that do not change numbers
+// (--table, --verbose, --quiet, --no-summary, --memory-limit) are not in it.
+std::string options_stamp(const AnalyzeOptions& opt) {
+  char conf[32];
+  std::snprintf(conf, sizeof conf, "%.17g", opt.confidence);
+  return "stats=" + join_stats(opt.stats) + ";taus=" + kernels::to_string(opt.grid) +
+         ";confidence=" + conf + ";channels=" + opt.channels_glob +
+         ";fit=" + (opt.fit ? "1" : "0") + ";psd=" + (opt.psd ? "1" : "0") + ";version=" + kVersion;
 }
+
+// The results file of `file` in OUTDIR when it is complete and current (see
+// io/fingerprint.hpp), with the device id it was found under; nullopt otherwise (absent,
+// damaged, other options, input changed, or the input cannot be opened: then analyze reports
+// the input's own error).
+std::optional<std::pair<fs::path, std::string>> current_results(const std::string& file,
+                                                                const io::InputStat& st,
+                                                                const std::string& options,
+                                                                const AnalyzeOptions& opt) {
+  try {
+    io::RecordingReader reader(file);
+    const std::string id = io::sanitize_device_id(reader.info().device_id);
+    const fs::path path = opt.outdir / (id + ".allan.h5");
+    const auto stamp = io::read_results_stamp(path);
+    if (!stamp || stamp->options != options || stamp->source_file != fs::absolute(file).string() ||
+        stamp->input_size != st.size)
+      return std::nullopt;
+    if (stamp->input_mtime_ns == st.mtime_ns) return std::pair{path, id};
+    // Same size, another time (copied, touched): the samples decide.
+    std::uint64_t h = io::kHashSeed;
+    for (const io::ChannelInfo& ch : reader.info().channels) {
+      if (!channel_selected(opt.channels_glob, ch.path)) continue;
+      try {
+        h = io::hash_channel(h, ch.path, reader.read(ch));
+      } catch (const std::exception&) {
+        // A channel that cannot be read is not hashed here, as in analyze_recording.
+      }
+    }
+    if (io::hash_hex(h) == stamp->input_hash) return std::pair{path, id};
+  } catch (const std::exception&) {
+  }
+  return std::nullopt;
+}
+
+// Peak resident memory of this process so far, in bytes (getrusage: kilobytes on Linux).
+std::uint64_t peak_rss_bytes() {
+  rusage ru{};
+  getrusage(RUSAGE_SELF, &ru);
+  return static_cast<std::uint64_t>(ru.ru_maxrss) * 1024;
+}
+
+std::uint64_t physical_memory() {
+  const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+  return pages > 0 && page > 0
+             ? static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page)
+             : std::uint64_t{8} << 30;
+}
+
+std::string hms(double s) {
+  const auto t = static_cast<long long>(std::max(0.0, s) + 0.5);
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%lld:%02lld:%02lld", t / 3600, t / 60 % 60, t % 60);
+  return buf;
+}
+
+// The progress line: on a terminal, one line rewritten in place after every recording; in a
+// log (stderr not a terminal: batch jobs, Slurm), a plain line at most every 30 s and at the
+// end, so that logs stay short.
+class Progress {
+public:
+  Progress(bool enabled, std::size_t total, std::ostream& err)
+      : enabled_(enabled && total > 1), total_(total), err_(err), tty_(isatty(2) == 1),
+        start_(Clock::now()), last_(start_) {}
+  void update(std::size_t done, std::uint64_t samples) {
+    samples_ += samples;
+    if (!enabled_) return;
+    const auto now = Clock::now();
+    const double el = std::chrono::duration<double>(now - start_).count();
+    if (!tty_ && done < total_ && std::chrono::duration<double>(now - last_).count() < 30) return;
+    last_ = now;
+    const double left =
+        done > 0 ? el / static_cast<double>(done) * static_cast<double>(total_ - done) : 0;
+    char buf[160];
+    std::snprintf(buf, sizeof buf,
+                  "allanlot: %zu/%zu recordings, %.1f M samples/s, elapsed %s, left ~%s", done,
+                  total_, el > 0 ? static_cast<double>(samples_) / el / 1e6 : 0.0, hms(el).c_str(),
+                  hms(left).c_str());
+    err_ << (tty_ ? "\r" : "") << buf << (tty_ && done < total_ ? "" : "\n") << std::flush;
+  }
+
+private:
+  bool enabled_;
+  std::size_t total_;
+  std::ostream& err_;
+  bool tty_;
+  Clock::time_point start_, last_;
+  std::uint64_t samples_ = 0;
+};
 
 // Fails with a usage-level message when OUTDIR cannot hold results.
 bool prepare_outdir(const fs::path& outdir, std::ostream& err) {
@@ -338,6 +449,7 @@ bool prepare_outdir(const fs::path& outdir, std::ostream& err) {
 int run_analyze(const AnalyzeOptions& opt, std::ostream& out, std::ostream& err) {
   if (!prepare_outdir(opt.outdir, err)) return 2;
   const int threads = kernels::resolve_threads(opt.threads);
+  const std::uint64_t memory_limit = opt.memory_limit ? opt.memory_limit : physical_memory() / 2;
   const InputList inputs = expand_inputs(opt.inputs);
   std::vector<io::SummaryRow> failed_rows;
   for (const auto& [what, reason] : inputs.failures) {
@@ -346,12 +458,38 @@ int run_analyze(const AnalyzeOptions& opt, std::ostream& out, std::ostream& err)
   }
 
   StageTimes times;
-  std::size_t n_ok = 0;
+  std::size_t n_ok = 0, n_current = 0;
   bool channel_failed = false;
   std::map<std::string, std::string> used_ids;  // sanitized device id -> file that has it
+  const std::string options = options_stamp(opt);
+  Progress progress(opt.progress && !opt.quiet, inputs.files.size(), err);
+  std::size_t n_done = 0;
   for (const std::string& file : inputs.files) {
+    std::uint64_t samples = 0;
     try {
-      io::RecordingResult rec = analyze_recording(file, opt, threads, times, err, channel_failed);
+      const auto st = io::stat_input(file);
+      if (!opt.force && st) {
+        if (const auto cur = current_results(file, *st, options, opt)) {
+          if (const auto it = used_ids.find(cur->second); it != used_ids.end())
+            throw io::Error(file, "",
+                            "device_id '" + cur->second + "' is also the device_id of " +
+                                it->second + "; its results would overwrite those");
+          used_ids.emplace(cur->second, file);
+          ++n_ok;
+          ++n_current;
+          progress.update(++n_done, 0);
+          continue;
+        }
+      }
+      io::RecordingResult rec =
+          analyze_recording(file, opt, threads, memory_limit, times, err, channel_failed);
+      if (st) {
+        rec.attributes.emplace_back("input_size", st->size);
+        rec.attributes.emplace_back("input_mtime_ns", st->mtime_ns);
+      }
+      rec.attributes.emplace_back("options", options);
+      for (const auto& ch : rec.channels)
+        samples += static_cast<std::uint64_t>(ch.n_samples);
       const std::string id = io::sanitize_device_id(rec.device_id);
       if (const auto it = used_ids.find(id); it != used_ids.end())
         throw io::Error(file, "",
@@ -372,45 +510,90 @@ int run_analyze(const AnalyzeOptions& opt, std::ostream& out, std::ostream& err)
       failed_rows.push_back(
           {fs::path(file).stem().string(), "", "", 0, std::string("failed: ") + e.what(), file});
     }
+    progress.update(++n_done, samples);
   }
 
-  std::vector<io::SummaryRow> rows = rows_from_outdir(opt.outdir, err);
-  rows.insert(rows.end(), failed_rows.begin(), failed_rows.end());
-  try {
-    io::write_lot_summary(opt.outdir, rows);
-  } catch (const std::exception& e) {
-    err << "allanlot: error: writing the lot summary: " << e.what() << "\n";
-    return 2;
+  if (opt.summary) {
+    std::vector<io::SummaryRow> rows = rows_from_outdir(opt.outdir, err);
+    rows.insert(rows.end(), failed_rows.begin(), failed_rows.end());
+    try {
+      LotOptions lot;
+      lot.spec_path = opt.spec_path;
+      lot.quiet = opt.quiet;
+      write_lot(opt.outdir, std::move(rows), lot, out, err);
+    } catch (const std::exception& e) {
+      err << "allanlot: error: writing the lot summary: " << e.what() << "\n";
+      return 2;
+    }
   }
   const std::size_t n_inputs = inputs.files.size() + inputs.failures.size();
   if (opt.verbose)
     err << "allanlot: stage seconds: read " << times.read << ", kernels " << times.kernels
-        << ", write " << times.write << " (" << threads << " threads)\n";
-  if (!opt.quiet)
-    out << "analysed " << n_ok << " of " << n_inputs << " input(s); results in "
-        << opt.outdir.string() << "\nlot summary: " << (opt.outdir / "lot_summary.csv").string()
-        << " and " << (opt.outdir / "lot_summary.h5").string() << "\n";
+        << ", write " << times.write << " (" << threads << " threads); peak memory "
+        << peak_rss_bytes() / (1 << 20) << " MiB (budget " << memory_limit / (1 << 20) << " MiB)\n";
+  if (!opt.quiet) {
+    out << "analysed " << n_ok - n_current << " of " << n_inputs << " input(s)";
+    if (n_current) out << ", " << n_current << " already up to date (--force redoes them)";
+    out << "; results in " << opt.outdir.string() << "\n";
+    if (opt.summary)
+      out << "lot summary: " << (opt.outdir / "lot_summary.csv").string() << " and "
+          << (opt.outdir / "lot_summary.h5").string() << "\n";
+  }
   if (n_ok == 0) return 2;
   return (n_ok < n_inputs || channel_failed) ? 1 : 0;
 }
 
-int run_summarize(const fs::path& outdir, bool quiet, std::ostream& out, std::ostream& err) {
+int run_summarize(const SummarizeOptions& opt, std::ostream& out, std::ostream& err) {
   std::error_code ec;
-  if (!fs::is_directory(outdir, ec)) {
-    err << "allanlot: error: " << outdir.string() << " is not a directory\n";
+  if (!fs::is_directory(opt.outdir, ec)) {
+    err << "allanlot: error: " << opt.outdir.string() << " is not a directory\n";
     return 2;
   }
-  const std::vector<io::SummaryRow> rows = rows_from_outdir(outdir, err);
+  std::vector<io::SummaryRow> rows = rows_from_outdir(opt.outdir, err);
+  const std::size_t n_rows = rows.size();
   try {
-    io::write_lot_summary(outdir, rows);
+    LotOptions lot;
+    lot.spec_path = opt.spec_path;
+    lot.manifest = opt.manifest;
+    lot.quiet = opt.quiet;
+    write_lot(opt.outdir, std::move(rows), lot, out, err);
   } catch (const std::exception& e) {
     err << "allanlot: error: writing the lot summary: " << e.what() << "\n";
     return 2;
   }
-  if (!quiet)
-    out << "lot summary of " << rows.size()
-        << " channel(s): " << (outdir / "lot_summary.csv").string() << "\n";
-  return rows.empty() ? 2 : 0;
+  if (!opt.quiet)
+    out << "lot summary of " << n_rows
+        << " channel(s): " << (opt.outdir / "lot_summary.csv").string() << "\n";
+  return n_rows == 0 ? 2 : 0;
+}
+
+std::uint64_t parse_memory_size(const std::string& text) {
+  std::size_t pos = 0;
+  double v = 0;
+  try {
+    v = std::stod(text, &pos);
+  } catch (const std::exception&) {
+    throw std::invalid_argument("'" + text + "' is not a memory size (e.g. 8G, 512M, 40%)");
+  }
+  std::string unit = text.substr(pos);
+  for (auto& c : unit)
+    c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  double scale = 0;
+  if (unit.empty() || unit == "B")
+    scale = 1;
+  else if (unit == "K" || unit == "KB" || unit == "KIB")
+    scale = 1024.0;
+  else if (unit == "M" || unit == "MB" || unit == "MIB")
+    scale = 1024.0 * 1024;
+  else if (unit == "G" || unit == "GB" || unit == "GIB")
+    scale = 1024.0 * 1024 * 1024;
+  else if (unit == "T" || unit == "TB" || unit == "TIB")
+    scale = 1024.0 * 1024 * 1024 * 1024;
+  else if (unit == "%")
+    scale = static_cast<double>(physical_memory()) / 100.0;
+  if (!(scale > 0) || !(v > 0) || !std::isfinite(v) || (unit == "%" && v > 100))
+    throw std::invalid_argument("'" + text + "' is not a memory size (e.g. 8G, 512M, 40%)");
+  return static_cast<std::uint64_t>(std::min(v * scale, 1.8e19));
 }
 
 }  // namespace allanlot::cli

@@ -4,6 +4,7 @@
 #include "kernels/stats.hpp"
 #include "kernels/tau_grid.hpp"
 
+#include <cstdint>
 #include <filesystem>
 #include <iosfwd>
 #include <string>
@@ -25,6 +26,13 @@ struct AnalyzeOptions {
   bool verbose = false;  // per-stage timings on stderr
   bool quiet = false;    // only errors on stderr, nothing on stdout
   std::string command_line;  // recorded in every results file
+  bool force = false;        // --force: redo recordings whose results are present and current
+  bool summary = true;       // --no-summary: leave the lot summary to `summarize` (Slurm tasks)
+  std::filesystem::path spec_path;  // --spec: pass/fail limits for the lot summary
+  // --memory-limit: bytes the channels in flight may hold (0 = half the machine's RAM). The
+  // channels of a recording are read and analysed in waves that fit in it.
+  std::uint64_t memory_limit = 0;
+  bool progress = true;  // a progress line on stderr (off with --quiet)
 };
 
 /// Runs the analysis and returns the exit status of CONTRACT (0, 1 or 2). Failures are named
@@ -32,7 +40,17 @@ struct AnalyzeOptions {
 int run_analyze(const AnalyzeOptions& opt, std::ostream& out, std::ostream& err);
 
 /// `allanlot summarize OUTDIR`: rebuilds lot_summary.h5/.csv from the results files present.
-int run_summarize(const std::filesystem::path& outdir, bool quiet, std::ostream& out,
-                  std::ostream& err);
+/// Options of `summarize` beyond OUTDIR.
+struct SummarizeOptions {
+  std::filesystem::path outdir;
+  std::filesystem::path spec_path;  // --spec
+  std::filesystem::path manifest;   // --manifest: entries without results are listed as failed
+  bool quiet = false;
+};
+int run_summarize(const SummarizeOptions& opt, std::ostream& out, std::ostream& err);
+
+/// Parses a memory size: "512M", "8G", "1.5GiB", "2000000000", or "40%" of the machine's RAM.
+/// Throws std::invalid_argument naming the text.
+std::uint64_t parse_memory_size(const std::string& text);
 
 }  // namespace allanlot::cli

@@ -1,6 +1,9 @@
 #include "src/cli.hpp"
 
 #include "src/analyze.hpp"
+#include "src/diagnose_command.hpp"
+#include "src/export_command.hpp"
+#include "src/report_command.hpp"
 #include "src/simulate_command.hpp"
 
 #include <allanlot/version.hpp>
@@ -96,6 +99,19 @@ int run(int argc, char** argv) {
                     "Print each unit's coefficient table (default: when at most 10 inputs)");
   analyze->add_flag("-v,--verbose", aopt.verbose, "Print per-stage timings");
   analyze->add_flag("-q,--quiet", aopt.quiet, "Print only errors");
+  analyze->add_flag("--force", aopt.force,
+                    "Redo recordings whose results in OUTDIR are complete and current (by "
+                    "default they are skipped)");
+  bool no_summary = false;
+  analyze->add_flag("--no-summary", no_summary,
+                    "Do not write the lot summary (a Slurm task; the merge job runs summarize)");
+  std::string spec_text, memory_text;
+  analyze->add_option("--spec", spec_text,
+                      "Spec file (JSON): pass/fail limits per channel and term for the summary");
+  analyze->add_option("--memory-limit", memory_text,
+                      "Memory for the channels in flight, e.g. 8G, 512M or 40% (default 50%)");
+  bool no_progress = false;
+  analyze->add_flag("--no-progress", no_progress, "No progress line on stderr");
 
   SimulateOptions sopt;
   std::string sim_out;
@@ -115,15 +131,23 @@ int run(int argc, char** argv) {
       ->check(kThreads);
   simulate->add_flag("-q,--quiet", sopt.quiet, "Print only errors");
 
-  std::string sum_dir;
-  bool sum_quiet = false;
+  SummarizeOptions sumopt;
+  std::string sum_dir, sum_spec, sum_manifest;
   auto* summarize = app.add_subcommand(
       "summarize", "Rebuild lot_summary.h5 and lot_summary.csv from the results files present");
   summarize->add_option("outdir", sum_dir, "Output directory of analyze")->required();
-  summarize->add_flag("-q,--quiet", sum_quiet, "Print only errors");
+  summarize->add_option("--spec", sum_spec,
+                        "Spec file (JSON): pass/fail limits per channel and term");
+  summarize->add_option(
+      "--manifest", sum_manifest,
+      "Manifest of the lot: recordings without a results file are listed as failed");
+  summarize->add_flag("-q,--quiet", sumopt.quiet, "Print only errors");
 
   // Commands that live in their own files, one line each.
   std::vector<Command> commands;
+  commands.push_back(add_diagnose_command(app));
+  commands.push_back(add_report_command(app));
+  commands.push_back(add_export_command(app));
 
   try {
     app.parse(argc, argv);
@@ -140,13 +164,28 @@ int run(int argc, char** argv) {
       aopt.fit = !no_fit;
       aopt.psd = !no_psd;
       aopt.command_line = join_args(argc, argv);
+      aopt.summary = !no_summary;
+      aopt.progress = !no_progress;
+      aopt.spec_path = spec_text;
+      if (!memory_text.empty()) {
+        try {
+          aopt.memory_limit = parse_memory_size(memory_text);
+        } catch (const std::invalid_argument& e) {
+          throw CLI::ValidationError("--memory-limit", e.what());
+        }
+      }
       return run_analyze(aopt, std::cout, std::cerr);
     }
     if (*simulate) {
       sopt.output = sim_out;
       return run_simulate(sopt, std::cout, std::cerr);
     }
-    if (*summarize) return run_summarize(sum_dir, sum_quiet, std::cout, std::cerr);
+    if (*summarize) {
+      sumopt.outdir = sum_dir;
+      sumopt.spec_path = sum_spec;
+      sumopt.manifest = sum_manifest;
+      return run_summarize(sumopt, std::cout, std::cerr);
+    }
   } catch (const CLI::CallForHelp&) {
     std::cout << app.help();
     return kExitOk;

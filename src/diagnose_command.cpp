@@ -1,0 +1,354 @@
+#include "src/diagnose_command.hpp"
+
+#include "io/atomic_file.hpp"
+#include "io/diagnosis.hpp"
+#include "io/error.hpp"
+#include "io/recording.hpp"
+#include "kernels/diagnose.hpp"
+#include "src/model.hpp"
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <ostream>
+#include <sstream>
+
+namespace allanlot::cli {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+// A usage-level failure (exit status 2), as opposed to a failed diagnosis (1).
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+std::string num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4g", v);
+  return buf;
+}
+
+std::string bands_text(const std::vector<kernels::Band>& bands) {
+  if (bands.empty()) return "none";
+  std::string s;
+  for (const auto& b : bands)
+    s += (s.empty() ? "" : ", ") + num(b.tau_lo_s) + " s .. " + num(b.tau_hi_s) + " s (" +
+         (b.sign > 0 ? "measured above" : "measured below") + ", max |z| " + num(b.max_abs_z) + ")";
+  return s;
+}
+
+Json bands_json(const std::vector<kernels::Band>& bands) {
+  Json a = Json::array();
+  for (const auto& b : bands)
+    a.push_back({{"tau_lo_s", b.tau_lo_s},
+                 {"tau_hi_s", b.tau_hi_s},
+                 {"sign", b.sign},
+                 {"max_abs_z", b.max_abs_z}});
+  return a;
+}
+
+Json value_or_null(double v) {
+  return std::isfinite(v) ? Json(v) : Json(nullptr);
+}
+
+Json params_json(const std::vector<kernels::Parameter>& ps) {
+  Json o = Json::object();
+  for (const auto& p : ps)
+    o[p.name] = p.value;
+  return o;
+}
+
+Json sigmas_json(const std::vector<kernels::Parameter>& ps) {
+  Json o = Json::object();
+  for (const auto& p : ps)
+    o[p.name] = value_or_null(p.sigma);
+  return o;
+}
+
+std::string params_text(const std::vector<kernels::Parameter>& ps) {
+  std::string s;
+  for (const auto& p : ps)
+    s += (s.empty() ? "" : ", ") + p.name + " = " + num(p.value) +
+         (std::isfinite(p.sigma) ? " +- " + num(p.sigma) : std::string(" (at zero)"));
+  return s;
+}
+
+// The CONTRACT object, with further keys after the required ones.
+Json report_json(const std::string& channel, const kernels::Diagnosis& d) {
+  Json j;
+  j["channel"] = channel;
+  j["effects_named"] = Json::array();
+  Json params = Json::object(), sigmas = Json::object();
+  for (std::size_t i = 0; i < d.effects_named.size(); ++i) {
+    std::string key(kernels::effect_name(d.effects_named[i]));
+    // A second effect of the same kind (two sinusoids) gets its ordinal.
+    for (int k = 2; params.contains(key); ++k)
+      key = std::string(kernels::effect_name(d.effects_named[i])) + "_" + std::to_string(k);
+    j["effects_named"].push_back(std::string(kernels::effect_name(d.effects_named[i])));
+    params[key] = params_json(d.effect_parameters[i]);
+    sigmas[key] = sigmas_json(d.effect_parameters[i]);
+  }
+  j["parameters"] = params;
+  j["gap_before"] = d.before.gap;
+  j["gap_after"] = d.after.gap;
+  Json its = Json::array();
+  for (const auto& it : d.iterations) {
+    Json cands = Json::array();
+    for (const auto& c : it.candidates)
+      cands.push_back({{"effect", std::string(kernels::effect_name(c.effect))},
+                       {"evaluated", c.evaluated},
+                       {"delta_ic", c.evaluated ? Json(c.delta_ic) : Json(nullptr)},
+                       {"note", c.note}});
+    its.push_back({{"effect", std::string(kernels::effect_name(it.effect))},
+                   {"parameters", params_json(it.parameters)},
+                   {"sigmas", sigmas_json(it.parameters)},
+                   {"delta_ic", it.delta_ic},
+                   {"gap_before", it.gap_before},
+                   {"gap_after", it.gap_after},
+                   {"bands_before", bands_json(it.bands_before)},
+                   {"bands_after", bands_json(it.bands_after)},
+                   {"coefficients", params_json(it.coefficients)},
+                   {"candidates", cands}});
+  }
+  j["iterations"] = its;
+  j["parameter_sigmas"] = sigmas;
+  j["gap_within_noise"] = d.gap_within_noise;
+  j["gap_noise_median"] = d.mc_after.gap_median;
+  j["gap_noise_p95"] = d.mc_after.gap_p95;
+  j["bands_before"] = bands_json(d.before.bands);
+  j["bands_after"] = bands_json(d.after.bands);
+  j["coefficients_wrong"] = d.coefficients_wrong;
+  Json rev = Json::array();
+  for (const auto& r : d.revisions)
+    rev.push_back({{"coefficient", r.name},
+                   {"given", r.given},
+                   {"estimated", r.estimated},
+                   {"sigma", value_or_null(r.sigma)}});
+  j["coefficients"] = rev;
+  j["n_taus"] = d.tau_s.size();
+  j["n_eff"] = d.n_eff;
+  j["z_threshold"] = d.z_threshold;
+  j["psd_line"] = {{"searched", d.line.searched},
+                   {"found", d.line.found},
+                   {"frequency_hz", d.line.frequency_hz},
+                   {"peak_ratio", d.line.peak_ratio},
+                   {"threshold", d.line.threshold}};
+  j["notes"] = d.notes;
+  return j;
+}
+
+void print_report(std::ostream& out, const std::string& file, const std::string& channel,
+                  const std::string& model_path, const kernels::Diagnosis& d) {
+  out << "diagnose " << file << ":" << channel << " against " << model_path << "\n";
+  out << "  " << d.tau_s.size() << " taus from " << num(d.tau_s.front()) << " s to "
+      << num(d.tau_s.back()) << " s, about " << num(d.n_eff)
+      << " independent; a tau is significant beyond |z| = " << num(d.z_threshold) << "\n";
+  out << "  given model: gap " << num(d.before.gap) << " (the model simulated "
+      << d.mc_before.replicas << " times: median " << num(d.mc_before.gap_median) << ", 95 % "
+      << num(d.mc_before.gap_p95) << ")\n";
+  out << "  significant bands: " << bands_text(d.before.bands) << "\n";
+  if (d.line.found)
+    out << "  PSD witness: line at " << num(d.line.frequency_hz) << " Hz (peak/background "
+        << num(d.line.peak_ratio) << ", threshold " << num(d.line.threshold) << ")\n";
+  for (std::size_t i = 0; i < d.iterations.size(); ++i) {
+    const auto& it = d.iterations[i];
+    out << "iteration " << i + 1 << ": add " << kernels::effect_name(it.effect) << " (criterion +"
+        << num(it.delta_ic) << ")\n";
+    out << "    " << params_text(it.parameters) << "\n";
+    out << "    gap " << num(it.gap_before) << " -> " << num(it.gap_after) << "\n";
+    out << "    bands before: " << bands_text(it.bands_before) << "\n";
+    out << "    bands after:  " << bands_text(it.bands_after) << "\n";
+    std::string others;
+    for (const auto& c : it.candidates)
+      if (c.evaluated && c.effect != it.effect)
+        others += (others.empty() ? "" : ", ") + std::string(kernels::effect_name(c.effect)) + " " +
+                  num(c.delta_ic);
+    if (!others.empty()) out << "    other candidates (criterion): " << others << "\n";
+  }
+  if (d.effects_named.empty())
+    out << "no effect is missing: no candidate improves the agreement significantly\n";
+  out << "given coefficients (given -> re-estimated): ";
+  std::string rev;
+  for (const auto& r : d.revisions)
+    rev += (rev.empty() ? "" : ", ") + r.name + " " + num(r.given) + " -> " + num(r.estimated) +
+           (std::isfinite(r.sigma) ? " +- " + num(r.sigma) : "");
+  out << (rev.empty() ? "none" : rev) << "\n";
+  out << (d.coefficients_wrong
+              ? "  the given coefficients are WRONG (re-estimating them is significant); the "
+                "corrected model uses the re-estimated values\n"
+              : "  the given coefficients are consistent with the measurement and are kept\n");
+  std::string named;
+  for (const auto e : d.effects_named)
+    named += (named.empty() ? "" : ", ") + std::string(kernels::effect_name(e));
+  out << "result: effects named: " << (named.empty() ? "none" : named) << "; gap "
+      << num(d.before.gap) << " -> " << num(d.after.gap) << " ("
+      << (d.gap_within_noise ? "within" : "NOT within")
+      << " statistical noise: the corrected model simulated " << d.mc_after.replicas
+      << " times gives 95 % " << num(d.mc_after.gap_p95) << ")\n";
+  out << "  significant bands after: " << bands_text(d.after.bands) << "\n";
+  for (const auto& n : d.notes)
+    out << "note: " << n << "\n";
+}
+
+io::DiagnosisRecord make_record(const std::string& channel, const kernels::Diagnosis& d,
+                                const Json& report, const std::string& model_before,
+                                const std::string& model_after, const std::string& source) {
+  io::DiagnosisRecord r;
+  r.channel = channel;
+  r.m = d.m;
+  r.tau = d.tau_s;
+  r.avar_measured = d.avar_measured;
+  r.edf = d.edf;
+  r.avar_model_before = d.before.avar_model;
+  r.avar_model_after = d.after.avar_model;
+  const auto band = [&](const std::vector<double>& v) {
+    return v.empty() ? std::vector<double>(d.tau_s.size(), std::nan("")) : v;
+  };
+  r.mc_before_lo = band(d.mc_before.avar_lo);
+  r.mc_before_hi = band(d.mc_before.avar_hi);
+  r.mc_after_lo = band(d.mc_after.avar_lo);
+  r.mc_after_hi = band(d.mc_after.avar_hi);
+  r.z_before = d.before.z;
+  r.z_after = d.after.z;
+  r.significant_before = d.before.significant;
+  r.significant_after = d.after.significant;
+  for (const auto& it : d.iterations) {
+    r.effect.emplace_back(kernels::effect_name(it.effect));
+    Json p = {{"parameters", params_json(it.parameters)}, {"sigmas", sigmas_json(it.parameters)}};
+    r.parameters_json.push_back(p.dump());
+    r.gap_before.push_back(it.gap_before);
+    r.gap_after.push_back(it.gap_after);
+    r.delta_ic.push_back(it.delta_ic);
+  }
+  r.number_attributes = {{"gap_before", d.before.gap},
+                         {"gap_after", d.after.gap},
+                         {"gap_noise_p95", d.mc_after.gap_p95},
+                         {"n_eff", d.n_eff},
+                         {"z_threshold", d.z_threshold},
+                         {"mc_replicas", static_cast<double>(d.mc_after.replicas)}};
+  r.string_attributes = {{"mc_band", "per-tau 5 % and 95 % quantiles of the replicas' avar"},
+                         {"model_before", model_before},
+                         {"model_after", model_after},
+                         {"source_file", source},
+                         {"report", report.dump()}};
+  return r;
+}
+
+}  // namespace
+
+int run_diagnose(const DiagnoseOptions& opt, std::ostream& out, std::ostream& err) {
+  try {
+    model::UnitModel model;
+    try {
+      model = model::load_model(opt.model_path);
+    } catch (const std::exception& e) {
+      throw UsageError(e.what());
+    }
+    const io::RecordingReader reader(opt.input);
+    const io::RecordingInfo& info = reader.info();
+    const io::ChannelInfo* ch = nullptr;
+    std::string names;
+    for (const auto& c : info.channels) {
+      names += (names.empty() ? "" : ", ") + c.path;
+      const std::string name = c.path.substr(c.path.find_last_of('/') + 1);
+      if (opt.channel.empty() ? info.channels.size() == 1
+                              : (c.path == opt.channel || name == opt.channel))
+        ch = &c;
+    }
+    if (!ch)
+      throw UsageError(opt.input + ": " +
+                       (opt.channel.empty()
+                            ? "several channels (" + names + "); choose one with --channel"
+                            : "no channel '" + opt.channel +
+                                  "' (channels: " + (names.empty() ? "none" : names) + ")"));
+    const std::string name = ch->path.substr(ch->path.find_last_of('/') + 1);
+    std::size_t mc = 0;
+    if (!model.single_channel) {
+      while (mc < model.channels.size() && model.channels[mc].name != name)
+        ++mc;
+      if (mc == model.channels.size())
+        throw UsageError(opt.model_path + ": no channel '" + name + "' in the unit model");
+    }
+    if (!ch->units.empty() && ch->units != model.channels[mc].units)
+      throw UsageError(opt.input + ":" + ch->path + ": units '" + ch->units +
+                       "' differ from the model's '" + model.channels[mc].units + "' (" +
+                       opt.model_path + ")");
+    std::vector<double> y = reader.read(*ch);
+    if (ch->data_type == kernels::DataType::Phase) {
+      // Phase samples to rate: successive differences times the sample rate (a NaN point makes
+      // both of its increments missing, as kernels::phase_from_phase treats it).
+      for (std::size_t k = 0; k + 1 < y.size(); ++k)
+        y[k] = (y[k + 1] - y[k]) * ch->sample_rate_hz;
+      if (!y.empty()) y.pop_back();
+    }
+    if (std::abs(model.sample_rate_hz / ch->sample_rate_hz - 1.0) > 1e-9)
+      err << "allanlot: note: the model's sample_rate_hz " << model.sample_rate_hz
+          << " differs from the recording's " << ch->sample_rate_hz
+          << "; the recording's rate is used\n";
+
+    kernels::DiagnoseOptions kopt;
+    kopt.mc_replicas = opt.replicas;
+    kopt.mc_seed = opt.seed;
+    kopt.nthreads = opt.threads;
+    const kernels::Diagnosis d =
+        kernels::diagnose(y, ch->sample_rate_hz, model::to_spec(model, mc), kopt);
+
+    model::UnitModel corrected = model;
+    model::Channel& cc = corrected.channels[mc];
+    cc.terms = d.model_after.terms;
+    cc.sinusoids = d.model_after.sinusoids;
+    cc.markovs = d.model_after.markovs;
+    const std::string before_json = model::to_json(model), after_json = model::to_json(corrected);
+    const Json report = report_json(ch->path, d);
+    if (opt.json)
+      out << report.dump() << "\n";
+    else
+      print_report(out, opt.input, ch->path, opt.model_path, d);
+    if (!opt.model_out.empty()) {
+      model::validate(corrected, opt.model_out);
+      io::write_text_atomic(opt.model_out, after_json + "\n");
+    }
+    if (!opt.output.empty())
+      io::write_diagnosis(opt.output, opt.input,
+                          make_record(ch->path, d, report, before_json, after_json,
+                                      std::filesystem::absolute(opt.input).string()));
+    return kExitOk;
+  } catch (const UsageError& e) {
+    err << "allanlot: error: " << e.what() << "\n";
+    return kExitUsage;
+  } catch (const io::Error& e) {
+    err << "allanlot: error: " << e.what() << "\n";
+    return e.reason().find("the input is never written") != std::string::npos ? kExitUsage
+                                                                              : kExitSomeFailed;
+  } catch (const std::exception& e) {
+    err << "allanlot: error: " << opt.input << ": " << e.what() << "\n";
+    return kExitSomeFailed;
+  }
+}
+
+Command add_diagnose_command(CLI::App& app) {
+  auto opt = std::make_shared<DiagnoseOptions>();
+  auto* sub = app.add_subcommand(
+      "diagnose", "Compare a measured channel with a noise model, name the missing effects and "
+                  "write the corrected model");
+  sub->add_option("input", opt->input, "Recording (HDF5)")->required();
+  sub->add_option("--model", opt->model_path, "Model file (JSON, see CONTRACT)")->required();
+  sub->add_option("--channel", opt->channel, "Channel path or name (default: the only channel)");
+  sub->add_option("-o,--output", opt->output,
+                  "Write group /<channel>/diagnosis to this HDF5 file (new or existing)");
+  sub->add_option("--model-out", opt->model_out, "Write the corrected model file (JSON)");
+  sub->add_flag("--json", opt->json, "Print one JSON object (CONTRACT) instead of the report");
+  sub->add_option("--replicas", opt->replicas, "Monte Carlo replicas per model")
+      ->check(CLI::Range(0, 100000))
+      ->capture_default_str();
+  sub->add_option("--seed", opt->seed, "Seed of the Monte Carlo replicas")->capture_default_str();
+  sub->add_option("--threads", opt->threads, "Threads (default: OMP_NUM_THREADS, else all cores)")
+      ->check(CLI::Range(0, 4096));
+  return {sub, [opt] { return run_diagnose(*opt, std::cout, std::cerr); }};
+}
+
+}  // namespace allanlot::cli

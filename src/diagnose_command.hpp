@@ -1,0 +1,34 @@
+// `allanlot diagnose` (CONTRACT "Command: diagnose"): where a noise model disagrees with a
+// measured channel, which effect is missing, and the corrected model (kernels/diagnose.hpp).
+#pragma once
+
+#include "src/cli.hpp"
+
+#include <cstdint>
+#include <iosfwd>
+#include <string>
+
+namespace allanlot::cli {
+
+struct DiagnoseOptions {
+  std::string input;       // the recording (HDF5)
+  std::string model_path;  // model file (JSON), required
+  std::string channel;     // channel path or name; "" = the only channel
+  std::string output;      // -o OUT.h5: group /<channel>/diagnosis ("" = none)
+  std::string model_out;   // --model-out FILE.json: the corrected model ("" = none)
+  bool json = false;       // print the CONTRACT JSON object instead of the report
+  int replicas = 30;       // Monte Carlo replicas per model
+  std::uint64_t seed = 7;  // seed of the replicas
+  int threads = 0;         // 0 = OMP_NUM_THREADS, else all cores
+};
+
+/// Exit status: 0 diagnosed (whatever was found); 1 the diagnosis could not be made or written
+/// (unreadable input or channel, record too short, output not writable); 2 usage error (bad
+/// options, bad model file, channel missing or ambiguous, units that differ from the model's,
+/// -o naming the input).
+int run_diagnose(const DiagnoseOptions& opt, std::ostream& out, std::ostream& err);
+
+/// Adds the `diagnose` subcommand to `app`.
+Command add_diagnose_command(CLI::App& app);
+
+}  // namespace allanlot::cli

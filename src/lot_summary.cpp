@@ -1,0 +1,284 @@
+#include "src/lot_summary.hpp"
+
+#include "src/spec.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <ostream>
+#include <set>
+#include <stdexcept>
+#include <system_error>
+#include <tuple>
+
+namespace allanlot::cli {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kTermNames[5] = {"R", "K", "B", "N", "Q"};
+
+// Keys under which a path is "the same file": the absolute path lexically normalized, and the
+// path with symlinks resolved. Two keys because the results record fs::absolute of what
+// analyze was given, while a manifest may reach the same file by another route.
+std::vector<std::string> path_keys(const fs::path& p) {
+  std::error_code ec;
+  const fs::path abs = fs::absolute(p, ec);
+  std::vector<std::string> keys{(ec ? p : abs).lexically_normal().string()};
+  const fs::path canon = fs::weakly_canonical(ec ? p : abs, ec);
+  if (!ec) keys.push_back(canon.string());
+  return keys;
+}
+
+std::string trim(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t\r\n");
+  if (b == std::string::npos) return "";
+  const auto e = s.find_last_not_of(" \t\r\n");
+  return s.substr(b, e - b + 1);
+}
+
+std::string signed_number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%+.2g", v);
+  return buf;
+}
+
+void print_overview(const LotOverview& ov, const spec::Spec* sp, std::ostream& out) {
+  out << "lot: " << ov.n_units << " unit(s), " << ov.n_rows - ov.n_failed_inputs << " channel(s)";
+  if (ov.n_failed_channels) out << ", " << ov.n_failed_channels << " failed";
+  if (ov.n_failed_inputs) out << "; " << ov.n_failed_inputs << " input(s) without results";
+  if (ov.n_missing) out << " (" << ov.n_missing << " from the manifest)";
+  out << "\n";
+  if (sp) {
+    out << "spec " << sp->source << (sp->name.empty() ? "" : " (" + sp->name + ")")
+        << " at confidence " << sp->confidence << ":\n";
+    for (const KindCounts& k : ov.kinds) {
+      out << "  " << k.channel << ":";
+      const std::pair<const char*, std::size_t> counts[] = {{"pass", k.pass},
+                                                            {"fail", k.fail},
+                                                            {"undecided", k.undecided},
+                                                            {"no spec", k.no_spec},
+                                                            {"no data", k.no_data}};
+      const char* sep = " ";
+      for (const auto& [name, n] : counts)
+        if (n) {
+          out << sep << n << ' ' << name;
+          sep = ", ";
+        }
+      out << "\n";
+    }
+  }
+  // A lot of thousands can have dozens of outliers; the CSV has them all.
+  constexpr std::size_t kShown = 8;
+  if (ov.outliers.empty()) return;
+  out << "outliers (" << ov.outliers.size() << "):";
+  for (std::size_t i = 0; i < std::min(kShown, ov.outliers.size()); ++i)
+    out << (i ? "; " : " ") << ov.outliers[i];
+  if (ov.outliers.size() > kShown)
+    out << "; ... (column outlier of lot_summary.csv lists them all)";
+  out << "\n";
+}
+
+}  // namespace
+
+std::vector<io::SummaryRow> rows_from_outdir(const fs::path& outdir, std::ostream& err) {
+  std::vector<fs::path> files;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(outdir, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.starts_with(".") || !name.ends_with(".allan.h5")) continue;
+    files.push_back(e.path());
+  }
+  std::sort(files.begin(), files.end());
+  std::vector<io::SummaryRow> rows;
+  for (const fs::path& f : files) {
+    try {
+      for (auto& r : io::summary_rows(io::read_summary_results(f)))
+        rows.push_back(std::move(r));
+    } catch (const std::exception& e) {
+      err << "allanlot: warning: skipping unreadable results file " << f.string() << ": "
+          << e.what() << "\n";
+    }
+  }
+  return rows;
+}
+
+std::vector<io::SummaryRow> manifest_failures(const fs::path& manifest,
+                                              const std::vector<io::SummaryRow>& rows) {
+  std::ifstream in(manifest);
+  if (!in) throw std::runtime_error(manifest.string() + ": cannot open the manifest");
+  // Every row counts as "present", failed ones too: an input this run already reported as
+  // failed must not be listed a second time.
+  std::set<std::string> present;
+  for (const io::SummaryRow& r : rows)
+    if (!r.source_file.empty())
+      for (auto& k : path_keys(r.source_file))
+        present.insert(std::move(k));
+  const fs::path base = manifest.parent_path();
+  std::vector<io::SummaryRow> out;
+  std::string line;
+  while (std::getline(in, line)) {
+    line = trim(line);
+    if (line.empty() || line[0] == '#') continue;
+    const fs::path p(line);
+    const fs::path entry = p.is_absolute() || base.empty() ? p : base / p;
+    const auto keys = path_keys(entry);
+    if (std::any_of(keys.begin(), keys.end(), [&](const auto& k) { return present.contains(k); }))
+      continue;
+    for (const auto& k : keys)
+      present.insert(k);  // a line given twice is listed once
+    out.push_back({entry.stem().string(), "", "", 0, "failed: no results file", keys.front()});
+  }
+  if (in.bad()) throw std::runtime_error(manifest.string() + ": cannot read the manifest");
+  return out;
+}
+
+double quantile_sorted(std::span<const double> sorted, double p) {
+  if (sorted.empty()) throw std::invalid_argument("quantile_sorted: no values");
+  if (!(p >= 0.0 && p <= 1.0)) throw std::invalid_argument("quantile_sorted: p outside [0, 1]");
+  const double h = static_cast<double>(sorted.size() - 1) * p;
+  const auto lo = static_cast<std::size_t>(std::floor(h));
+  if (lo + 1 >= sorted.size()) return sorted.back();
+  return sorted[lo] + (h - static_cast<double>(lo)) * (sorted[lo + 1] - sorted[lo]);
+}
+
+std::vector<io::StatisticsRow> lot_statistics(std::vector<io::SummaryRow>& rows) {
+  // (channel, term index, unit) -> indices of the rows with a value. The unit is part of the
+  // key so that a lot mixing channel units never pools numbers of different units.
+  std::map<std::tuple<std::string, std::size_t, std::string>, std::vector<std::size_t>> groups;
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    io::SummaryRow& row = rows[r];
+    row.outlier = 0;  // this function alone decides them
+    row.outlier_terms.clear();
+    if (row.status != "ok" || row.channel.empty()) continue;
+    for (std::size_t i = 0; i < 5; ++i)
+      if (std::isfinite(row.value[i])) groups[{row.channel, i, row.unit[i]}].push_back(r);
+  }
+  std::vector<io::StatisticsRow> stats;
+  for (const auto& [key, members] : groups) {
+    const auto& [channel, i, unit] = key;
+    std::vector<double> v;
+    io::StatisticsRow s;
+    s.channel = channel;
+    s.term = kTermNames[i];
+    s.unit = unit;
+    for (const std::size_t r : members) {
+      v.push_back(rows[r].value[i]);
+      s.n_detected += rows[r].detected[i] ? 1 : 0;
+    }
+    std::sort(v.begin(), v.end());
+    s.n = static_cast<std::int64_t>(v.size());
+    s.median = quantile_sorted(v, 0.5);
+    std::vector<double> dev;
+    for (const double x : v)
+      dev.push_back(std::abs(x - s.median));
+    std::sort(dev.begin(), dev.end());
+    s.spread = kMadToSigma * quantile_sorted(dev, 0.5);
+    s.p5 = quantile_sorted(v, 0.05);
+    s.p25 = quantile_sorted(v, 0.25);
+    s.p75 = quantile_sorted(v, 0.75);
+    s.p95 = quantile_sorted(v, 0.95);
+    s.min = v.front();
+    s.max = v.back();
+    // Outliers only where most units detect the term: otherwise median and MAD describe the
+    // fit's noise around the zero clamp, and a unit that merely detects the term (K at 3.6
+    // sigma where its neighbours fit 0, seen on a simulated lot) would be called an outlier.
+    if (v.size() >= kMinUnitsForOutliers && 2 * s.n_detected >= s.n)
+      for (const std::size_t r : members) {
+        const double sigma = std::isfinite(rows[r].sigma[i]) ? rows[r].sigma[i] : 0.0;
+        const double scale = std::hypot(s.spread, sigma);
+        if (!(scale > 0.0)) continue;  // no scale to measure a deviation against
+        const double z = (rows[r].value[i] - s.median) / scale;
+        if (std::abs(z) <= kOutlierZ) continue;
+        ++s.n_outliers;
+        rows[r].outlier = 1;
+        rows[r].outlier_terms +=
+            (rows[r].outlier_terms.empty() ? "" : "; ") + s.term + " z=" + signed_number(z);
+      }
+    stats.push_back(std::move(s));
+  }
+  // std::map orders the terms by index already (R, K, B, N, Q), channels by path.
+  return stats;
+}
+
+LotOverview write_lot(const fs::path& outdir, std::vector<io::SummaryRow> rows,
+                      const LotOptions& opt, std::ostream& out, std::ostream& err) {
+  std::optional<spec::Spec> sp;
+  if (!opt.spec_path.empty()) sp = spec::load_spec(opt.spec_path);
+  LotOverview ov;
+  if (!opt.manifest.empty()) {
+    auto missing = manifest_failures(opt.manifest, rows);
+    ov.n_missing = missing.size();
+    rows.insert(rows.end(), std::make_move_iterator(missing.begin()),
+                std::make_move_iterator(missing.end()));
+  }
+  if (sp) {
+    std::vector<bool> used(sp->rules.size(), false);
+    for (io::SummaryRow& r : rows) {
+      const spec::Verdict v = spec::judge(*sp, r);
+      r.spec_status = v.status;
+      r.spec_detail = v.detail;
+      r.spec_term_status = v.term_status;
+      if (const spec::Rule* rule = r.channel.empty() ? nullptr : spec::find_rule(*sp, r.channel))
+        used[static_cast<std::size_t>(rule - sp->rules.data())] = true;
+    }
+    for (std::size_t i = 0; i < used.size(); ++i)
+      if (!used[i])
+        err << "allanlot: warning: " << sp->source << ": channels." << sp->rules[i].glob
+            << ": matches no channel of the lot\n";
+  }
+  const std::vector<io::StatisticsRow> stats = lot_statistics(rows);
+  std::vector<std::pair<std::string, std::string>> attrs;
+  if (sp) {
+    std::error_code ec;
+    const fs::path abs = fs::absolute(opt.spec_path, ec);
+    attrs = {{"spec_file", (ec ? opt.spec_path : abs).string()},
+             {"spec_name", sp->name},
+             {"spec_confidence", std::to_string(sp->confidence)}};
+  }
+  io::write_lot_summary(outdir, rows, stats, attrs);
+
+  ov.spec = sp.has_value();
+  ov.n_rows = rows.size();
+  std::set<std::string> units;
+  std::map<std::string, KindCounts> kinds;
+  for (const io::SummaryRow& r : rows) {
+    units.insert(r.device_id);
+    if (r.channel.empty()) {
+      ++ov.n_failed_inputs;
+      continue;
+    }
+    if (r.status != "ok") ++ov.n_failed_channels;
+    KindCounts& k = kinds[r.channel];
+    k.channel = r.channel;
+    const std::string& s = r.spec_status;
+    if (sp)
+      ++(s == "pass"        ? k.pass
+         : s == "fail"      ? k.fail
+         : s == "undecided" ? k.undecided
+         : s == "no spec"   ? k.no_spec
+                            : k.no_data);
+    if (r.outlier) {
+      ++k.outliers;
+      ov.outliers.push_back(r.device_id + ":" + r.channel + " (" + r.outlier_terms + ")");
+    }
+  }
+  ov.n_units = units.size();
+  for (auto& [path, k] : kinds)
+    ov.kinds.push_back(std::move(k));
+  if (!opt.quiet) print_overview(ov, sp ? &*sp : nullptr, out);
+  return ov;
+}
+
+void write_lot(const fs::path& outdir, std::vector<io::SummaryRow> rows, const LotOptions& opt,
+               std::ostream& err) {
+  LotOptions quiet = opt;
+  quiet.quiet = true;
+  write_lot(outdir, std::move(rows), quiet, err, err);
+}
+
+}  // namespace allanlot::cli

@@ -1,0 +1,49 @@
+// `allanlot report OUTDIR [-o report.html]`: one self-contained HTML page (inline CSS and SVG,
+// no scripts, nothing fetched) from the results files of `analyze`: a lot page (summary
+// tables with pass/fail colouring where the lot summary has spec columns, per-term
+// distributions across units, outliers) and, per unit and channel, the Allan-family curves
+// with confidence intervals, the eq. (3) fit with its terms as slope asymptotes (the paper's
+// Figure 1), the PSD against the model's, the eq. (2) cross-check, the coefficient table and,
+// where `diagnose` has written one, the diagnosis.
+#pragma once
+
+#include "src/cli.hpp"
+
+#include <filesystem>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace allanlot::cli {
+
+enum class UnitPages {
+  Auto,    // one page up to kSinglePageMaxUnits units, linked per-unit pages above
+  Always,  // per-unit pages in <report stem>_units/ beside the report
+  Never    // everything in one page
+};
+
+/// Lots with more units than this get per-unit pages under UnitPages::Auto: one page with
+/// every curve of 500 six-channel units would be over 100 MB; the lot page alone stays at a
+/// few MB and each unit page at about 250 kB.
+inline constexpr int kSinglePageMaxUnits = 20;
+
+struct ReportOptions {
+  std::filesystem::path outdir;  // analyze's output directory (results files, lot summary)
+  std::filesystem::path output;  // the HTML page; "" = OUTDIR/report.html
+  /// Further HDF5 files holding /<channel>/diagnosis groups (diagnose -o), matched to units
+  /// by their root device_id attribute or their file name. Files in OUTDIR that are neither
+  /// results files nor the lot summary are looked at too.
+  std::vector<std::filesystem::path> diagnosis_files;
+  UnitPages unit_pages = UnitPages::Auto;
+  bool quiet = false;
+};
+
+/// Returns the exit status: 0 written; 1 written, but some results files could not be read
+/// (each named on `err`); 2 usage error (OUTDIR not a directory or without results files, no
+/// results file readable, output not writable).
+int run_report(const ReportOptions& opt, std::ostream& out, std::ostream& err);
+
+/// Adds the `report` subcommand to `app` (see cli.hpp, struct Command).
+Command add_report_command(CLI::App& app);
+
+}  // namespace allanlot::cli

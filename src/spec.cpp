@@ -1,0 +1,300 @@
+// Spec file parsing and the pass/fail decisions; the rules are listed in spec.hpp.
+#include "src/spec.hpp"
+
+#include "kernels/chi2.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fnmatch.h>
+#include <fstream>
+#include <limits>
+#include <set>
+#include <sstream>
+
+namespace allanlot::spec {
+
+namespace {
+
+using Json = nlohmann::ordered_json;  // ordered: the first matching rule in file order wins
+namespace units = kernels::units;
+
+// Checks one JSON document against the spec schema; every message is
+// "<source>: <key path>: <reason>".
+class Checker {
+public:
+  explicit Checker(std::string source) : source_(std::move(source)) {}
+
+  [[noreturn]] void fail(const std::string& path, const std::string& reason) const {
+    throw Error(source_ + ": " + (path.empty() ? std::string() : path + ": ") + reason);
+  }
+
+  static std::string at(const std::string& path, const std::string& key) {
+    return path.empty() ? key : path + "." + key;
+  }
+
+  const Json& object(const Json& j, const std::string& path) const {
+    if (!j.is_object()) fail(path, std::string("must be an object, not ") + j.type_name());
+    return j;
+  }
+
+  void allow(const Json& j, std::initializer_list<std::string_view> keys,
+             const std::string& path) const {
+    for (const auto& [key, value] : j.items())
+      if (std::find(keys.begin(), keys.end(), key) == keys.end())
+        fail(at(path, key), "unknown key");
+  }
+
+  double limit(const Json& j, const std::string& path) const {
+    if (!j.is_number()) fail(path, std::string("must be a number, not ") + j.type_name());
+    const double v = j.get<double>();
+    if (!std::isfinite(v)) fail(path, "must be finite");
+    if (v < 0) fail(path, "must be >= 0, got " + j.dump());
+    return v;
+  }
+
+private:
+  std::string source_;
+};
+
+// The channel units whose datasheet forms a spec may use (kernels/units.hpp and CONTRACT
+// "Input: recordings"). A unit string outside these is not knowable before the data are seen.
+constexpr std::string_view kKnownChannelUnits[] = {"deg/s", "deg/h", "rad/s", "m/s^2",
+                                                   "g",     "mg",    "s",     "1"};
+
+bool is_unit_of(units::Term t, const std::string& unit) {
+  for (std::string_view cu : kKnownChannelUnits) {
+    const auto ok = units::accepted_units(t, cu);
+    if (std::find(ok.begin(), ok.end(), unit) != ok.end()) return true;
+  }
+  return false;
+}
+
+std::string join(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v)
+    s += (s.empty() ? "" : ", ") + x;
+  return s;
+}
+
+TermLimit parse_limit(const Checker& c, units::Term term, const Json& j, const std::string& path) {
+  c.object(j, path);
+  c.allow(j, {"max", "min", "unit"}, path);
+  TermLimit l;
+  l.term = term;
+  l.key_path = path;
+  if (j.contains("max")) l.max = c.limit(j["max"], Checker::at(path, "max"));
+  if (j.contains("min")) l.min = c.limit(j["min"], Checker::at(path, "min"));
+  if (!l.max && !l.min) c.fail(path, "needs \"max\", \"min\" or both");
+  if (l.max && l.min && *l.min > *l.max)
+    c.fail(Checker::at(path, "min"),
+           "must not exceed max (" + Json(*l.max).dump() + "), got " + Json(*l.min).dump());
+  const auto u = j.find("unit");
+  if (u == j.end()) c.fail(Checker::at(path, "unit"), "missing");
+  if (!u->is_string()) c.fail(Checker::at(path, "unit"), "must be a string");
+  l.unit = u->get<std::string>();
+  if (!is_unit_of(term, l.unit)) {
+    auto datasheet = units::accepted_units(term, "deg/s");
+    for (const auto& a : units::accepted_units(term, "m/s^2"))
+      datasheet.push_back(a);
+    c.fail(Checker::at(path, "unit"), "'" + l.unit + "' is not a unit of " +
+                                          std::string(units::term_name(term)) + " (e.g. " +
+                                          join(datasheet) + ")");
+  }
+  return l;
+}
+
+// The detail prints values to 3 significant digits and half-widths to 2 (the half-width's
+// leading digits decide how many of the value's mean anything), limits to 4 (a limit converted
+// from the other datasheet form, 0.029 m/s/sqrt(h) = 0.04929 mg/sqrt(Hz), must not look moved).
+std::string number(double v, int digits) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+  return buf;
+}
+
+}  // namespace
+
+double two_sided_normal_quantile(double confidence) {
+  if (!(confidence > 0.0 && confidence < 1.0))
+    throw std::invalid_argument("confidence must be in (0, 1), got " + std::to_string(confidence));
+  return std::sqrt(kernels::chi2_quantile(confidence, 1.0));
+}
+
+Spec parse_spec(std::string_view json_text, const std::string& source) {
+  const Checker c(source);
+  // Duplicate keys: JSON leaves their meaning open and nlohmann keeps the last one silently;
+  // a limit that depends on that is refused. Each open object keeps its keys and the key it
+  // was opened under, so the message names the whole path.
+  struct Open {
+    std::string path;
+    std::set<std::string> keys;
+  };
+  std::vector<Open> open;
+  std::string last_key, duplicate;
+  const Json::parser_callback_t cb = [&](int, Json::parse_event_t ev, Json& parsed) {
+    if (ev == Json::parse_event_t::object_start)
+      open.push_back({open.empty() ? std::string() : Checker::at(open.back().path, last_key), {}});
+    else if (ev == Json::parse_event_t::object_end && !open.empty())
+      open.pop_back();
+    else if (ev == Json::parse_event_t::key && !open.empty()) {
+      last_key = parsed.get<std::string>();
+      if (!open.back().keys.insert(last_key).second && duplicate.empty())
+        duplicate = Checker::at(open.back().path, last_key);
+    }
+    return true;
+  };
+  Json root;
+  try {
+    root = Json::parse(json_text.begin(), json_text.end(), cb);
+  } catch (const Json::exception& e) {
+    c.fail("", std::string("invalid JSON: ") + e.what());
+  }
+  if (!duplicate.empty()) c.fail(duplicate, "duplicate key");
+  c.object(root, "");
+  c.allow(root, {"name", "confidence", "channels"}, "");
+
+  Spec s;
+  s.source = source;
+  if (root.contains("name")) {
+    if (!root["name"].is_string()) c.fail("name", "must be a string");
+    s.name = root["name"].get<std::string>();
+  }
+  if (root.contains("confidence")) {
+    const Json& j = root["confidence"];
+    if (!j.is_number()) c.fail("confidence", std::string("must be a number, not ") + j.type_name());
+    s.confidence = j.get<double>();
+    if (!(s.confidence > 0.0 && s.confidence < 1.0))
+      c.fail("confidence", "must be in (0, 1), got " + j.dump());
+  }
+  s.k = two_sided_normal_quantile(s.confidence);
+  const auto chans = root.find("channels");
+  if (chans == root.end()) c.fail("channels", "missing");
+  c.object(*chans, "channels");
+  if (chans->empty()) c.fail("channels", "must not be empty");
+  for (const auto& [glob, body] : chans->items()) {
+    const std::string path = Checker::at("channels", glob);
+    if (glob.empty()) c.fail(path, "empty channel pattern");
+    c.object(body, path);
+    if (body.empty()) c.fail(path, "must limit at least one term (R, K, B, N or Q)");
+    Rule r;
+    r.glob = glob;
+    for (const auto& [key, value] : body.items()) {
+      const auto term = units::parse_term(key);
+      if (!term) c.fail(Checker::at(path, key), "unknown key (the terms are R, K, B, N, Q)");
+      r.limits.push_back(parse_limit(c, *term, value, Checker::at(path, key)));
+    }
+    s.rules.push_back(std::move(r));
+  }
+  return s;
+}
+
+Spec load_spec(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(path.string() + ": cannot open the spec file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw Error(path.string() + ": cannot read the spec file");
+  return parse_spec(text.str(), path.string());
+}
+
+const Rule* find_rule(const Spec& spec, const std::string& channel_path) {
+  const std::string name = channel_path.substr(channel_path.find_last_of('/') + 1);
+  for (const Rule& r : spec.rules)
+    if (fnmatch(r.glob.c_str(), channel_path.c_str(), 0) == 0 ||
+        fnmatch(r.glob.c_str(), name.c_str(), 0) == 0)
+      return &r;
+  return nullptr;
+}
+
+double convert(units::Term t, double value, std::string_view from_unit, std::string_view to_unit,
+               std::string_view channel_units) {
+  const double own = units::from_datasheet(t, value, from_unit, channel_units);
+  if (to_unit == units::channel_unit(t, channel_units)) return own;
+  const units::Datasheet d = units::to_datasheet(t, own, channel_units);
+  if (d.primary.unit == to_unit) return d.primary.value;
+  if (d.secondary && d.secondary->unit == to_unit) return d.secondary->value;
+  throw std::invalid_argument("units: " + std::string(units::term_name(t)) + " of a '" +
+                              std::string(channel_units) + "' channel cannot be given in '" +
+                              std::string(to_unit) + "'");
+}
+
+std::pair<double, double> interval(const Estimate& e, double k) {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  if (!std::isfinite(e.sigma)) return {0.0, inf};
+  if (e.detected) return {std::max(0.0, e.value - k * e.sigma), e.value + k * e.sigma};
+  return {0.0, std::isfinite(e.upper) ? e.upper : e.value + k * e.sigma};
+}
+
+Outcome decide(const Estimate& e, std::optional<double> min, std::optional<double> max, double k) {
+  const auto [lo, hi] = interval(e, k);
+  Outcome o = Outcome::Pass;
+  const auto merge = [&o](Outcome x) {
+    if (x == Outcome::Fail || (x == Outcome::Undecided && o == Outcome::Pass)) o = x;
+  };
+  if (max) merge(hi <= *max ? Outcome::Pass : lo > *max ? Outcome::Fail : Outcome::Undecided);
+  if (min) merge(lo >= *min ? Outcome::Pass : hi < *min ? Outcome::Fail : Outcome::Undecided);
+  return o;
+}
+
+Verdict judge(const Spec& spec, const io::SummaryRow& row) {
+  const bool any_value =
+      std::any_of(row.value.begin(), row.value.end(), [](double v) { return std::isfinite(v); });
+  if (row.status != "ok" || row.channel.empty()) return {"no data", "", {}};  // status says why
+  if (!any_value) return {"no data", "no fitted value", {}};
+  const Rule* rule = find_rule(spec, row.channel);
+  if (!rule) return {"no spec", "", {}};
+  const auto outcome_name = [](Outcome o) {
+    return o == Outcome::Pass ? "pass" : o == Outcome::Fail ? "fail" : "undecided";
+  };
+  Verdict v;
+  std::vector<std::pair<Outcome, std::string>> terms;
+  for (const TermLimit& l : rule->limits) {
+    const auto i = static_cast<std::size_t>(l.term);
+    const std::string name(units::term_name(l.term));
+    if (!std::isfinite(row.value[i]) || row.unit[i].empty()) {
+      terms.emplace_back(Outcome::Undecided, name + " no estimate");
+      v.term_status[i] = outcome_name(Outcome::Undecided);
+      continue;
+    }
+    // The limits are brought to the row's datasheet unit (not the other way round), so that
+    // the detail quotes the value exactly as the summary's columns do.
+    std::optional<double> min, max;
+    try {
+      if (l.min) min = convert(l.term, *l.min, l.unit, row.unit[i], row.units);
+      if (l.max) max = convert(l.term, *l.max, l.unit, row.unit[i], row.units);
+    } catch (const std::invalid_argument&) {
+      throw Error(spec.source + ": " + l.key_path + ".unit: '" + l.unit + "' is not a unit of " +
+                  name + " for a '" + row.units + "' channel (" + row.device_id + ":" +
+                  row.channel + "; accepted: " + join(units::accepted_units(l.term, row.units)) +
+                  ")");
+    }
+    const Estimate e{row.value[i], row.sigma[i], row.upper[i], row.detected[i] != 0};
+    const Outcome o = decide(e, min, max, spec.k);
+    v.term_status[i] = outcome_name(o);
+    // Which limit the detail quotes: the one failed, else the one straddled, else max.
+    const auto [lo, hi] = interval(e, spec.k);
+    const bool min_side = !max || (min && (o == Outcome::Fail        ? !(lo > *max)
+                                           : o == Outcome::Undecided ? !(hi > *max)
+                                                                     : false));
+    const double lim = min_side ? *min : *max;
+    const char* rel = o == Outcome::Pass   ? (min_side ? ">=" : "<=")
+                      : o == Outcome::Fail ? (min_side ? "<" : ">")
+                                           : "~";
+    const std::string est = e.detected || !std::isfinite(e.upper)
+                                ? number(e.value, 3) + "±" + number(spec.k * e.sigma, 2)
+                                : "<" + number(e.upper, 3);
+    terms.emplace_back(o, name + " " + est + " " + rel + " " + number(lim, 4) + " " + row.unit[i]);
+  }
+  Outcome worst = Outcome::Pass;
+  for (const auto& [o, text] : terms)
+    if (o == Outcome::Fail || (o == Outcome::Undecided && worst == Outcome::Pass)) worst = o;
+  v.status = outcome_name(worst);
+  for (const auto& [o, text] : terms)
+    if (o == worst) v.detail += (v.detail.empty() ? "" : "; ") + text;
+  return v;
+}
+
+}  // namespace allanlot::spec

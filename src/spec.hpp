@@ -1,0 +1,119 @@
+// The spec file (`--spec spec.json`): limits on the noise coefficients per channel kind, and the
+// pass / fail / undecided decision of each channel of a lot against them (docs/lot.md).
+//
+//   {
+//     "name": "tactical grade",                      (optional, printed with the overview)
+//     "confidence": 0.95,                            (optional, default 0.95, in (0, 1))
+//     "channels": {
+//       "gyro_*":  {"N": {"max": 0.3, "unit": "deg/sqrt(h)"}, "B": {"max": 10, "unit": "deg/h"}},
+//       "accel_*": {"N": {"max": 0.06, "unit": "mg/sqrt(Hz)"}, "B": {"min": 0, "max": 0.1,
+//                                                                    "unit": "mg"}}
+//     }
+//   }
+//
+// Channel keys are fnmatch(3) globs on the channel's path or on its name (as analyze
+// --channels); the first key in file order that matches a channel is its rule. Each term (R, K,
+// B, N, Q) has "max" and/or "min" (finite, >= 0, min <= max) and a "unit": a datasheet unit of
+// the term (kernels/units.hpp, primary or secondary form, e.g. N of a gyro in deg/h/sqrt(Hz) or
+// deg/sqrt(h)) or the coefficient's unit in the channel's own units (deg/s*s^0.5). Any other
+// key, a wrong JSON type, a duplicate key or an impossible value is a spec::Error naming the
+// file and the key path, e.g. "spec.json: channels.gyro_*.N.max: must be >= 0, got -1".
+#pragma once
+
+#include "io/results.hpp"
+#include "kernels/units.hpp"
+
+#include <array>
+#include <filesystem>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace allanlot::spec {
+
+/// Every problem with a spec file: "<source>: <key path>: <reason>".
+class Error : public std::runtime_error {
+public:
+  using std::runtime_error::runtime_error;
+};
+
+/// The limits on one term of one channel rule.
+struct TermLimit {
+  kernels::units::Term term = kernels::units::Term::N;
+  std::optional<double> min, max;  // in `unit`; at least one is set
+  std::string unit;                // as written in the file
+  std::string key_path;            // e.g. "channels.gyro_*.N", for messages
+};
+
+/// The limits for the channels whose path or name matches `glob`.
+struct Rule {
+  std::string glob;
+  std::vector<TermLimit> limits;  // in file order
+};
+
+struct Spec {
+  std::string source;        // the file name, prefixed to every message
+  std::string name;          // "name" of the file, "" when absent
+  double confidence = 0.95;  // two-sided level of the intervals the decisions use
+  double k = 0;              // the matching normal quantile: 1.95996... at 0.95
+  std::vector<Rule> rules;   // in file order: the first match wins
+};
+
+/// Parses and validates spec JSON; `source` names it in messages. Throws spec::Error.
+Spec parse_spec(std::string_view json_text, const std::string& source);
+
+/// Reads and parses a spec file; one that cannot be read is a spec::Error naming it.
+Spec load_spec(const std::filesystem::path& path);
+
+/// k with P(|Z| <= k) = confidence for a standard normal Z, 0 < confidence < 1 (1.959964 at
+/// 0.95): the square root of the chi-square(1) quantile, since Z^2 ~ chi-square(1).
+double two_sided_normal_quantile(double confidence);
+
+/// The rule of the channel `channel_path` (matched on the path and on its last component),
+/// nullptr when none matches.
+const Rule* find_rule(const Spec& spec, const std::string& channel_path);
+
+/// `value` of term `t` given in `from_unit` expressed in `to_unit`, both accepted units of the
+/// term for a channel in `channel_units` (kernels::units::accepted_units), converted through
+/// the audited units module. Throws std::invalid_argument naming the unit that does not fit.
+double convert(kernels::units::Term t, double value, std::string_view from_unit,
+               std::string_view to_unit, std::string_view channel_units);
+
+enum class Outcome { Pass, Fail, Undecided };
+
+/// A fitted coefficient in the unit of the limits it is compared with.
+struct Estimate {
+  double value = 0;  // the fitted value
+  double sigma = 0;  // its 1-sigma uncertainty
+  double upper = 0;  // one-sided 95 % upper bound (used when not detected; NaN = none)
+  bool detected = false;
+};
+
+/// The interval [lo, hi] of an estimate at the quantile k: value -+ k sigma for a detected
+/// term (lo clipped at 0: coefficients are >= 0); for an undetected one [0, upper] (the fit's
+/// own bound, since the value then is consistent with zero and a symmetric interval would
+/// misstate it), or [0, value + k sigma] when the bound is missing. A non-finite sigma makes
+/// the interval [0, inf).
+std::pair<double, double> interval(const Estimate& e, double k);
+
+/// The decision of one term: against max, pass when hi <= max, fail when lo > max; against
+/// min, pass when lo >= min, fail when hi < min; undecided otherwise (the interval straddles
+/// the limit). With both limits, a fail on either fails, else an undecided on either.
+Outcome decide(const Estimate& e, std::optional<double> min, std::optional<double> max, double k);
+
+/// The spec_status and spec_detail of one summary row (io::SummaryRow): "no data" for a failed
+/// row or one without any fitted value, "no spec" when no rule matches the channel, otherwise
+/// fail if a term fails, else undecided if a term is undecided (a limited term without an
+/// estimate is undecided), else pass. The detail lists the terms behind the status, e.g.
+/// "N 18.3±0.04 > 18 deg/h/sqrt(Hz)" (± is k sigma) or "B <12 ~ 10 deg/h" (undetected: the
+/// upper bound). Throws spec::Error when a matching rule's unit does not fit the channel.
+struct Verdict {
+  std::string status;
+  std::string detail;
+  std::array<std::string, 5> term_status;  // per term R..Q: "pass", "fail", "undecided" or ""
+};
+Verdict judge(const Spec& spec, const io::SummaryRow& row);
+
+}  // namespace allanlot::spec

@@ -1,0 +1,562 @@
+#include "src/svg.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <stdexcept>
+
+namespace allanlot::svg {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// Coordinates with one decimal and no trailing ".0": a tenth of a viewBox pixel is below what
+// any screen or printer shows, and short numbers keep a 500-unit report small.
+void append_coord(std::string& out, double v) {
+  v = std::clamp(v, -1e6, 1e6);
+  const long long t = std::llround(v * 10.0);
+  const long long a = t < 0 ? -t : t;
+  char buf[32];
+  if (a % 10 == 0)
+    std::snprintf(buf, sizeof buf, "%s%lld", t < 0 ? "-" : "", a / 10);
+  else
+    std::snprintf(buf, sizeof buf, "%s%lld.%lld", t < 0 ? "-" : "", a / 10, a % 10);
+  out += buf;
+}
+
+std::string coord(double v) {
+  std::string s;
+  append_coord(s, v);
+  return s;
+}
+
+// Superscript markup for "10^k" style labels: the part after '^' is raised and smaller, with a
+// true minus sign (U+2212), as typeset axes print it.
+std::string tick_text(const std::string& label) {
+  const auto caret = label.find('^');
+  if (caret == std::string::npos) return escape(label);
+  std::string exp = label.substr(caret + 1), shown;
+  for (const char c : exp)
+    shown += c == '-' ? std::string("\xE2\x88\x92") : std::string(1, c);
+  return escape(label.substr(0, caret)) + "<tspan dy=\"-0.45em\" font-size=\"75%\">" + shown +
+         "</tspan>";
+}
+
+// A label for d * 10^k (d in 1..9): decades as powers of ten on axes labelled by decades
+// (the paper's figures); on narrow axes plain decimals for moderate exponents, else "d×10^k".
+std::string mantissa_label(int d, int k, bool decades_only) {
+  if (d == 1 && decades_only) return "10^" + std::to_string(k);
+  if (k >= -3 && k <= 3) return number(d * std::pow(10.0, k), 6);
+  if (d == 1) return "10^" + std::to_string(k);
+  return std::to_string(d) +
+         "\xC3\x97"
+         "10^" +
+         std::to_string(k);
+}
+
+bool usable(double v, Scale s) {
+  return std::isfinite(v) && (s != Scale::Log || v > 0.0);
+}
+
+struct Axis {
+  Scale scale = Scale::Log;
+  double lo = 1, hi = 10;  // data range shown
+  double p0 = 0, p1 = 1;   // pixel positions of lo and hi
+  double t(double v) const { return scale == Scale::Log ? std::log10(v) : v; }
+  double px(double v) const { return p0 + (t(v) - t(lo)) / (t(hi) - t(lo)) * (p1 - p0); }
+};
+
+// Padded data range of one axis; log axes snap to whole decades when the data span more than
+// about a decade (the paper's figures), otherwise pad by a few percent so that the data do
+// not touch the frame.
+void auto_range(std::vector<double> v, Scale s, double& lo, double& hi) {
+  std::erase_if(v, [s](double x) { return !usable(x, s); });
+  const bool want_lo = std::isnan(lo), want_hi = std::isnan(hi);
+  if (v.empty()) {
+    if (want_lo) lo = s == Scale::Log ? 1.0 : 0.0;
+    if (want_hi) hi = s == Scale::Log ? 10.0 : 1.0;
+    return;
+  }
+  const auto [mn, mx] = std::minmax_element(v.begin(), v.end());
+  double a = *mn, b = *mx;
+  if (s == Scale::Log) {
+    double la = std::log10(a), lb = std::log10(b);
+    if (lb - la < 1e-9) {
+      la -= 0.5;
+      lb += 0.5;
+    }
+    const double pad = 0.04 * (lb - la);
+    la -= pad;
+    lb += pad;
+    if (lb - la > 1.2) {
+      la = std::floor(la + 1e-9);
+      lb = std::ceil(lb - 1e-9);
+    }
+    if (want_lo) lo = std::pow(10.0, la);
+    if (want_hi) hi = std::pow(10.0, lb);
+  } else {
+    if (b - a < 1e-300) {
+      a -= 0.5;
+      b += 0.5;
+    }
+    const double pad = 0.05 * (b - a);
+    if (want_lo) lo = a - pad;
+    if (want_hi) hi = b + pad;
+  }
+  if (!(hi > lo)) hi = s == Scale::Log ? lo * 10.0 : lo + 1.0;
+}
+
+void append_attr(std::string& out, const char* name, const std::string& value) {
+  out += ' ';
+  out += name;
+  out += "=\"";
+  out += value;
+  out += '"';
+}
+
+}  // namespace
+
+std::string escape(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  for (const char c : text) {
+    switch (c) {
+    case '&':
+      out += "&amp;";
+      break;
+    case '<':
+      out += "&lt;";
+      break;
+    case '>':
+      out += "&gt;";
+      break;
+    case '"':
+      out += "&quot;";
+      break;
+    case '\'':
+      out += "&#39;";
+      break;
+    default:
+      // Control characters are not allowed in XML 1.0 text; a corrupt name must not make the
+      // page unreadable.
+      if (static_cast<unsigned char>(c) < 0x20 && c != '\n' && c != '\t')
+        out += '?';
+      else
+        out += c;
+    }
+  }
+  return out;
+}
+
+std::string number(double v, int digits) {
+  if (std::isnan(v)) return "-";
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+  return buf;
+}
+
+std::vector<Tick> log_ticks(double lo, double hi) {
+  std::vector<Tick> out;
+  if (!(lo > 0) || !(hi > lo) || !std::isfinite(hi)) return out;
+  const int k0 = static_cast<int>(std::floor(std::log10(lo) + 1e-9));
+  const int k1 = static_cast<int>(std::ceil(std::log10(hi) - 1e-9));
+  const auto inside = [&](double v) { return v >= lo * (1 - 1e-9) && v <= hi * (1 + 1e-9); };
+  int decades_inside = 0;
+  for (int k = k0; k <= k1; ++k)
+    decades_inside += inside(std::pow(10.0, k)) ? 1 : 0;
+  // Label every decade, every second one on a very wide axis; on a narrow axis (fewer than two
+  // decades inside) also label 2 and 5, and on a very narrow one every mantissa, so that an
+  // axis always carries at least two numbers.
+  const int decade_step = decades_inside > 10 ? 2 : 1;
+  int labelled_mantissa = 0;  // 0: decades only; 1: 1, 2, 5; 2: 1..9
+  if (decades_inside < 2) {
+    int n125 = 0;
+    for (int k = k0; k <= k1; ++k)
+      for (const int d : {1, 2, 5})
+        n125 += inside(d * std::pow(10.0, k)) ? 1 : 0;
+    labelled_mantissa = n125 >= 2 ? 1 : 2;
+  }
+  for (int k = k0; k <= k1; ++k)
+    for (int d = 1; d <= 9; ++d) {
+      const double v = d * std::pow(10.0, k);
+      if (!inside(v)) continue;
+      bool major = false;
+      if (d == 1) major = labelled_mantissa > 0 || (k - k0) % decade_step == 0;
+      if (labelled_mantissa == 1) major = major || d == 2 || d == 5;
+      if (labelled_mantissa == 2) major = true;
+      out.push_back(
+          {v, major ? mantissa_label(d, k, labelled_mantissa == 0) : std::string(), major});
+    }
+  return out;
+}
+
+std::vector<Tick> linear_ticks(double lo, double hi) {
+  std::vector<Tick> out;
+  if (!(hi > lo) || !std::isfinite(lo) || !std::isfinite(hi)) return out;
+  const double raw = (hi - lo) / 5.0;
+  const double mag = std::pow(10.0, std::floor(std::log10(raw)));
+  const double r = raw / mag;
+  const double step = (r < 1.5 ? 1.0 : r < 3.5 ? 2.0 : r < 7.5 ? 5.0 : 10.0) * mag;
+  for (double i = std::ceil(lo / step - 1e-9); i * step <= hi + 1e-9 * step; i += 1.0) {
+    double v = i * step;
+    if (std::abs(v) < 1e-12 * step) v = 0.0;
+    out.push_back({v, number(v, 6), true});
+  }
+  return out;
+}
+
+Plot::Plot() : x_min(kNaN), x_max(kNaN), y_min(kNaN), y_max(kNaN) {}
+
+std::string render(const Plot& p) {
+  if (p.id.empty()) throw std::invalid_argument("svg::render: empty plot id");
+  for (const Series& s : p.series) {
+    if (s.x.size() != s.y.size() || (!s.y_lo.empty() && s.y_lo.size() != s.y.size()) ||
+        (!s.y_hi.empty() && s.y_hi.size() != s.y.size()) ||
+        (!s.hrefs.empty() && s.hrefs.size() != s.y.size()) ||
+        (!s.tooltips.empty() && s.tooltips.size() != s.y.size()))
+      throw std::invalid_argument("svg::render: series '" + s.label + "' of plot '" + p.id +
+                                  "' has vectors of different lengths");
+  }
+  for (const Band& b : p.bands)
+    if (!b.vertical && (b.x.size() != b.lo.size() || b.x.size() != b.hi.size()))
+      throw std::invalid_argument("svg::render: band of plot '" + p.id +
+                                  "' has vectors of different lengths");
+
+  // Ranges.
+  Axis xa, ya;
+  xa.scale = p.x_scale == Scale::Categorical ? Scale::Linear : p.x_scale;
+  ya.scale = p.y_scale == Scale::Categorical ? Scale::Linear : p.y_scale;
+  std::vector<double> xs, ys;
+  for (const Series& s : p.series) {
+    xs.insert(xs.end(), s.x.begin(), s.x.end());
+    ys.insert(ys.end(), s.y.begin(), s.y.end());
+    ys.insert(ys.end(), s.y_lo.begin(), s.y_lo.end());
+    ys.insert(ys.end(), s.y_hi.begin(), s.y_hi.end());
+  }
+  for (const Band& b : p.bands) {
+    xs.insert(xs.end(), b.x.begin(), b.x.end());
+    ys.insert(ys.end(), b.lo.begin(), b.lo.end());
+    ys.insert(ys.end(), b.hi.begin(), b.hi.end());
+  }
+  for (const Box& b : p.boxes) {
+    ys.push_back(b.whisker_lo);
+    ys.push_back(b.whisker_hi);
+  }
+  for (const HLine& h : p.hlines)
+    ys.push_back(h.y);
+  xa.lo = p.x_min;
+  xa.hi = p.x_max;
+  ya.lo = p.y_min;
+  ya.hi = p.y_max;
+  if (p.x_scale == Scale::Categorical) {
+    const double n = static_cast<double>(std::max<std::size_t>(p.categories.size(), 1));
+    if (std::isnan(xa.lo)) xa.lo = -0.5;
+    if (std::isnan(xa.hi)) xa.hi = n - 0.5;
+  } else {
+    auto_range(xs, xa.scale, xa.lo, xa.hi);
+  }
+  auto_range(ys, ya.scale, ya.lo, ya.hi);
+
+  // Layout: title above, tick labels and axis labels left and below, legend on the right.
+  bool any_legend = false;
+  for (const Series& s : p.series)
+    any_legend = any_legend || !s.label.empty();
+  for (const Band& b : p.bands)
+    any_legend = any_legend || !b.label.empty();
+  any_legend = any_legend && p.legend;
+  const double left = 78, top = p.title.empty() ? 14 : 34, bottom = 50;
+  const double right = any_legend ? 178 : 16;
+  const double plot_w = std::max(40.0, p.width - left - right);
+  const double plot_h = std::max(40.0, p.height - top - bottom);
+  xa.p0 = left;
+  xa.p1 = left + plot_w;
+  ya.p0 = top + plot_h;
+  ya.p1 = top;
+  const auto X = [&](double v) { return xa.px(v); };
+  const auto Y = [&](double v) { return ya.px(v); };
+  const bool x_log = xa.scale == Scale::Log, y_log = ya.scale == Scale::Log;
+  const auto ok_x = [&](double v) { return usable(v, xa.scale); };
+  const auto ok_y = [&](double v) { return usable(v, ya.scale); };
+
+  std::string o;
+  o.reserve(8192);
+  o += "<svg xmlns=\"http://www.w3.org/2000/svg\"";
+  append_attr(o, "id", escape(p.id));
+  append_attr(o, "class", "plot");
+  o += " viewBox=\"0 0 " + coord(p.width) + " " + coord(p.height) + "\"";
+  o += " font-family=\"Helvetica,Arial,sans-serif\" font-size=\"12\" role=\"img\"";
+  append_attr(o, "aria-label", escape(p.title));
+  o += ">\n";
+  if (!p.title.empty()) o += "<title>" + escape(p.title) + "</title>\n";
+  o += "<rect width=\"100%\" height=\"100%\" fill=\"#fff\"/>\n";
+  const std::string clip = escape(p.id) + "-clip";
+  o += "<clipPath id=\"" + clip + "\"><rect x=\"" + coord(left) + "\" y=\"" + coord(top) +
+       "\" width=\"" + coord(plot_w) + "\" height=\"" + coord(plot_h) + "\"/></clipPath>\n";
+
+  // Grid and ticks.
+  std::vector<Tick> xt;
+  if (p.x_scale == Scale::Categorical) {
+    for (std::size_t i = 0; i < p.categories.size(); ++i)
+      xt.push_back({static_cast<double>(i), p.categories[i], true});
+  } else {
+    xt = x_log ? log_ticks(xa.lo, xa.hi) : linear_ticks(xa.lo, xa.hi);
+  }
+  const std::vector<Tick> yt = y_log ? log_ticks(ya.lo, ya.hi) : linear_ticks(ya.lo, ya.hi);
+  std::string grid_major, grid_minor, tick_marks;
+  for (const Tick& t : xt) {
+    if (p.x_scale == Scale::Categorical) continue;
+    std::string& g = t.major ? grid_major : grid_minor;
+    g += "M";
+    append_coord(g, X(t.value));
+    g += " ";
+    append_coord(g, top);
+    g += "V";
+    append_coord(g, top + plot_h);
+    tick_marks += "M";
+    append_coord(tick_marks, X(t.value));
+    tick_marks += " ";
+    append_coord(tick_marks, top + plot_h);
+    tick_marks += "v" + std::string(t.major ? "6" : "3");
+  }
+  for (const Tick& t : yt) {
+    std::string& g = t.major ? grid_major : grid_minor;
+    g += "M";
+    append_coord(g, left);
+    g += " ";
+    append_coord(g, Y(t.value));
+    g += "H";
+    append_coord(g, left + plot_w);
+    tick_marks += "M";
+    append_coord(tick_marks, left);
+    tick_marks += " ";
+    append_coord(tick_marks, Y(t.value));
+    tick_marks += "h" + std::string(t.major ? "-6" : "-3");
+  }
+  if (!grid_minor.empty())
+    o += "<path d=\"" + grid_minor + "\" stroke=\"#eee\" stroke-width=\"1\" fill=\"none\"/>\n";
+  if (!grid_major.empty())
+    o += "<path d=\"" + grid_major + "\" stroke=\"#ccc\" stroke-width=\"1\" fill=\"none\"/>\n";
+
+  o += "<g clip-path=\"url(#" + clip + ")\">\n";
+  // Bands.
+  for (const Band& b : p.bands) {
+    std::string d;
+    if (b.vertical) {
+      if (b.x.size() < 2 || !ok_x(b.x[0]) || !ok_x(b.x[1])) continue;
+      const double a = std::clamp(X(b.x[0]), left, left + plot_w);
+      const double c = std::clamp(X(b.x[1]), left, left + plot_w);
+      d = "M" + coord(a) + " " + coord(top) + "H" + coord(c) + "V" + coord(top + plot_h) + "H" +
+          coord(a) + "Z";
+    } else {
+      // Upper edge left to right, lower edge back; runs of unusable points break the polygon.
+      std::vector<std::size_t> idx;
+      for (std::size_t i = 0; i < b.x.size(); ++i)
+        if (ok_x(b.x[i]) && ok_y(b.lo[i]) && ok_y(b.hi[i])) idx.push_back(i);
+      if (idx.size() < 2) continue;
+      for (std::size_t j = 0; j < idx.size(); ++j) {
+        d += j == 0 ? "M" : "L";
+        d += coord(X(b.x[idx[j]])) + " " + coord(Y(b.hi[idx[j]]));
+      }
+      for (std::size_t j = idx.size(); j-- > 0;)
+        d += "L" + coord(X(b.x[idx[j]])) + " " + coord(Y(b.lo[idx[j]]));
+      d += "Z";
+    }
+    o += "<path d=\"" + d + "\" fill=\"" + escape(b.color) + "\" fill-opacity=\"" +
+         number(b.opacity, 3) + "\" stroke=\"none\"/>\n";
+  }
+  for (const HLine& h : p.hlines) {
+    if (!ok_y(h.y)) continue;
+    o += "<path d=\"M" + coord(left) + " " + coord(Y(h.y)) + "H" + coord(left + plot_w) +
+         "\" stroke=\"" + escape(h.color) + "\" stroke-width=\"1.2\"" +
+         (h.dash.empty() ? std::string() : " stroke-dasharray=\"" + escape(h.dash) + "\"") +
+         " fill=\"none\"/>\n";
+  }
+  for (const Box& b : p.boxes) {
+    if (!ok_y(b.q1) || !ok_y(b.q3) || !ok_y(b.median)) continue;
+    const double xl = X(b.x - b.half_width), xr = X(b.x + b.half_width), xc = X(b.x);
+    const double cap = (xr - xl) / 4;
+    std::string d = "M" + coord(xl) + " " + coord(Y(b.q3)) + "H" + coord(xr) + "V" +
+                    coord(Y(b.q1)) + "H" + coord(xl) + "Z";
+    if (ok_y(b.whisker_hi))
+      d += "M" + coord(xc) + " " + coord(Y(b.q3)) + "V" + coord(Y(b.whisker_hi)) + "M" +
+           coord(xc - cap) + " " + coord(Y(b.whisker_hi)) + "H" + coord(xc + cap);
+    if (ok_y(b.whisker_lo))
+      d += "M" + coord(xc) + " " + coord(Y(b.q1)) + "V" + coord(Y(b.whisker_lo)) + "M" +
+           coord(xc - cap) + " " + coord(Y(b.whisker_lo)) + "H" + coord(xc + cap);
+    o += "<path d=\"" + d + "\" stroke=\"" + escape(b.color) +
+         "\" stroke-width=\"1.2\" fill=\"#f4f4f4\"/>\n";
+    o += "<path d=\"M" + coord(xl) + " " + coord(Y(b.median)) + "H" + coord(xr) + "\" stroke=\"" +
+         escape(b.color) + "\" stroke-width=\"2.4\"/>\n";
+  }
+
+  // Series: error bars, then the line, then dots (so that dots sit on top).
+  for (const Series& s : p.series) {
+    const std::string color = escape(s.color);
+    if (!s.y_lo.empty() && !s.y_hi.empty()) {
+      std::string d;
+      for (std::size_t i = 0; i < s.x.size(); ++i) {
+        if (!ok_x(s.x[i]) || !ok_y(s.y_lo[i]) || !ok_y(s.y_hi[i])) continue;
+        const double x = X(s.x[i]), a = Y(s.y_lo[i]), b = Y(s.y_hi[i]);
+        d += "M";
+        append_coord(d, x);
+        d += " ";
+        append_coord(d, a);
+        d += "V";
+        append_coord(d, b);
+        d += "M";
+        append_coord(d, x - 2);
+        d += " ";
+        append_coord(d, a);
+        d += "h4M";
+        append_coord(d, x - 2);
+        d += " ";
+        append_coord(d, b);
+        d += "h4";
+      }
+      if (!d.empty())
+        o += "<path d=\"" + d + "\" stroke=\"" + color +
+             "\" stroke-width=\"0.9\" stroke-opacity=\"0.7\" fill=\"none\"/>\n";
+    }
+    if (s.line) {
+      std::string d;
+      bool pen_down = false;
+      for (std::size_t i = 0; i < s.x.size(); ++i) {
+        if (!ok_x(s.x[i]) || !ok_y(s.y[i])) {
+          pen_down = false;
+          continue;
+        }
+        d += pen_down ? " " : "M";
+        append_coord(d, X(s.x[i]));
+        d += " ";
+        append_coord(d, Y(s.y[i]));
+        pen_down = true;
+      }
+      if (!d.empty())
+        o += "<path d=\"" + d + "\" stroke=\"" + color + "\" stroke-width=\"" + number(s.width, 3) +
+             "\"" +
+             (s.dash.empty() ? std::string() : " stroke-dasharray=\"" + escape(s.dash) + "\"") +
+             " fill=\"none\" stroke-linejoin=\"round\"/>\n";
+    }
+    if (s.dots) {
+      // Zero-length subpaths with round caps draw one dot per point in a single element.
+      std::string d, links;
+      for (std::size_t i = 0; i < s.x.size(); ++i) {
+        if (!ok_x(s.x[i]) || !ok_y(s.y[i])) continue;
+        const double x = X(s.x[i]), y = Y(s.y[i]);
+        if (!s.hrefs.empty() && !s.hrefs[i].empty()) {
+          links += "<a href=\"" + escape(s.hrefs[i]) + "\"><circle cx=\"" + coord(x) + "\" cy=\"" +
+                   coord(y) + "\" r=\"" + number(s.dot_size * 0.75, 3) + "\" fill=\"" + color +
+                   "\" stroke=\"#000\" stroke-width=\"0.8\">";
+          if (!s.tooltips.empty()) links += "<title>" + escape(s.tooltips[i]) + "</title>";
+          links += "</circle></a>\n";
+          continue;
+        }
+        d += "M";
+        append_coord(d, x);
+        d += " ";
+        append_coord(d, y);
+        d += "h0";
+      }
+      if (!d.empty())
+        o += "<path d=\"" + d + "\" stroke=\"" + color + "\" stroke-width=\"" +
+             number(s.dot_size, 3) + "\" stroke-linecap=\"round\" fill=\"none\"/>\n";
+      o += links;
+    }
+  }
+  o += "</g>\n";
+
+  // Annotations, clamped into the plot area so that a label is never lost off the edge.
+  for (const Annotation& a : p.annotations) {
+    if (!ok_x(a.x) || !ok_y(a.y)) continue;
+    const double x = std::clamp(X(a.x) + a.dx, left + 2, left + plot_w - 2);
+    const double y = std::clamp(Y(a.y) + a.dy, top + 12, top + plot_h - 4);
+    o += "<text x=\"" + coord(x) + "\" y=\"" + coord(y) + "\" fill=\"" + escape(a.color) +
+         "\" text-anchor=\"" + escape(a.anchor) +
+         "\" font-size=\"11\" stroke=\"#fff\" stroke-width=\"3\" paint-order=\"stroke\">" +
+         escape(a.text) + "</text>\n";
+  }
+
+  // Frame, ticks, tick labels.
+  o += "<rect x=\"" + coord(left) + "\" y=\"" + coord(top) + "\" width=\"" + coord(plot_w) +
+       "\" height=\"" + coord(plot_h) + "\" fill=\"none\" stroke=\"#333\" stroke-width=\"1\"/>\n";
+  if (!tick_marks.empty())
+    o += "<path d=\"" + tick_marks + "\" stroke=\"#333\" stroke-width=\"1\" fill=\"none\"/>\n";
+  o += "<g fill=\"#222\">\n";
+  for (const Tick& t : xt) {
+    if (!t.major) continue;
+    // Categorical labels may have several lines ('\n'), each centred under the category.
+    const std::string x = coord(X(t.value));
+    std::string text;
+    std::size_t start = 0;
+    for (int line = 0;; ++line) {
+      const auto nl = t.label.find('\n', start);
+      const std::string part = t.label.substr(start, nl == std::string::npos ? nl : nl - start);
+      text += line == 0 ? tick_text(part)
+                        : "<tspan x=\"" + x + "\" dy=\"1.2em\">" + tick_text(part) + "</tspan>";
+      if (nl == std::string::npos) break;
+      start = nl + 1;
+    }
+    o += "<text x=\"" + x + "\" y=\"" + coord(top + plot_h + 20) + "\" text-anchor=\"middle\">" +
+         text + "</text>\n";
+  }
+  for (const Tick& t : yt) {
+    if (!t.major) continue;
+    o += "<text x=\"" + coord(left - 9) + "\" y=\"" + coord(Y(t.value) + 4) +
+         "\" text-anchor=\"end\">" + tick_text(t.label) + "</text>\n";
+  }
+  o += "</g>\n";
+  if (!p.x_label.empty())
+    o += "<text x=\"" + coord(left + plot_w / 2) + "\" y=\"" + coord(p.height - 10) +
+         "\" text-anchor=\"middle\" font-size=\"13\">" + escape(p.x_label) + "</text>\n";
+  if (!p.y_label.empty())
+    o += "<text transform=\"translate(16 " + coord(top + plot_h / 2) +
+         ") rotate(-90)\" text-anchor=\"middle\" font-size=\"13\">" + escape(p.y_label) +
+         "</text>\n";
+  if (!p.title.empty())
+    o += "<text x=\"" + coord(left) + "\" y=\"22\" font-size=\"14\" font-weight=\"bold\">" +
+         escape(p.title) + "</text>\n";
+
+  // Legend.
+  if (any_legend) {
+    const double lx = left + plot_w + 14;
+    double ly = top + 10;
+    o += "<g class=\"legend\" font-size=\"11\">\n";
+    const auto short_label = [](const std::string& s) {
+      // About 24 characters fit in the legend column; longer labels are cut with an ellipsis
+      // (at a UTF-8 character boundary).
+      if (s.size() <= 26) return s;
+      std::size_t cut = 24;
+      while (cut > 0 && (static_cast<unsigned char>(s[cut]) & 0xC0) == 0x80)
+        --cut;
+      return s.substr(0, cut) + "\xE2\x80\xA6";
+    };
+    for (const Band& b : p.bands) {
+      if (b.label.empty()) continue;
+      o += "<rect x=\"" + coord(lx) + "\" y=\"" + coord(ly - 6) + "\" width=\"22\" height=\"10\"" +
+           " fill=\"" + escape(b.color) + "\" fill-opacity=\"" + number(b.opacity, 3) + "\"/>";
+      o += "<text x=\"" + coord(lx + 28) + "\" y=\"" + coord(ly + 4) + "\">" +
+           escape(short_label(b.label)) + "</text>\n";
+      ly += 17;
+    }
+    for (const Series& s : p.series) {
+      if (s.label.empty()) continue;
+      if (s.line)
+        o += "<path d=\"M" + coord(lx) + " " + coord(ly) + "h22\" stroke=\"" + escape(s.color) +
+             "\" stroke-width=\"" + number(std::max(s.width, 1.5), 3) + "\"" +
+             (s.dash.empty() ? std::string() : " stroke-dasharray=\"" + escape(s.dash) + "\"") +
+             "/>";
+      if (s.dots)
+        o += "<path d=\"M" + coord(lx + 11) + " " + coord(ly) + "h0\" stroke=\"" + escape(s.color) +
+             "\" stroke-width=\"" + number(s.dot_size + 1, 3) + "\" stroke-linecap=\"round\"/>";
+      o += "<text x=\"" + coord(lx + 28) + "\" y=\"" + coord(ly + 4) + "\">" +
+           escape(short_label(s.label)) + "</text>\n";
+      ly += 17;
+    }
+    o += "</g>\n";
+  }
+  o += "</svg>\n";
+  return o;
+}
+
+}  // namespace allanlot::svg

@@ -1,0 +1,94 @@
+// `allanlot diagnose` through the binary: a simulated measurement with a hidden sinusoid, the
+// JSON object of CONTRACT, the -o group written into an existing file, the corrected model
+// accepted by `simulate`, the input never modified, and usage errors with exit status 2.
+#include "support/h5_fixture.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+namespace allanlot {
+namespace {
+
+using test::binary;
+using test::run_command;
+
+TEST(DiagnoseCommand, NamesTheHiddenSinusoidAndWritesEverything) {
+  const auto dir = test::fresh_dir("diagnose_cli");
+  {
+    std::ofstream g(dir / "given.json");
+    g << R"({"units": "deg/s", "sample_rate_hz": 100, "terms": {"N": 0.01, "B": 0.003}})";
+    std::ofstream t(dir / "truth.json");
+    t << R"({"units": "deg/s", "sample_rate_hz": 100, "terms": {"N": 0.01, "B": 0.003},
+             "effects": [{"type": "sinusoid", "amplitude": 0.008, "frequency_hz": 0.5}]})";
+  }
+  const std::string in = (dir / "meas.h5").string();
+  std::string out;
+  ASSERT_EQ(run_command(binary() + " simulate -q --model " + (dir / "truth.json").string() +
+                            " --duration 600 --seed 4 -o " + in,
+                        &out),
+            0)
+      << out;
+  const std::string bytes = test::file_bytes(in);
+  // -o twice into the same file: the second run replaces the group of the first in a copy.
+  const std::string cmd =
+      binary() + " diagnose " + in + " --model " + (dir / "given.json").string() + " --threads 2";
+  ASSERT_EQ(run_command(cmd + " --replicas 4 --json -o " + (dir / "out.h5").string(), &out), 0)
+      << out;
+  ASSERT_EQ(run_command(cmd + " --replicas 4 --json -o " + (dir / "out.h5").string() +
+                            " --model-out " + (dir / "fixed.json").string() + " 2>/dev/null",
+                        &out),
+            0)
+      << out;
+  const auto j = nlohmann::json::parse(out);
+  EXPECT_EQ(j["channel"], "/imu/gyro_x");
+  ASSERT_EQ(j["effects_named"].size(), 1u) << out;
+  EXPECT_EQ(j["effects_named"][0], "sinusoid");
+  EXPECT_NEAR(j["parameters"]["sinusoid"]["frequency_hz"].get<double>(), 0.5, 0.025);
+  EXPECT_GT(j["gap_before"].get<double>(), j["gap_after"].get<double>());
+  EXPECT_EQ(j["iterations"].size(), 1u);
+  EXPECT_EQ(test::file_bytes(in), bytes);
+
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  const hid_t f = H5Fopen((dir / "out.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  for (const char* ds :
+       {"/imu/gyro_x", "/imu/gyro_x/diagnosis/tau", "/imu/gyro_x/diagnosis/avar_model_after",
+        "/imu/gyro_x/diagnosis/mc_after_hi", "/imu/gyro_x/diagnosis/z_before",
+        "/imu/gyro_x/diagnosis/effect"})
+    EXPECT_GT(H5Lexists(f, ds, H5P_DEFAULT), 0) << ds;
+  H5Fclose(f);
+
+  // The corrected model drives simulate.
+  EXPECT_EQ(run_command(binary() + " simulate -q --model " + (dir / "fixed.json").string() +
+                        " --duration 10 -o " + (dir / "again.h5").string()),
+            0);
+  // The human report names the effect.
+  ASSERT_EQ(run_command(cmd + " --replicas 0", &out), 0) << out;
+  EXPECT_NE(out.find("add sinusoid"), std::string::npos) << out;
+
+  // Usage errors: missing channel, bad model file, -o naming the input.
+  EXPECT_EQ(run_command(cmd + " --channel nope", &out), 2) << out;
+  EXPECT_NE(out.find("no channel 'nope'"), std::string::npos) << out;
+  {
+    std::ofstream b(dir / "bad.json");
+    b << R"({"units": "deg/s", "sample_rate_hz": 100, "terms": {"X": 1}})";
+  }
+  EXPECT_EQ(
+      run_command(binary() + " diagnose " + in + " --model " + (dir / "bad.json").string(), &out),
+      2);
+  EXPECT_NE(out.find("terms.X"), std::string::npos) << out;
+  EXPECT_EQ(run_command(cmd + " -o " + in, &out), 2) << out;
+  // A recording is not a results file: its channel is a dataset, not a group.
+  std::filesystem::copy_file(in, dir / "copy.h5");
+  EXPECT_EQ(run_command(cmd + " -o " + (dir / "copy.h5").string(), &out), 1) << out;
+  EXPECT_NE(out.find("not a group"), std::string::npos) << out;
+  EXPECT_EQ(test::file_bytes(in), bytes);
+  EXPECT_EQ(run_command(binary() + " diagnose " + (dir / "missing.h5").string() + " --model " +
+                            (dir / "given.json").string(),
+                        &out),
+            1)
+      << out;
+}
+
+}  // namespace
+}  // namespace allanlot

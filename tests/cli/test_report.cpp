@@ -1,0 +1,311 @@
+// `allanlot report` end to end through the binary, on a small simulated lot (five units of two
+// channels and one unit with five times the white noise): the page is self-contained and
+// deterministic, has the expected plots, finds the odd unit as an outlier, splits into linked
+// unit pages, shows a diagnosis group and the lot summary's spec colouring when present, and
+// fails with clear messages.
+#include "support/h5_fixture.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstddef>
+#include <fstream>
+#include <regex>
+#include <set>
+
+namespace allanlot {
+namespace {
+
+namespace fs = std::filesystem;
+using test::binary;
+using test::run_command;
+
+std::string read_file(const fs::path& p) {
+  return test::file_bytes(p);
+}
+
+std::size_t count(const std::string& s, const std::string& what) {
+  std::size_t n = 0;
+  for (auto p = s.find(what); p != std::string::npos; p = s.find(what, p + 1))
+    ++n;
+  return n;
+}
+
+class Report : public ::testing::Test {
+protected:
+  static fs::path dir() { return fs::path(ALLANLOT_TEST_TMP) / "report"; }
+  static fs::path results() { return dir() / "results"; }
+
+  // One lot for every test of this file: simulated and analysed once (a few seconds).
+  static void SetUpTestSuite() {
+    const fs::path d = test::fresh_dir("report");
+    {
+      std::ofstream m(d / "lot.json");
+      m << R"({"sample_rate_hz": 100, "lot_spread": {"N": 0.05, "B": 0.1},
+               "channels": {
+                 "gyro_x": {"units": "deg/s", "terms": {"N": 0.005, "B": 0.001}},
+                 "accel_x": {"units": "m/s^2", "terms": {"N": 0.002, "B": 0.0005}}}})";
+      std::ofstream o(d / "odd.json");
+      o << R"({"units": "deg/s", "sample_rate_hz": 100, "terms": {"N": 0.03, "B": 0.001}})";
+    }
+    std::string out;
+    ASSERT_EQ(run_command(binary() + " simulate -q --model " + (d / "lot.json").string() +
+                              " --lot 5 --duration 300 --seed 7 -o " + (d / "lot").string(),
+                          &out),
+              0)
+        << out;
+    ASSERT_EQ(run_command(binary() + " simulate -q --model " + (d / "odd.json").string() +
+                              " --duration 300 --seed 8 -o " + (d / "lot" / "odd_unit.h5").string(),
+                          &out),
+              0)
+        << out;
+    ASSERT_EQ(
+        run_command(binary() + " analyze -q -o " + results().string() + " " + (d / "lot").string(),
+                    &out),
+        0)
+        << out;
+  }
+
+  static std::string report(const std::string& args, int expect = 0) {
+    std::string out;
+    EXPECT_EQ(run_command(binary() + " report " + args, &out), expect) << args << "\n" << out;
+    return out;
+  }
+};
+
+TEST_F(Report, WritesASelfContainedPageWithThePlots) {
+  const fs::path html = dir() / "r1.html";
+  report(results().string() + " -o " + html.string());
+  const std::string s = read_file(html);
+  ASSERT_FALSE(s.empty());
+  EXPECT_EQ(s.rfind("<!DOCTYPE html>", 0), 0u);
+  // Nothing fetched, nothing run: no scripts, no external resources (the SVG namespace URI is
+  // an identifier, never fetched).
+  EXPECT_EQ(s.find("<script"), std::string::npos);
+  EXPECT_EQ(s.find(" src="), std::string::npos);
+  EXPECT_EQ(s.find("@import"), std::string::npos);
+  EXPECT_EQ(count(s, "http"), count(s, "http://www.w3.org/2000/svg"));
+  // Per unit and channel: the Allan plot, the PSD and the cross-check; per channel of the lot:
+  // a distribution plot.
+  for (int u = 1; u <= 5; ++u)
+    for (const char* c : {"accel_x", "gyro_x"})
+      for (const char* kind : {"adev", "psd", "xc"}) {
+        const std::string id = "id=\"u-unit_000" + std::to_string(u) + "-_imu_" + c + "-" + kind;
+        EXPECT_NE(s.find(id + "\""), std::string::npos) << id;
+      }
+  EXPECT_NE(s.find("id=\"u-odd_unit-_imu_gyro_x-adev\""), std::string::npos);
+  EXPECT_EQ(count(s, "<svg "), 11u * 3u + 2u);
+  EXPECT_NE(s.find("id=\"dist-_imu_gyro_x\""), std::string::npos);
+  EXPECT_NE(s.find("id=\"dist-_imu_accel_x\""), std::string::npos);
+  // The fit's asymptotes, labelled with their slopes, and the coefficient table.
+  EXPECT_NE(s.find("N: slope \xE2\x88\x92"
+                   "1/2"),
+            std::string::npos);
+  EXPECT_NE(s.find("deg/h/sqrt(Hz)"), std::string::npos);
+  EXPECT_NE(s.find("Equation (3) coefficients"), std::string::npos);
+}
+
+TEST_F(Report, IsDeterministic) {
+  report(results().string() + " -q -o " + (dir() / "d1.html").string());
+  report(results().string() + " -q -o " + (dir() / "d2.html").string());
+  const std::string a = read_file(dir() / "d1.html"), b = read_file(dir() / "d2.html");
+  EXPECT_FALSE(a.empty());
+  EXPECT_TRUE(a == b);
+}
+
+TEST_F(Report, NamesTheOddUnitAsAnOutlier) {
+  report(results().string() + " -q -o " + (dir() / "o.html").string());
+  const std::string s = read_file(dir() / "o.html");
+  const auto at = s.find("<h2>Outlier units</h2>");
+  ASSERT_NE(at, std::string::npos);
+  const std::string section = s.substr(at, s.find("<h2>", at + 5) - at);
+  EXPECT_NE(section.find("href=\"#u-odd_unit-_imu_gyro_x\">odd_unit</a>"), std::string::npos)
+      << section;
+  EXPECT_EQ(section.find("unit_000"), std::string::npos) << section;
+}
+
+TEST_F(Report, SplitsIntoLinkedUnitPages) {
+  const fs::path out = dir() / "split";
+  fs::remove_all(out);
+  fs::create_directories(out);
+  report(results().string() + " -q --unit-pages always -o " + (out / "lot.html").string());
+  const std::string lot = read_file(out / "lot.html");
+  EXPECT_EQ(count(lot, "<svg "), 2u);  // only the distributions
+  for (const char* u : {"unit_0001", "unit_0005", "odd_unit"})
+    EXPECT_TRUE(fs::exists(out / "lot_units" / (std::string(u) + ".html"))) << u;
+  // Every link of the lot page resolves: the file exists and holds the anchor.
+  const std::regex href("href=\"([^\"#]*)#([^\"]*)\"");
+  std::size_t checked = 0;
+  for (auto it = std::sregex_iterator(lot.begin(), lot.end(), href); it != std::sregex_iterator();
+       ++it) {
+    const std::string file = (*it)[1], anchor = (*it)[2];
+    const std::string target = file.empty() ? lot : read_file(out / file);
+    EXPECT_NE(target.find("id=\"" + anchor + "\""), std::string::npos) << file << "#" << anchor;
+    ++checked;
+  }
+  EXPECT_GT(checked, 10u);
+  const std::string page = read_file(out / "lot_units" / "unit_0002.html");
+  EXPECT_NE(page.find("href=\"../lot.html#lot\""), std::string::npos);
+  EXPECT_EQ(count(page, "<svg "), 6u);
+}
+
+// A diagnose output as io/diagnosis.hpp writes it: /<channel>/diagnosis with the curves as
+// variances, the Monte Carlo bands, per-iteration effects, gaps and parameters, and the gaps as
+// attributes. The `malformed` variant uses the alternative names the reader accepts, an
+// effects attribute instead of a dataset and a curve of the wrong length.
+void write_diagnosis(const fs::path& path, const std::string& device, bool malformed) {
+  test::H5Fixture f(path);
+  f.group("/imu/gyro_x/diagnosis");
+  f.attr("/", "device_id", device);
+  const std::string g = "/imu/gyro_x/diagnosis/";
+  std::vector<double> tau, meas, before, after, lo, hi, edf;
+  for (int k = 0; k < 20; ++k) {
+    const double t = 0.01 * std::pow(10.0, k * 0.2);
+    tau.push_back(t);
+    after.push_back(2.5e-5 / t + 1e-6);
+    before.push_back(2.5e-5 / t);
+    meas.push_back(after.back() * (1 + 0.05 * std::sin(k)));
+    lo.push_back(after.back() * 0.8);
+    hi.push_back(after.back() * 1.25);
+    edf.push_back(100.0 / (1 + k));
+  }
+  f.dataset(g + "tau", tau, H5T_IEEE_F64LE);
+  f.dataset(g + "avar_measured", meas, H5T_IEEE_F64LE);
+  f.dataset(g + "avar_model_before", malformed ? std::vector<double>{1, 2, 3} : before,
+            H5T_IEEE_F64LE);
+  f.dataset(g + "avar_model_after", after, H5T_IEEE_F64LE);
+  f.dataset(g + (malformed ? "avar_mc_lo" : "mc_after_lo"), lo, H5T_IEEE_F64LE);
+  f.dataset(g + (malformed ? "avar_mc_hi" : "mc_after_hi"), hi, H5T_IEEE_F64LE);
+  f.dataset(g + "edf", edf, H5T_IEEE_F64LE);
+  if (malformed) {
+    f.dataset(g + "gap", {4.2, 1.9, 1.05}, H5T_IEEE_F64LE);
+    f.attr(g, "effects_named", std::string("[\"sinusoid\", \"markov\"]"));
+    f.string_dataset(g + "edf_text", {"not", "numbers"});
+  } else {
+    f.string_dataset(g + "effect", {"sinusoid", "markov"});
+    f.string_dataset(g + "parameters", {R"({"parameters": {"amplitude": 0.006}})", "{}"});
+    f.dataset(g + "gap_iteration_before", {4.2, 1.9}, H5T_IEEE_F64LE);
+    f.dataset(g + "gap_iteration_after", {1.9, 1.05}, H5T_IEEE_F64LE);
+    f.dataset(g + "delta_ic", {-120, -14}, H5T_IEEE_F64LE);
+    f.attr(g, "gap_before", 4.2);
+    f.attr(g, "gap_after", 1.05);
+    f.attr(g, "model_after", std::string(R"({"units": "deg/s"})"));
+  }
+}
+
+TEST_F(Report, ShowsADiagnosisWhenThereIsOne) {
+  const fs::path d = test::fresh_dir("report_diag");
+  write_diagnosis(d / "diag.h5", "unit_0002", false);
+  write_diagnosis(d / "bad.h5", "unit_0003", true);
+  report(results().string() + " -q --diagnosis " + (d / "diag.h5").string() + " --diagnosis " +
+         (d / "bad.h5").string() + " -o " + (d / "r.html").string());
+  const std::string s = read_file(d / "r.html");
+  EXPECT_NE(s.find("id=\"u-unit_0002-_imu_gyro_x-diag\""), std::string::npos);
+  EXPECT_NE(s.find("<b>sinusoid</b> &rarr; <b>markov</b>"), std::string::npos);
+  EXPECT_NE(s.find("Gap before: 4.2, after: 1.05"), std::string::npos);
+  EXPECT_NE(s.find("Monte Carlo band"), std::string::npos);
+  EXPECT_NE(s.find("&quot;amplitude&quot;: 0.006"), std::string::npos);  // escaped JSON
+  EXPECT_NE(s.find("<td>-120</td>"), std::string::npos);                 // delta IC
+  // The malformed one: effects from the attribute, the short curve left out with a note.
+  EXPECT_NE(s.find("id=\"u-unit_0003-_imu_gyro_x-diag\""), std::string::npos);
+  EXPECT_NE(s.find("a curve has 3 values for 20 taus; not drawn"), std::string::npos);
+  EXPECT_NE(s.find("Gap before: -, after: 1.05"), std::string::npos);  // last iteration's
+  // A diagnosis file dropped into OUTDIR is found without --diagnosis.
+  const fs::path out = test::fresh_dir("report_diag_auto");
+  for (const char* u : {"unit_0001.allan.h5", "unit_0002.allan.h5"})
+    fs::copy_file(results() / u, out / u);
+  write_diagnosis(out / "unit_0002.diagnosis.h5", "unit_0002", false);
+  report(out.string() + " -q");
+  EXPECT_NE(read_file(out / "report.html").find("id=\"u-unit_0002-_imu_gyro_x-diag\""),
+            std::string::npos);
+}
+
+// A lot summary with the spec columns the lead is adding (whole-row and per-term status,
+// fits_agree), written beside copies of the results files.
+void write_summary_with_spec(const fs::path& path) {
+  struct Rec {
+    const char* device_id;
+    const char* channel;
+    const char* status;
+    const char* spec_status;
+    const char* n_spec;
+    double fits_agree;
+  };
+  const Rec recs[] = {{"unit_0001", "/imu/gyro_x", "ok", "pass", "pass", 1.0},
+                      {"unit_0002", "/imu/gyro_x", "ok", "fail", "fail", 0.0},
+                      {"unit_0003", "/imu/gyro_x", "ok", "undecided", "undecided", 1.0},
+                      {"lost_unit", "", "failed: cannot open", "", "", NAN}};
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  const hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  const hid_t str = H5Tcopy(H5T_C_S1);
+  H5Tset_size(str, H5T_VARIABLE);
+  const hid_t t = H5Tcreate(H5T_COMPOUND, sizeof(Rec));
+  H5Tinsert(t, "device_id", offsetof(Rec, device_id), str);
+  H5Tinsert(t, "channel", offsetof(Rec, channel), str);
+  H5Tinsert(t, "status", offsetof(Rec, status), str);
+  H5Tinsert(t, "spec_status", offsetof(Rec, spec_status), str);
+  H5Tinsert(t, "N_spec_status", offsetof(Rec, n_spec), str);
+  H5Tinsert(t, "fits_agree", offsetof(Rec, fits_agree), H5T_NATIVE_DOUBLE);
+  const hsize_t n = 4;
+  const hid_t space = H5Screate_simple(1, &n, nullptr);
+  const hid_t ds = H5Dcreate2(f, "summary", t, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  H5Dwrite(ds, t, H5S_ALL, H5S_ALL, H5P_DEFAULT, recs);
+  H5Dclose(ds);
+  H5Sclose(space);
+  H5Tclose(t);
+  H5Tclose(str);
+  H5Fclose(f);
+}
+
+TEST_F(Report, ColoursSpecStatusFromTheLotSummary) {
+  const fs::path d = test::fresh_dir("report_spec");
+  for (const auto& e : fs::directory_iterator(results()))
+    if (e.path().extension() == ".h5" && e.path().filename() != "lot_summary.h5")
+      fs::copy_file(e.path(), d / e.path().filename());
+  write_summary_with_spec(d / "lot_summary.h5");
+  report(d.string() + " -q");
+  const std::string s = read_file(d / "report.html");
+  EXPECT_NE(s.find("<td class=\"pass\">pass</td>"), std::string::npos);
+  EXPECT_NE(s.find("<td class=\"fail\">fail</td>"), std::string::npos);
+  EXPECT_NE(s.find("<td class=\"undecided\">undecided</td>"), std::string::npos);
+  EXPECT_NE(s.find("<td class=\"bad\">no</td>"), std::string::npos);  // fits disagree
+  EXPECT_NE(s.find("1 pass</span>"), std::string::npos);
+  EXPECT_NE(s.find("lost_unit"), std::string::npos);  // a failed input of the lot summary
+  // Without spec columns (the analysed lot's own summary): no colouring.
+  report(results().string() + " -q -o " + (d / "plain.html").string());
+  const std::string plain = read_file(d / "plain.html");
+  EXPECT_EQ(plain.find("class=\"pass\""), std::string::npos);
+  EXPECT_EQ(plain.find("class=\"fail\""), std::string::npos);
+}
+
+TEST_F(Report, ClearErrors) {
+  const fs::path d = test::fresh_dir("report_errors");
+  // Not a directory.
+  std::string out = report((d / "missing").string(), 2);
+  EXPECT_NE(out.find((d / "missing").string() + ": not a directory"), std::string::npos) << out;
+  // No results files.
+  out = report(d.string(), 2);
+  EXPECT_NE(out.find("no results files"), std::string::npos) << out;
+  // One unreadable results file among good ones: written for the rest, exit 1, named.
+  for (const char* u : {"unit_0001.allan.h5", "unit_0002.allan.h5"})
+    fs::copy_file(results() / u, d / u);
+  {
+    std::ofstream bad(d / "broken.allan.h5");
+    bad << "not HDF5";
+  }
+  out = report(d.string() + " -o " + (d / "r.html").string(), 1);
+  EXPECT_NE(out.find("broken.allan.h5"), std::string::npos) << out;
+  const std::string s = read_file(d / "r.html");
+  EXPECT_NE(s.find("id=\"u-unit_0002\""), std::string::npos);
+  EXPECT_NE(s.find("broken.allan.h5"), std::string::npos);  // listed under Problems
+  // Unwritable output: usage error naming the file; nothing half-written.
+  const fs::path unwritable = d / "no" / "such" / "dir" / "r.html";
+  out = report(d.string() + " -o " + unwritable.string(), 2);
+  EXPECT_NE(out.find(unwritable.string()), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(unwritable));
+  // Unknown option value.
+  report(d.string() + " --unit-pages sometimes", 2);
+}
+
+}  // namespace
+}  // namespace allanlot

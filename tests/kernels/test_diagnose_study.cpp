@@ -1,0 +1,90 @@
+// The seed study behind the detection and false-alarm rates quoted in docs/diagnose.md: every
+// hidden-effect scenario, the complete model (null case) and the wrong-coefficient case over
+// many seeds. Disabled by default (about a minute per 10 seeds of all scenarios on one core);
+// run with
+//   test_kernels_diagnose_study --gtest_also_run_disabled_tests
+// and DIAGNOSE_STUDY_SEEDS=N (default 20) seeds per scenario.
+#include "kernels/test_diagnose_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+namespace allanlot {
+namespace {
+
+using kernels::Effect;
+
+bool names_exactly(const kernels::Diagnosis& d, std::vector<Effect> want) {
+  std::vector<Effect> got = d.effects_named;
+  std::sort(got.begin(), got.end());
+  std::sort(want.begin(), want.end());
+  return got == want;
+}
+
+std::string named(const kernels::Diagnosis& d) {
+  std::string s;
+  for (const Effect e : d.effects_named)
+    s += (s.empty() ? "" : ",") + std::string(kernels::effect_name(e));
+  return s.empty() ? "-" : s;
+}
+
+double param(const kernels::Diagnosis& d, Effect e, const std::string& key) {
+  for (std::size_t i = 0; i < d.effects_named.size(); ++i)
+    if (d.effects_named[i] == e)
+      for (const auto& p : d.effect_parameters[i])
+        if (p.name == key) return p.value;
+  return std::nan("");
+}
+
+TEST(DiagnoseStudy, DISABLED_DetectionAndFalseAlarmRates) {
+  const char* env = std::getenv("DIAGNOSE_STUDY_SEEDS");
+  const int seeds = env ? std::max(1, std::atoi(env)) : 20;
+  const bool verbose = std::getenv("DIAGNOSE_STUDY_VERBOSE") != nullptr;
+  std::printf("scenario                  exact  rate   gap_after(median)  within_noise  "
+              "f_err_max  tau_c_err_max\n");
+  auto scenarios = test::hidden_scenarios();
+  scenarios.push_back({"null", test::base_model(), test::base_model(), {}});
+  {
+    auto g = test::base_model();
+    g.terms.N *= 1.3;
+    scenarios.push_back({"wrong_N", test::base_model(), g, {}});
+  }
+  for (const auto& s : scenarios) {
+    int exact = 0, within = 0, wrong_flag = 0;
+    double f_err = 0, tc_err = 0;
+    std::vector<double> gaps;
+    for (int seed = 1; seed <= seeds; ++seed) {
+      const auto d = test::run_scenario(s.truth, s.given, 1000 + seed, 20);
+      exact += names_exactly(d, s.hidden) ? 1 : 0;
+      within += d.gap_within_noise ? 1 : 0;
+      wrong_flag += d.coefficients_wrong ? 1 : 0;
+      gaps.push_back(d.after.gap);
+      if (!s.truth.sinusoids.empty()) {
+        const double f = param(d, Effect::Sinusoid, "frequency_hz");
+        if (std::isfinite(f))
+          f_err = std::max(f_err, std::abs(f / s.truth.sinusoids[0].frequency_hz - 1.0));
+      }
+      if (!s.truth.markovs.empty()) {
+        const double t = param(d, Effect::Markov, "tau_c_s");
+        if (std::isfinite(t))
+          tc_err = std::max(tc_err, std::abs(t / s.truth.markovs[0].tau_c_s - 1.0));
+      }
+      if (verbose)
+        std::printf("  %s seed %d: named %s gap %.3f -> %.3f (p95 %.3f) neff %.1f wrong %d\n",
+                    s.name.c_str(), seed, named(d).c_str(), d.before.gap, d.after.gap,
+                    d.mc_after.gap_p95, d.n_eff, d.coefficients_wrong ? 1 : 0);
+    }
+    std::sort(gaps.begin(), gaps.end());
+    std::printf("%-24s %3d/%-3d %5.2f  %8.3f           %3d/%-3d      %7.4f    %7.4f   "
+                "(coefficients_wrong %d)\n",
+                s.name.c_str(), exact, seeds, static_cast<double>(exact) / seeds,
+                gaps[gaps.size() / 2], within, seeds, f_err, tc_err, wrong_flag);
+  }
+}
+
+}  // namespace
+}  // namespace allanlot

@@ -1,0 +1,124 @@
+// Shared scenarios of the diagnose tests: a base sensor model and one or two hidden effects at
+// levels where they are statistically visible in a 600 s record at 100 Hz but do not dominate
+// the curve, the measurement simulated from the truth and diagnosed against the given model.
+#pragma once
+
+#include "kernels/diagnose.hpp"
+#include "kernels/simulate.hpp"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace allanlot::test {
+
+inline constexpr double kRateHz = 100.0;
+inline constexpr double kDurationS = 600.0;
+
+/// Base model of the scenarios: white N = 0.01 u s^0.5 and flicker B = 0.003 u, which cross
+/// near tau = 25 s, in the middle of the 10 ms .. 150 s taus of the record.
+inline kernels::ChannelSpec base_model() {
+  kernels::ChannelSpec s;
+  s.rate_hz = kRateHz;
+  s.terms.N = 0.01;
+  s.terms.B = 0.003;
+  return s;
+}
+
+/// One test case: the truth the measurement is drawn from, the model the user gives, and the
+/// effects the diagnosis must name (in any order).
+struct Scenario {
+  std::string name;
+  kernels::ChannelSpec truth, given;
+  std::vector<kernels::Effect> hidden;
+};
+
+/// The hidden-effect scenarios. Each level is chosen so that the effect contributes 30 to 100 %
+/// of the base curve's variance over about a decade of tau (computed from eq. (3) at the taus
+/// named), visible yet not dominant:
+///  - quantization Q = 3e-4: 3 Q^2 / tau^2 is 27 % of N^2 / tau at tau0 = 10 ms;
+///  - white N = 0.005 against a model of quantization Q = 1e-3 and flicker: N^2 / tau exceeds
+///    both only between 0.12 s and 6 s;
+///  - flicker B = 0.005 against white alone: the floor reaches N^2 / tau at 9 s;
+///  - random walk K = 2e-3: K^2 tau / 3 equals the flicker floor at 3 s (the rise over the
+///    last decade is what tells it from a higher flicker floor, which the refit also tries);
+///  - ramp R = 6e-5: R^2 tau^2 / 2 equals the flicker floor at 47 s;
+///  - sinusoid A = 0.008 at 0.5 Hz: its bump at 0.74 s is 0.52 A^2 = 25 % of N^2 / tau there;
+///  - markov sigma = 0.007, tau_c = 5 s: its hump near 9.5 s is 0.38 sigma^2, 1.3 x the base;
+///  - two at once: the sinusoid and the random walk; the markov and the quantization.
+inline std::vector<Scenario> hidden_scenarios() {
+  std::vector<Scenario> out;
+  const auto add = [&](std::string name, kernels::ChannelSpec truth, kernels::ChannelSpec given,
+                       std::vector<kernels::Effect> hidden) {
+    out.push_back({std::move(name), std::move(truth), std::move(given), std::move(hidden)});
+  };
+  using kernels::Effect;
+  const kernels::ChannelSpec base = base_model();
+  {
+    auto t = base;
+    t.terms.Q = 3e-4;
+    add("quantization", t, base, {Effect::Quantization});
+  }
+  {
+    auto g = base;
+    g.terms.N = 0.0;
+    g.terms.Q = 1e-3;
+    auto t = g;
+    t.terms.N = 0.005;
+    add("white", t, g, {Effect::White});
+  }
+  {
+    auto g = base;
+    g.terms.B = 0.0;
+    auto t = base;
+    t.terms.B = 0.005;
+    add("flicker", t, g, {Effect::Flicker});
+  }
+  {
+    auto t = base;
+    t.terms.K = 2e-3;
+    add("random_walk", t, base, {Effect::RandomWalk});
+  }
+  {
+    auto t = base;
+    t.terms.R = 6e-5;
+    add("ramp", t, base, {Effect::Ramp});
+  }
+  {
+    auto t = base;
+    t.sinusoids.push_back({0.008, 0.5, 0.3});
+    add("sinusoid", t, base, {Effect::Sinusoid});
+  }
+  {
+    auto t = base;
+    t.markovs.push_back({0.007, 5.0});
+    add("markov", t, base, {Effect::Markov});
+  }
+  {
+    auto t = base;
+    t.sinusoids.push_back({0.008, 0.5, 0.3});
+    t.terms.K = 2e-3;
+    add("sinusoid+random_walk", t, base, {Effect::Sinusoid, Effect::RandomWalk});
+  }
+  {
+    auto t = base;
+    t.markovs.push_back({0.007, 5.0});
+    t.terms.Q = 3e-4;
+    add("markov+quantization", t, base, {Effect::Markov, Effect::Quantization});
+  }
+  return out;
+}
+
+/// The measurement of scenario `s` for `seed`, diagnosed with `replicas` Monte Carlo replicas.
+inline kernels::Diagnosis run_scenario(const kernels::ChannelSpec& truth,
+                                       const kernels::ChannelSpec& given, std::uint64_t seed,
+                                       int replicas, int nthreads = 0) {
+  std::vector<double> y(static_cast<std::size_t>(kRateHz * kDurationS));
+  kernels::simulate_channel(truth, seed, 0, y, nthreads);
+  kernels::DiagnoseOptions opt;
+  opt.mc_replicas = replicas;
+  opt.nthreads = nthreads;
+  return kernels::diagnose(y, kRateHz, given, opt);
+}
+
+}  // namespace allanlot::test
