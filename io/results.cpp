@@ -775,9 +775,17 @@ std::vector<SummaryRow> read_lot_summary(const std::filesystem::path& h5_path) {
   for (int i = 0; i < n_members; ++i) {
     char* name = H5Tget_member_name(type.get(), static_cast<unsigned>(i));
     if (!name) continue;
-    if (H5Tget_member_index(ftype.get(), name) >= 0) {
+    const int fi = H5Tget_member_index(ftype.get(), name);
+    if (fi >= 0) {
       Handle mt = check(H5Tget_member_type(type.get(), static_cast<unsigned>(i)), H5Tclose, file,
                         "/summary", "H5Tget_member_type");
+      // HDF5 does not convert between character sets: read a string in the file's own (an
+      // older writer may have used ASCII); the bytes are the same for ASCII text.
+      if (H5Tget_class(mt.get()) == H5T_STRING) {
+        Handle fm = check(H5Tget_member_type(ftype.get(), static_cast<unsigned>(fi)), H5Tclose,
+                          file, "/summary", "H5Tget_member_type");
+        if (H5Tget_class(fm.get()) == H5T_STRING) H5Tset_cset(mt.get(), H5Tget_cset(fm.get()));
+      }
       H5Tinsert(rtype.get(), name, H5Tget_member_offset(type.get(), static_cast<unsigned>(i)),
                 mt.get());
     }
