@@ -494,16 +494,6 @@ std::vector<SummaryRow> summary_rows(const RecordingResult& r) {
 
 namespace {
 
-std::string csv_field(const std::string& s) {
-  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
-  std::string q = "\"";
-  for (const char c : s) {
-    if (c == '"') q += '"';
-    q += c;
-  }
-  return q + "\"";
-}
-
 // Numbers in the CSV with 7 significant digits (a datasheet needs 2 or 3, the uncertainty
 // another); empty where there is no value.
 std::string csv_number(double v) {
@@ -847,6 +837,16 @@ std::vector<StatisticsRow> read_lot_statistics(const std::filesystem::path& h5_p
                    r.median, r.spread, r.p5, r.p25, r.p75, r.p95, r.min, r.max});
   if (n > 0) H5Dvlen_reclaim(type.get(), space.get(), H5P_DEFAULT, recs.data());
   return out;
+}
+
+std::string csv_field(const std::string& s) {
+  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
+  std::string q = "\"";
+  for (const char c : s) {
+    if (c == '"') q += '"';
+    q += c;
+  }
+  return q + "\"";
 }
 
 }  // namespace allanlot::io

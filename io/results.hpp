@@ -176,6 +176,10 @@ struct StatisticsRow {
   double max = std::numeric_limits<double>::quiet_NaN();
 };
 
+/// A CSV field (RFC 4180): as it is, or in double quotes with inner quotes doubled when it
+/// holds a comma, a quote or a line break.
+std::string csv_field(const std::string& s);
+
 /// Writes OUTDIR/lot_summary.csv, OUTDIR/lot_statistics.csv and OUTDIR/lot_summary.h5
 /// (compound datasets /summary and /statistics; `attributes` become string attributes of the
 /// file's root, e.g. the spec file used), each file atomically.

@@ -19,7 +19,6 @@
 #include <cmath>
 #include <cstdio>
 #include <ctime>
-#include <fnmatch.h>
 #include <fstream>
 #include <map>
 #include <optional>
@@ -49,12 +48,6 @@ std::string utc_now() {
   char buf[32];
   std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
   return buf;
-}
-
-bool channel_selected(const std::string& glob, const std::string& path) {
-  if (glob.empty()) return true;
-  const std::string name = path.substr(path.find_last_of('/') + 1);
-  return fnmatch(glob.c_str(), path.c_str(), 0) == 0 || fnmatch(glob.c_str(), name.c_str(), 0) == 0;
 }
 
 struct StageTimes {
@@ -213,7 +206,7 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
                     {"git_sha", kGitSha}};
 
   for (const io::ChannelProblem& p : info.problems) {
-    if (!channel_selected(opt.channels_glob, p.path)) continue;
+    if (!channel_matches(opt.channels_glob, p.path)) continue;
     io::ChannelResult cr;
     cr.path = p.path;
     cr.status = "failed: " + p.reason;
@@ -224,7 +217,7 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
   std::vector<const io::ChannelInfo*> selected;
   std::int64_t max_samples = 1;
   for (const io::ChannelInfo& ch : info.channels)
-    if (channel_selected(opt.channels_glob, ch.path)) {
+    if (channel_matches(opt.channels_glob, ch.path)) {
       selected.push_back(&ch);
       max_samples = std::max(max_samples, ch.n_samples);
     }
@@ -350,7 +343,7 @@ std::optional<std::pair<fs::path, std::string>> current_results(const std::strin
     // Same size, another time (copied, touched): the samples decide.
     std::uint64_t h = io::kHashSeed;
     for (const io::ChannelInfo& ch : reader.info().channels) {
-      if (!channel_selected(opt.channels_glob, ch.path)) continue;
+      if (!channel_matches(opt.channels_glob, ch.path)) continue;
       try {
         h = io::hash_channel(h, ch.path, reader.read(ch));
       } catch (const std::exception&) {

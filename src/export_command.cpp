@@ -1,5 +1,7 @@
 #include "src/export_command.hpp"
 
+#include "src/inputs.hpp"
+
 #include "io/atomic_file.hpp"
 #include "io/results.hpp"
 
@@ -8,7 +10,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fnmatch.h>
 #include <iostream>
 #include <limits>
 #include <map>
@@ -41,16 +42,6 @@ std::string e4(double v) {
   return buf;
 }
 
-std::string csv_field(const std::string& s) {
-  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
-  std::string q = "\"";
-  for (const char c : s) {
-    if (c == '"') q += '"';
-    q += c;
-  }
-  return q + "\"";
-}
-
 // Tidy CSV numbers: 12 significant digits (the dev values are exact to far fewer; more would
 // only show the last bits of the double), empty for NaN, as pandas reads missing values.
 std::string csv_number(double v) {
@@ -58,12 +49,6 @@ std::string csv_number(double v) {
   char buf[40];
   std::snprintf(buf, sizeof buf, "%.12g", v);
   return buf;
-}
-
-bool channel_selected(const std::string& glob, const std::string& path) {
-  if (glob.empty()) return true;
-  const std::string name = path.substr(path.find_last_of('/') + 1);
-  return fnmatch(glob.c_str(), path.c_str(), 0) == 0 || fnmatch(glob.c_str(), name.c_str(), 0) == 0;
 }
 
 template <class T>
@@ -143,7 +128,7 @@ int run_export(const ExportOptions& opt, std::ostream& out, std::ostream& err) {
     }
     ++read_ok;
     for (const io::ChannelResult& ch : r.channels) {
-      if (!channel_selected(opt.channels_glob, ch.path)) continue;
+      if (!channel_matches(opt.channels_glob, ch.path)) continue;
       for (const auto& [name, s] : ch.stats) {
         if (!opt.stats.empty() &&
             std::find(opt.stats.begin(), opt.stats.end(), name) == opt.stats.end())
@@ -154,8 +139,8 @@ int run_export(const ExportOptions& opt, std::ostream& out, std::ostream& err) {
                << stable32_block(r.device_id, ch.path, ch.units, name, s);
           continue;
         }
-        const std::string prefix = csv_field(r.device_id) + "," + csv_field(ch.path) + "," +
-                                   csv_field(ch.units) + "," + name + ",";
+        const std::string prefix = io::csv_field(r.device_id) + "," + io::csv_field(ch.path) + "," +
+                                   io::csv_field(ch.units) + "," + name + ",";
         for (std::size_t i = 0; i < s.size(); ++i) {
           const bool ci = s.confidence > 0.0;
           text << prefix << s.m[i] << "," << csv_number(s.tau_s[i]) << "," << s.n[i] << ","

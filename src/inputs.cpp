@@ -1,5 +1,7 @@
 #include "src/inputs.hpp"
 
+#include <fnmatch.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -83,6 +85,12 @@ InputList expand_inputs(const std::vector<std::string>& inputs) {
     }
   }
   return out;
+}
+
+bool channel_matches(const std::string& glob, const std::string& path) {
+  if (glob.empty()) return true;
+  const std::string name = path.substr(path.find_last_of('/') + 1);
+  return fnmatch(glob.c_str(), path.c_str(), 0) == 0 || fnmatch(glob.c_str(), name.c_str(), 0) == 0;
 }
 
 }  // namespace allanlot::cli

@@ -18,4 +18,9 @@ struct InputList {
 /// relative to the manifest's directory. A path given twice is analysed once.
 InputList expand_inputs(const std::vector<std::string>& inputs);
 
+/// The --channels rule, shared by analyze, export and spec files: an empty glob selects every
+/// channel; otherwise the glob (fnmatch) must match the channel's path (`/imu/gyro_x`) or its
+/// name (`gyro_x`).
+bool channel_matches(const std::string& glob, const std::string& path);
+
 }  // namespace allanlot::cli

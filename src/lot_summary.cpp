@@ -274,11 +274,4 @@ LotOverview write_lot(const fs::path& outdir, std::vector<io::SummaryRow> rows,
   return ov;
 }
 
-void write_lot(const fs::path& outdir, std::vector<io::SummaryRow> rows, const LotOptions& opt,
-               std::ostream& err) {
-  LotOptions quiet = opt;
-  quiet.quiet = true;
-  write_lot(outdir, std::move(rows), quiet, err, err);
-}
-
 }  // namespace allanlot::cli

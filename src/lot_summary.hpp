@@ -93,8 +93,4 @@ std::vector<io::StatisticsRow> lot_statistics(std::vector<io::SummaryRow>& rows)
 LotOverview write_lot(const std::filesystem::path& outdir, std::vector<io::SummaryRow> rows,
                       const LotOptions& opt, std::ostream& out, std::ostream& err);
 
-/// The first signature, kept only while src/analyze.cpp moves to the one above (no overview).
-void write_lot(const std::filesystem::path& outdir, std::vector<io::SummaryRow> rows,
-               const LotOptions& opt, std::ostream& err);
-
 }  // namespace allanlot::cli
