@@ -14,6 +14,15 @@ elseif(NOT ALLANLOT_SANITIZE STREQUAL "OFF")
   message(FATAL_ERROR "ALLANLOT_SANITIZE must be OFF, ASAN or TSAN, not '${ALLANLOT_SANITIZE}'")
 endif()
 
+# Fuzzing (fuzz/): every library is compiled with libFuzzer's coverage instrumentation; only
+# the fuzz targets themselves link libFuzzer's main (-fsanitize=fuzzer, fuzz/CMakeLists.txt).
+if(ALLANLOT_FUZZ)
+  if(NOT CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
+    message(FATAL_ERROR "ALLANLOT_FUZZ needs clang (libFuzzer): -DCMAKE_CXX_COMPILER=clang++")
+  endif()
+  list(APPEND ALLANLOT_SANITIZER_FLAGS -fsanitize=fuzzer-no-link)
+endif()
+
 function(allanlot_configure_target target)
   target_compile_features(${target} PUBLIC cxx_std_20)
   set_target_properties(${target} PROPERTIES CXX_EXTENSIONS OFF)

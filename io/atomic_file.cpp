@@ -8,6 +8,7 @@
 #include <cstring>
 #include <fcntl.h>
 #include <fstream>
+#include <sys/file.h>
 #include <unistd.h>
 
 namespace allanlot::io {
@@ -66,6 +67,22 @@ void AtomicFile::commit() {
   }
 }
 
+DirectoryLock::DirectoryLock(const std::filesystem::path& directory) {
+  fd_ = ::open(directory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd_ < 0) return;
+  int rc = 0;
+  while ((rc = ::flock(fd_, LOCK_EX)) != 0 && errno == EINTR) {
+  }
+  if (rc != 0) {
+    ::close(fd_);
+    fd_ = -1;
+  }
+}
+
+DirectoryLock::~DirectoryLock() {
+  if (fd_ >= 0) ::close(fd_);  // closing the last descriptor releases the flock
+}
+
 void write_text_atomic(const std::filesystem::path& path, const std::string& text) {
   AtomicFile f(path);
   {
@@ -73,8 +90,8 @@ void write_text_atomic(const std::filesystem::path& path, const std::string& tex
     if (!out)
       throw Error(path.string(), "", "cannot create file: " + std::string(std::strerror(errno)));
     out << text;
-    out.flush();
-    if (!out) throw Error(path.string(), "", "write failed (disk full?)");
+    out.close();  // a write that fails only when the buffer is flushed at close (a full disk)
+    if (!out) throw Error(path.string(), "", std::string("write: ") + std::strerror(errno));
   }
   f.commit();
 }

@@ -29,6 +29,25 @@ private:
   bool committed_ = false;
 };
 
+/// An exclusive advisory lock (flock) on a directory, held until destruction. Two `analyze`
+/// runs sharing an OUTDIR each rebuild the lot summary from the results files present; under
+/// this lock the listing and the write of one run never interleave with the other's, so the
+/// summary written last has seen every results file written before it. The directory itself
+/// is locked, so no lock file is left in OUTDIR. Best effort: where the directory cannot be
+/// opened or the file system has no flock (some network file systems), it locks nothing, as
+/// runs did before.
+class DirectoryLock {
+public:
+  explicit DirectoryLock(const std::filesystem::path& directory);
+  ~DirectoryLock();
+  DirectoryLock(const DirectoryLock&) = delete;
+  DirectoryLock& operator=(const DirectoryLock&) = delete;
+  bool locked() const { return fd_ >= 0; }
+
+private:
+  int fd_ = -1;
+};
+
 /// Writes `text` to `path` atomically (CSV summaries, model files).
 void write_text_atomic(const std::filesystem::path& path, const std::string& text);
 

@@ -1,9 +1,13 @@
 #include "io/hdf5_handle.hpp"
 
+#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <mutex>
 #include <vector>
+
+#include <fcntl.h>
+#include <unistd.h>
 
 namespace allanlot::io::h5 {
 
@@ -164,6 +168,39 @@ Handle group_create_plist(const std::string& file, const std::string& object) {
 
 Handle dataset_create_plist(const std::string& file, const std::string& object) {
   return untimed_plist(H5P_DATASET_CREATE, file, object);
+}
+
+Handle create_memory_file(const std::string& file) {
+  Handle fapl = check(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, file, "", "H5Pcreate");
+  // Grow the image 1 MiB at a time; backing_store = false: nothing is written by HDF5.
+  check(H5Pset_fapl_core(fapl.get(), std::size_t{1} << 20, false), file, "", "H5Pset_fapl_core");
+  return check(H5Fcreate(file.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), H5Fclose, file, "",
+               "H5Fcreate (in memory)");
+}
+
+void write_memory_file(Handle& f, const std::string& path, const std::string& file) {
+  check(H5Fflush(f.get(), H5F_SCOPE_GLOBAL), file, "", "H5Fflush (in memory)");
+  const ssize_t size = H5Fget_file_image(f.get(), nullptr, 0);
+  if (size < 0) throw Error(file, "", "H5Fget_file_image failed");
+  std::vector<char> image(static_cast<std::size_t>(size));
+  if (H5Fget_file_image(f.get(), image.data(), image.size()) != size)
+    throw Error(file, "", "H5Fget_file_image failed");
+  if (f.close() < 0) throw Error(file, "", "H5Fclose (in memory) failed");
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+  if (fd < 0) throw Error(file, "", std::string("cannot create file: ") + std::strerror(errno));
+  std::size_t done = 0;
+  while (done < image.size()) {
+    const ssize_t n = ::write(fd, image.data() + done, image.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const int err = n < 0 ? errno : ENOSPC;
+      ::close(fd);
+      throw Error(file, "", std::string("write: ") + std::strerror(err));
+    }
+    done += static_cast<std::size_t>(n);
+  }
+  // Some file systems (NFS) report a failed write only at close.
+  if (::close(fd) != 0) throw Error(file, "", std::string("close: ") + std::strerror(errno));
 }
 
 Handle ensure_groups(hid_t file_id, const std::string& path, const std::string& file) {

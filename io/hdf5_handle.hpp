@@ -82,6 +82,20 @@ void write_attribute(hid_t obj, const std::string& name, const std::vector<doubl
 Handle group_create_plist(const std::string& file, const std::string& object);
 Handle dataset_create_plist(const std::string& file, const std::string& object);
 
+/// A new HDF5 file held in memory (core driver, no backing store): results and lot summaries
+/// are built here and reach the disk only through write_memory_file. Why: when a write fails
+/// inside HDF5 (a full disk: ENOSPC in H5Dclose or H5Fclose), HDF5 1.10 leaves the file
+/// half-closed and dereferences it at library shutdown, a segfault at exit after the error
+/// was reported (found by tests/cli/test_faults.cpp on a full tmpfs). Outside HDF5 the same
+/// failure is one checked write(2). `file` names the destination in messages.
+Handle create_memory_file(const std::string& file);
+
+/// Writes the complete image of the in-memory file `f` to `path` (created, must not exist)
+/// with write(2), and closes `f`. Throws io::Error naming `file` with the system's reason
+/// (e.g. "write: No space left on device"); `path` is then incomplete and the caller's
+/// AtomicFile removes it.
+void write_memory_file(Handle& f, const std::string& path, const std::string& file);
+
 /// Creates every missing group along `path` ("/a/b/c") under `file_id` and returns the last.
 Handle ensure_groups(hid_t file_id, const std::string& path, const std::string& file);
 

@@ -153,6 +153,14 @@ RecordingReader::RecordingReader(const std::string& path) : impl_(std::make_uniq
         info_.problems.push_back({ds_path, msg.str()});
         continue;
       }
+      if (rate < kMinSampleRateHz || rate > kMaxSampleRateHz) {
+        std::ostringstream msg;
+        msg << "sample_rate_hz = " << rate << " (on " << rate_at << ") is outside "
+            << kMinSampleRateHz << " .. " << kMaxSampleRateHz
+            << " Hz, where the statistics stay within double precision";
+        info_.problems.push_back({ds_path, msg.str()});
+        continue;
+      }
       ch.sample_rate_hz = rate;
       hsize_t n = 0;
       H5Sget_simple_extent_dims(space.get(), &n, nullptr);

@@ -17,7 +17,7 @@ namespace allanlot::io {
 struct ChannelInfo {
   std::string path;             // dataset path in the file, e.g. "/imu/gyro_x"
   std::string units;            // `units` attribute, "" when absent
-  double sample_rate_hz = 0.0;  // > 0 and finite
+  double sample_rate_hz = 0.0;  // in [kMinSampleRateHz, kMaxSampleRateHz]
   double scale = 1.0;           // physical = raw * scale + offset
   double offset = 0.0;
   bool has_scale = false;  // a `scale` attribute was found
@@ -25,6 +25,14 @@ struct ChannelInfo {
   std::int64_t n_samples = 0;
   std::string storage_type;  // "float64", "float32", "int16", ... as stored
 };
+
+/// The sample rates allanlot analyses. The statistics are sums of squared phase differences in
+/// seconds (x = y / rate_hz for rate data), so tau0^2 = 1 / rate^2 must stay well inside
+/// double's range together with the taus of a record (m up to 10^9): from one sample in 30
+/// years to 1 THz. Beyond, tau^2 under- or overflows and every deviation would be 0, inf or
+/// NaN; a channel with such a rate is a named problem instead.
+inline constexpr double kMinSampleRateHz = 1e-9;
+inline constexpr double kMaxSampleRateHz = 1e12;
 
 /// A dataset that looks like a channel (it is in the scope of a sample_rate_hz attribute)
 /// but cannot be analysed; the reason names what is wrong.

@@ -209,8 +209,7 @@ void write_results(const std::filesystem::path& path, const RecordingResult& r) 
   const std::string file = path.string();
   AtomicFile atomic(path);
   {
-    Handle f = check(H5Fcreate(atomic.temp_path().c_str(), H5F_ACC_EXCL, H5P_DEFAULT, H5P_DEFAULT),
-                     H5Fclose, file, "", "H5Fcreate (is the output directory writable?)");
+    Handle f = h5::create_memory_file(file);
     {
       Handle root = check(H5Gopen2(f.get(), "/", H5P_DEFAULT), H5Gclose, file, "/", "H5Gopen2");
       h5::write_attribute(root.get(), "device_id", r.device_id, file, "/");
@@ -241,7 +240,7 @@ void write_results(const std::filesystem::path& path, const RecordingResult& r) 
           write_stat(allan.get(), name, s, file, ch.path + "/allan/" + name);
       }
     }
-    if (f.close() < 0) throw Error(file, "", "H5Fclose failed while flushing (disk full?)");
+    h5::write_memory_file(f, atomic.temp_path().string(), file);
   }
   atomic.commit();
 }
@@ -682,8 +681,7 @@ void write_lot_summary(const std::filesystem::path& outdir, const std::vector<Su
   const std::string file = h5path.string();
   AtomicFile atomic(h5path);
   {
-    Handle f = check(H5Fcreate(atomic.temp_path().c_str(), H5F_ACC_EXCL, H5P_DEFAULT, H5P_DEFAULT),
-                     H5Fclose, file, "", "H5Fcreate");
+    Handle f = h5::create_memory_file(file);
     std::vector<SummaryRecord> recs;
     recs.reserve(rows.size());
     for (const SummaryRow& r : rows) {
@@ -729,7 +727,7 @@ void write_lot_summary(const std::filesystem::path& outdir, const std::vector<Su
       for (const auto& [name, value] : attributes)
         h5::write_attribute(root.get(), name, value, file, "/");
     }
-    if (f.close() < 0) throw Error(file, "", "H5Fclose failed while flushing (disk full?)");
+    h5::write_memory_file(f, atomic.temp_path().string(), file);
   }
   atomic.commit();
 }

@@ -62,12 +62,13 @@ double stat_edf(Stat s, int alpha, std::int64_t m, std::int64_t n_phase, std::in
   return edf_greenhall(alpha, kind, m, n_eff);
 }
 
-void add_confidence(Stat s, const PhaseData& p, StatResult& r, double confidence, int nthreads) {
+void add_confidence(Stat s, const PhaseData& p, StatResult& r, double confidence, int nthreads,
+                    Lag1Cache* cache) {
   check_confidence(confidence);
   const std::size_t rows = r.size();
   if (r.tau_s.size() != rows || r.dev.size() != rows || r.n.size() != rows)
     throw std::invalid_argument("add_confidence: m, tau_s, dev and n must have equal lengths");
-  const std::vector<int> alpha = identify_alpha(s, p, r, nthreads);
+  const std::vector<int> alpha = identify_alpha(s, p, r, nthreads, cache);
   std::vector<double> edf(rows), lo(rows), hi(rows);
   ExceptionCollector errors;
   const std::int64_t count = static_cast<std::int64_t>(rows);

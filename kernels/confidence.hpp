@@ -4,6 +4,7 @@
 #pragma once
 
 #include "kernels/edf.hpp"
+#include "kernels/noise_id.hpp"
 #include "kernels/phase.hpp"
 #include "kernels/stats.hpp"
 
@@ -54,7 +55,10 @@ double stat_edf(Stat s, int alpha, std::int64_t m, std::int64_t n_phase, std::in
 /// the output is bit-identical for any thread count.
 /// Throws std::invalid_argument for confidence outside (0, 1) or rows that are not a result
 /// of s on p (unequal lengths, m not increasing).
+/// `cache` (optional, see noise_id.hpp) shares the noise identification between the statistics
+/// of one record; it changes no result.
 void add_confidence(Stat s, const PhaseData& p, StatResult& r,
-                    double confidence = kDefaultConfidence, int nthreads = 0);
+                    double confidence = kDefaultConfidence, int nthreads = 0,
+                    Lag1Cache* cache = nullptr);
 
 }  // namespace allanlot::kernels

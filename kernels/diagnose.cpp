@@ -75,6 +75,12 @@ struct Component {
   bool nl_free = false;    // tau_c is searched (for its uncertainty)
   bool given = false;      // part of the given model
   double nl_sigma = kNaN;  // uncertainty of nl when it comes from elsewhere (the PSD)
+  // An added sinusoid's amplitude comes from the PSD line and is never refitted on the Allan
+  // curve: there its bump overlaps any hump nearby (a Gauss-Markov effect at a similar tau),
+  // which the amplitude would absorb, whereas the line's power above the local background is
+  // the sinusoid's alone.
+  bool pinned = false;
+  double coef_sigma = kNaN;  // uncertainty of coef when pinned
 };
 
 // Basis curves: the avar of each component with unit coefficient, from model_avar_sampled so
@@ -354,7 +360,7 @@ std::string term_key(units::Term t) {
 std::vector<Parameter> parameters_of(const Component& c, double coef_sigma, double nl_sigma) {
   if (c.kind == Kind::Term) return {{term_key(c.term), c.coef, coef_sigma}};
   if (c.kind == Kind::Sinusoid)
-    return {{"amplitude", c.coef, coef_sigma},
+    return {{"amplitude", c.coef, c.pinned ? c.coef_sigma : coef_sigma},
             {"frequency_hz", c.nl, std::isnan(c.nl_sigma) ? nl_sigma : c.nl_sigma}};
   return {{"sigma", c.coef, coef_sigma}, {"tau_c_s", c.nl, nl_sigma}};
 }
@@ -570,6 +576,8 @@ SpectralLine search_line(const PsdResult& psd, double n_seconds, std::span<const
   // a record of T seconds (Rife & Boorstyn, IEEE Trans. Inf. Theory 20(5), 1974):
   // var(omega) = 24 sigma^2 / (A^2 N^3) per sample, sigma^2 = S1 fs / 2, hence
   // sigma_f = sqrt(3 S1 / (A^2 T^3)) / pi.
+  // The amplitude's: var(A) = 2 sigma^2 / N per sample (same reference), i.e. S1 / T.
+  out.amplitude_sigma = std::sqrt(best_bg / n_seconds);
   if (out.amplitude > 0.0)
     out.sigma_hz = std::sqrt(3.0 * best_bg /
                              (out.amplitude * out.amplitude * n_seconds * n_seconds * n_seconds)) /
@@ -597,20 +605,14 @@ struct CandidateFit {
   std::size_t added = 0;  // index of the added component in fit.comps
 };
 
-// Markov candidate: tau_c on a log grid of 8 per octave over the curve's taus (a hump whose
-// peak, near 1.9 tau_c, lies inside them), then golden-section search on ln tau_c between the
-// neighbours of the best grid point.
-CandidateFit markov_candidate(const std::vector<Component>& base, const Curve& cv, const Bases& b) {
+// tau_c of the Markov component comps[idx] by a log grid of 8 per octave over the curve's
+// taus (a hump whose peak, near 1.9 tau_c, lies inside them), then golden-section search on
+// ln tau_c between the neighbours of the best grid point; the free coefficients are fitted
+// at each tau_c.
+Fit search_tau_c(std::vector<Component> comps, std::size_t idx, const Curve& cv, const Bases& b) {
   const auto eval = [&](double tau_c) {
-    std::vector<Component> comps = base;
-    Component c;
-    c.kind = Kind::Markov;
-    c.nl = tau_c;
-    c.coef = 0.0;
-    c.free = true;
-    c.nl_free = true;
-    comps.push_back(c);
-    return fit_components(std::move(comps), cv, b);
+    comps[idx].nl = tau_c;
+    return fit_components(comps, cv, b);
   };
   const double lo = std::log(cv.tau.front() / 2.0), hi = std::log(cv.tau.back());
   const double step = std::numbers::ln2 / 8.0;
@@ -643,11 +645,23 @@ CandidateFit markov_candidate(const std::vector<Component>& base, const Curve& c
       f2 = eval(std::exp(x2)).chi2;
     }
   }
-  CandidateFit out;
   const double x = f1 < f2 ? x1 : x2;
   Fit grid_best = eval(std::exp(lo + step * best));
   Fit refined = eval(std::exp(x));
-  out.fit = refined.chi2 <= grid_best.chi2 ? std::move(refined) : std::move(grid_best);
+  return refined.chi2 <= grid_best.chi2 ? refined : grid_best;
+}
+
+// Markov candidate: a new component, its tau_c searched with the others' coefficients as
+// `base` has them (fixed or free).
+CandidateFit markov_candidate(std::vector<Component> base, const Curve& cv, const Bases& b) {
+  Component c;
+  c.kind = Kind::Markov;
+  c.free = true;
+  c.nl_free = true;
+  base.push_back(c);
+  const std::size_t idx = base.size() - 1;
+  CandidateFit out;
+  out.fit = search_tau_c(std::move(base), idx, cv, b);
   out.added = out.fit.comps.size() - 1;
   return out;
 }
@@ -839,7 +853,9 @@ Diagnosis diagnose(std::span<const double> rate, double rate_hz, const ChannelSp
       c.kind = Kind::Sinusoid;
       c.nl = line.frequency_hz;
       c.nl_sigma = line.sigma_hz;
-      c.free = true;
+      c.coef = line.amplitude;
+      c.coef_sigma = line.amplitude_sigma;
+      c.pinned = true;
       comps.push_back(c);
       cf.fit = fit_components(std::move(comps), cv, bases);
       cf.info.note = "PSD line at " + std::to_string(line.frequency_hz) + " Hz, peak/background " +
@@ -870,9 +886,10 @@ Diagnosis diagnose(std::span<const double> rate, double rate_hz, const ChannelSp
     for (Component& c : fixed_now)
       c.free = false;
     for (Component& c : free_now)
-      c.free = true;
+      c.free = !c.pinned;
     const Fit ref = fit_components(fixed_now, cv, bases);
-    const int n_free = static_cast<int>(free_now.size());
+    const int n_free = static_cast<int>(
+        std::count_if(free_now.begin(), free_now.end(), [](const auto& c) { return c.free; }));
     std::vector<double> known_f;
     for (const Component& c : current)
       if (c.kind == Kind::Sinusoid) known_f.push_back(c.nl);
@@ -957,8 +974,13 @@ Diagnosis diagnose(std::span<const double> rate, double rate_hz, const ChannelSp
   }
   std::vector<Component> all_free = current;
   for (Component& c : all_free)
-    c.free = true;
+    c.free = !c.pinned;
   Fit base = fit_components(all_free, cv, bases);
+  // Each added Markov effect's tau_c was searched in the round that named it, before the
+  // effects named after it were in the model (a quantization found later, say, had been
+  // partly absorbed by the hump); it is searched again with the final structure.
+  for (const std::size_t idx : added_idx)
+    if (base.comps[idx].kind == Kind::Markov) base = search_tau_c(base.comps, idx, cv, bases);
 
   // Were the given coefficients wrong? The final structure with the given components fixed at
   // their given values (the added effects still fitted) against all re-estimated; the same

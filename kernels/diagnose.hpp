@@ -141,14 +141,15 @@ struct McBand {
 
 /// The strongest line of the full-record periodogram (the PSD witness).
 struct SpectralLine {
-  bool searched = false;     // false when the record has gaps or is too short
-  bool found = false;        // peak / background above the threshold
-  double frequency_hz = 0;   // interpolated peak frequency
-  double sigma_hz = 0;       // Cramer-Rao bound of the frequency (Rife & Boorstyn 1974)
-  double amplitude = 0;      // sqrt(2 x line power above the background) [u]
-  double peak_ratio = 0;     // periodogram / local mean background at the peak bin
-  double threshold = 0;      // ln(bins / line_false_alarm)
-  double resolution_hz = 0;  // bin spacing 1 / T
+  bool searched = false;       // false when the record has gaps or is too short
+  bool found = false;          // peak / background above the threshold
+  double frequency_hz = 0;     // interpolated peak frequency
+  double sigma_hz = 0;         // Cramer-Rao bound of the frequency (Rife & Boorstyn 1974)
+  double amplitude = 0;        // sqrt(2 x line power above the background) [u]
+  double amplitude_sigma = 0;  // Cramer-Rao bound of the amplitude, sqrt(S1 / T) (same source)
+  double peak_ratio = 0;       // periodogram / local mean background at the peak bin
+  double threshold = 0;        // ln(bins / line_false_alarm)
+  double resolution_hz = 0;    // bin spacing 1 / T
 };
 
 /// Searches the one-segment Hann periodogram of `rate` (no NaN) for its most significant line

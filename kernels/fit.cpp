@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <numbers>
 #include <stdexcept>
@@ -29,6 +30,14 @@ constexpr int kK = static_cast<int>(Term::K);
 constexpr int kB = static_cast<int>(Term::B);
 constexpr int kN = static_cast<int>(Term::N);
 constexpr int kQ = static_cast<int>(Term::Q);
+
+// A double in a precondition message: std::to_string prints "%f", which shows 1e-300 as
+// 0.000000 and 1e300 as 301 digits; the message must show the value that was wrong.
+std::string num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
 
 [[noreturn]] void fail(const std::string& what) {
   throw std::invalid_argument(what);
@@ -449,29 +458,27 @@ FitResult Eq3Fit::fit(const FitInput& in) {
          std::to_string(in.values.size()) + ", " + std::to_string(in.n.size()) + ", " +
          std::to_string(in.edf.size()) + ")");
   if (!(in.tau0_s > 0.0) || !std::isfinite(in.tau0_s))
-    fail("Eq3Fit::fit: tau0_s must be finite and > 0, got " + std::to_string(in.tau0_s));
+    fail("Eq3Fit::fit: tau0_s must be finite and > 0, got " + num(in.tau0_s));
   if (in.n_samples < 1)
     fail("Eq3Fit::fit: n_samples must be >= 1, got " + std::to_string(in.n_samples));
   m_.resize(pu);
   for (std::size_t i = 0; i < pu; ++i) {
     const double tau = in.tau_s[i];
     if (!(tau > 0.0) || !std::isfinite(tau))
-      fail("Eq3Fit::fit: tau_s must be finite and > 0, got " + std::to_string(tau));
+      fail("Eq3Fit::fit: tau_s must be finite and > 0, got " + num(tau));
     if (i > 0 && !(tau > in.tau_s[i - 1]))
-      fail("Eq3Fit::fit: tau_s must be strictly increasing, got " +
-           std::to_string(in.tau_s[i - 1]) + " then " + std::to_string(tau));
+      fail("Eq3Fit::fit: tau_s must be strictly increasing, got " + num(in.tau_s[i - 1]) +
+           " then " + num(tau));
     const double mf = std::round(tau / in.tau0_s);
     if (mf < 1.0 || std::abs(tau - mf * in.tau0_s) > 1e-9 * tau)
-      fail("Eq3Fit::fit: tau_s " + std::to_string(tau) + " is not a multiple of tau0_s " +
-           std::to_string(in.tau0_s));
+      fail("Eq3Fit::fit: tau_s " + num(tau) + " is not a multiple of tau0_s " + num(in.tau0_s));
     m_[i] = static_cast<std::int64_t>(mf);
     const double v = in.values[i];
     if (!(v >= 0.0) || !std::isfinite(v))
-      fail("Eq3Fit::fit: values must be finite and >= 0, got " + std::to_string(v) + " at tau " +
-           std::to_string(tau));
+      fail("Eq3Fit::fit: values must be finite and >= 0, got " + num(v) + " at tau " + num(tau));
     if (!(in.edf[i] > 0.0) || !std::isfinite(in.edf[i]))
-      fail("Eq3Fit::fit: edf must be finite and > 0, got " + std::to_string(in.edf[i]) +
-           " at tau " + std::to_string(tau));
+      fail("Eq3Fit::fit: edf must be finite and > 0, got " + num(in.edf[i]) + " at tau " +
+           num(tau));
     const std::int64_t n_max = in.n_samples + 1 - 2 * m_[i];
     if (in.n[i] < 1 || in.n[i] > n_max)
       fail("Eq3Fit::fit: n must be in [1, " + std::to_string(n_max) + "] at m " +

@@ -78,12 +78,14 @@ struct RowId {
   bool keep_previous = false;
 };
 
-RowId identify_row(Stat s, const PhaseData& p, const StatResult& r, std::size_t i) {
+RowId identify_row(Stat s, const PhaseData& p, const StatResult& r, std::size_t i,
+                   Lag1Cache* cache) {
   const std::int64_t m = r.m[i];
   const std::int64_t nf = (p.n_points() - 1) / m;
   RowId out;
   if (nf >= kLag1MinPoints) {
-    out.alpha = noise_id_lag1(p, m, stable32_dmax(s)).alpha;
+    const int dmax = stable32_dmax(s);
+    out.alpha = (cache ? cache->get(p, m, dmax) : noise_id_lag1(p, m, dmax)).alpha;
     return out;
   }
   if (2 * m > max_m(s, p.n_points()) && i > 0) {
@@ -191,7 +193,20 @@ int alpha_from_rn(double rn, std::int64_t m) {
   return rn > boundary ? 1 : 2;
 }
 
-std::vector<int> identify_alpha(Stat s, const PhaseData& p, const StatResult& r, int nthreads) {
+Lag1Estimate Lag1Cache::get(const PhaseData& p, std::int64_t m, int dmax) {
+  const auto key = std::make_pair(m, dmax);
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (const auto it = values_.find(key); it != values_.end()) return it->second;
+  }
+  const Lag1Estimate e = noise_id_lag1(p, m, dmax);  // outside the lock: rows run in parallel
+  const std::lock_guard<std::mutex> lock(mutex_);
+  values_.emplace(key, e);
+  return e;
+}
+
+std::vector<int> identify_alpha(Stat s, const PhaseData& p, const StatResult& r, int nthreads,
+                                Lag1Cache* cache) {
   const std::size_t rows = r.size();
   if (r.dev.size() != rows || r.n.size() != rows)
     throw std::invalid_argument("identify_alpha: m, dev and n must have equal lengths");
@@ -212,7 +227,7 @@ std::vector<int> identify_alpha(Stat s, const PhaseData& p, const StatResult& r,
 #pragma omp parallel for num_threads(nt) schedule(dynamic, 1)
   for (std::int64_t i = 0; i < count; ++i)
     errors.run([&] {
-      ids[static_cast<std::size_t>(i)] = identify_row(s, p, r, static_cast<std::size_t>(i));
+      ids[static_cast<std::size_t>(i)] = identify_row(s, p, r, static_cast<std::size_t>(i), cache);
     });
   errors.rethrow();
   std::vector<int> alpha(rows);

@@ -8,7 +8,10 @@
 #include "kernels/stats.hpp"
 
 #include <cstdint>
+#include <map>
+#include <mutex>
 #include <span>
+#include <utility>
 #include <vector>
 
 namespace allanlot::kernels {
@@ -40,6 +43,21 @@ struct Lag1Estimate {
 /// gap (PhaseData::gaps) is missing (NaN) and drops out of the autocorrelation.
 /// Preconditions: m >= 1, dmax >= 1, at least 2 decimated points.
 Lag1Estimate noise_id_lag1(const PhaseData& p, std::int64_t m, int dmax);
+
+/// The lag-1 estimates of one phase record, shared between the statistics computed on it:
+/// noise_id_lag1 depends only on (m, dmax), so the Allan and total family (dmax 2) and the
+/// Hadamard family (dmax 3) each need it once per m instead of once per statistic (it was a
+/// third of a channel's time in `analyze` with the six default statistics). Thread-safe; a
+/// value computed twice by two threads is the same value, so results do not depend on the
+/// thread count. Valid for one PhaseData only (the caller keeps one cache per record).
+class Lag1Cache {
+public:
+  Lag1Estimate get(const PhaseData& p, std::int64_t m, int dmax);
+
+private:
+  std::mutex mutex_;
+  std::map<std::pair<std::int64_t, int>, Lag1Estimate> values_;
+};
 
 /// Barnes' bias function B1(N, r = 1, mu): the expected ratio of the N-sample variance to the
 /// two-sample (Allan) variance for phase noise exponent mu (sigma^2(tau) ~ tau^mu),
@@ -79,6 +97,8 @@ int alpha_from_rn(double rn, std::int64_t m);
 /// Rows are taken in increasing m, as stats::compute returns them. Gaps: the averages and
 /// differences that touch a gap are left out. Parallel over rows with `nthreads`; the result
 /// does not depend on the thread count.
-std::vector<int> identify_alpha(Stat s, const PhaseData& p, const StatResult& r, int nthreads = 0);
+/// `cache` (optional) shares the lag-1 estimates with other statistics of the same record.
+std::vector<int> identify_alpha(Stat s, const PhaseData& p, const StatResult& r, int nthreads = 0,
+                                Lag1Cache* cache = nullptr);
 
 }  // namespace allanlot::kernels

@@ -1,5 +1,6 @@
 #include "src/analyze.hpp"
 
+#include "io/atomic_file.hpp"
 #include "io/error.hpp"
 #include "io/fingerprint.hpp"
 #include "io/recording.hpp"
@@ -29,6 +30,7 @@
 #include "src/channel_fit.hpp"
 #include "src/inputs.hpp"
 #include "src/lot_summary.hpp"
+#include "src/spec.hpp"
 
 namespace fs = std::filesystem;
 
@@ -120,10 +122,24 @@ void psd_and_crosscheck(Prepared& c, const kernels::StatResult& oadev, int threa
 // the same sum, SP1065 eq. (16)) instead of summing the same third differences twice. Throws
 // std::exception on a numerical precondition (the caller records it as the channel's failure).
 void compute_channel(Prepared& c, const AnalyzeOptions& opt, int kernel_threads) {
+  // Samples near the top of double's range (|x| ~ 1e300) square to infinity: fail the channel
+  // naming the cause rather than write inf or let the fit reject it.
+  const auto require_finite = [](kernels::Stat s, const kernels::StatResult& r) {
+    for (std::size_t i = 0; i < r.size(); ++i)
+      if (!std::isfinite(r.dev[i])) {
+        char tau[32];
+        std::snprintf(tau, sizeof tau, "%.6g", r.tau_s[i]);
+        throw std::invalid_argument(std::string(kernels::stat_name(s)) + " is not finite at tau " +
+                                    tau +
+                                    " s: the samples' differences overflow double precision "
+                                    "(rescale them, e.g. with a scale attribute)");
+      }
+  };
   bool any_row = false;
   const kernels::StatResult* mdev = nullptr;
   std::optional<kernels::StatResult> oadev_for_fit;
   c.result.stats.reserve(opt.stats.size());  // `mdev` points into it: no reallocation
+  kernels::Lag1Cache noise_id;               // shared by the statistics of this channel
   for (const kernels::Stat s : opt.stats) {
     if (c.phase.has_gaps() && !kernels::supports_gaps(s)) {
       // Skipped, not failed: the channel's other statistics stand, and the note says why.
@@ -137,7 +153,8 @@ void compute_channel(Prepared& c, const AnalyzeOptions& opt, int kernel_threads)
     kernels::StatResult r = (s == kernels::Stat::Tdev && mdev && mdev->m == ms)
                                 ? kernels::tdev_from_mdev(*mdev)
                                 : kernels::compute(s, c.phase, ms, kernel_threads);
-    kernels::add_confidence(s, c.phase, r, opt.confidence, kernel_threads);
+    require_finite(s, r);
+    kernels::add_confidence(s, c.phase, r, opt.confidence, kernel_threads, &noise_id);
     any_row = any_row || r.size() > 0;
     c.result.stats.emplace_back(std::string(kernels::stat_name(s)), std::move(r));
     if (s == kernels::Stat::Mdev) mdev = &c.result.stats.back().second;
@@ -153,8 +170,9 @@ void compute_channel(Prepared& c, const AnalyzeOptions& opt, int kernel_threads)
     const auto ms = kernels::make_m_list(
         opt.grid, kernels::max_m(kernels::Stat::Oadev, c.phase.n_points()), c.phase.n_points());
     oadev_for_fit = kernels::compute(kernels::Stat::Oadev, c.phase, ms, kernel_threads);
+    require_finite(kernels::Stat::Oadev, *oadev_for_fit);
     kernels::add_confidence(kernels::Stat::Oadev, c.phase, *oadev_for_fit, opt.confidence,
-                            kernel_threads);
+                            kernel_threads, &noise_id);
   }
   std::array<kernels::TermFit, kernels::kNumTerms> allan_terms{};
   bool have_allan_terms = false;
@@ -173,6 +191,8 @@ std::string join_stats(const std::vector<kernels::Stat>& stats) {
     s += (i ? "," : "") + std::string(kernels::stat_name(stats[i]));
   return s;
 }
+
+std::uint64_t physical_memory();
 
 // Bytes one channel of n samples may hold while it is analysed: the phase (8 n), the rate
 // rebuilt for the PSD (8 n), the fixed-point prefix sums of MDEV/TDEV (8 n) and the samples
@@ -248,6 +268,14 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
       c.result.n_samples = ch.n_samples;
       c.result.data_type = ch.data_type == kernels::DataType::Rate ? "rate" : "phase";
       try {
+        // A chunked dataset whose chunks were never written declares any length in a few
+        // kilobytes; refuse one that could not be analysed in this machine's memory before
+        // allocating it, rather than fail the whole run on the allocation.
+        if (static_cast<std::uint64_t>(ch.n_samples) > physical_memory() / kBytesPerSampleInFlight)
+          throw io::Error(file, ch.path,
+                          std::to_string(ch.n_samples) +
+                              " samples: more than this machine's memory holds for analysis (" +
+                              std::to_string(kBytesPerSampleInFlight) + " bytes per sample)");
         const std::vector<double> samples = reader.read(ch);
         hash = io::hash_channel(hash, ch.path, samples);
         c.phase = kernels::make_phase(samples, ch.data_type, ch.sample_rate_hz, threads);
@@ -441,6 +469,15 @@ bool prepare_outdir(const fs::path& outdir, std::ostream& err) {
 
 int run_analyze(const AnalyzeOptions& opt, std::ostream& out, std::ostream& err) {
   if (!prepare_outdir(opt.outdir, err)) return 2;
+  // A bad spec is a usage error found before the night's work, not after it.
+  if (!opt.spec_path.empty()) {
+    try {
+      (void)spec::load_spec(opt.spec_path);
+    } catch (const std::exception& e) {
+      err << "allanlot: error: " << e.what() << "\n";
+      return 2;
+    }
+  }
   const int threads = kernels::resolve_threads(opt.threads);
   const std::uint64_t memory_limit = opt.memory_limit ? opt.memory_limit : physical_memory() / 2;
   const InputList inputs = expand_inputs(opt.inputs);
@@ -507,6 +544,9 @@ int run_analyze(const AnalyzeOptions& opt, std::ostream& out, std::ostream& err)
   }
 
   if (opt.summary) {
+    // Another run writing into the same OUTDIR rebuilds the summary too: listing and writing
+    // under one lock, the summary written last has seen every results file (io::DirectoryLock).
+    const io::DirectoryLock summary_lock(opt.outdir);
     std::vector<io::SummaryRow> rows = rows_from_outdir(opt.outdir, err);
     rows.insert(rows.end(), failed_rows.begin(), failed_rows.end());
     try {
@@ -542,14 +582,16 @@ int run_summarize(const SummarizeOptions& opt, std::ostream& out, std::ostream& 
     err << "allanlot: error: " << opt.outdir.string() << " is not a directory\n";
     return 2;
   }
+  const io::DirectoryLock summary_lock(opt.outdir);
   std::vector<io::SummaryRow> rows = rows_from_outdir(opt.outdir, err);
   const std::size_t n_rows = rows.size();
+  LotOverview overview;
   try {
     LotOptions lot;
     lot.spec_path = opt.spec_path;
     lot.manifest = opt.manifest;
     lot.quiet = opt.quiet;
-    write_lot(opt.outdir, std::move(rows), lot, out, err);
+    overview = write_lot(opt.outdir, std::move(rows), lot, out, err);
   } catch (const std::exception& e) {
     err << "allanlot: error: writing the lot summary: " << e.what() << "\n";
     return 2;
@@ -557,7 +599,9 @@ int run_summarize(const SummarizeOptions& opt, std::ostream& out, std::ostream& 
   if (!opt.quiet)
     out << "lot summary of " << n_rows
         << " channel(s): " << (opt.outdir / "lot_summary.csv").string() << "\n";
-  return n_rows == 0 ? 2 : 0;
+  // Recordings of the manifest without results are failed inputs, as in analyze: status 1.
+  if (n_rows == 0) return 2;
+  return overview.n_missing > 0 ? 1 : 0;
 }
 
 std::uint64_t parse_memory_size(const std::string& text) {

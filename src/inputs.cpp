@@ -74,12 +74,17 @@ InputList expand_inputs(const std::vector<std::string>& inputs) {
       }
       const fs::path base = fs::path(in).parent_path();
       std::string line;
+      std::size_t listed = 0;
       while (std::getline(manifest, line)) {
         line = trim(line);
         if (line.empty() || line[0] == '#') continue;
         const fs::path p(line);
         add_file(out, seen, (p.is_absolute() || base.empty() ? p : base / p).string());
+        ++listed;
       }
+      // An empty manifest (a batch system's list that came out empty) is a failed input, not
+      // a silent "analysed 0 of 0".
+      if (listed == 0) out.failures.emplace_back(in, "manifest lists no recording");
     } else {
       add_file(out, seen, in);
     }

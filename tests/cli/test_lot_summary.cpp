@@ -299,11 +299,12 @@ TEST(LotSummary, EndToEndThroughTheBinary) {
     std::ofstream m(dir / "lot" / "manifest.txt", std::ios::app);
     m << "never_recorded.h5\n";
   }
-  ASSERT_GE(test::run_command(test::binary() + " summarize " + (dir / "out").string() + " --spec " +
+  // Status 1: a recording of the manifest has no results (a failed input, as in analyze).
+  ASSERT_EQ(test::run_command(test::binary() + " summarize " + (dir / "out").string() + " --spec " +
                                   (dir / "spec.json").string() + " --manifest " +
                                   (dir / "lot" / "manifest.txt").string(),
                               &out),
-            0)
+            1)
       << out;
   rows = io::read_lot_summary(dir / "out" / "lot_summary.h5");
   ASSERT_EQ(rows.size(), 13u) << out;
@@ -311,6 +312,24 @@ TEST(LotSummary, EndToEndThroughTheBinary) {
   EXPECT_EQ(rows.back().status, "failed: no results file");
   const std::string summary_after = test::file_bytes(dir / "out" / "lot_summary.csv");
   EXPECT_EQ(summary_after.substr(0, summary_before.size()), summary_before);
+
+  // A bad spec is a usage error found before any recording is analysed: status 2, the file and
+  // the key named, no results written.
+  {
+    std::ofstream s(dir / "bad_spec.json");
+    s << R"j({"channels": {"gyro_*": {"N": {"max": 0.6, "unit": "furlongs"}}}})j";
+  }
+  ASSERT_EQ(test::run_command(test::binary() + " analyze --stats oadev --spec " +
+                                  (dir / "bad_spec.json").string() + " -o " +
+                                  (dir / "out_bad").string() + " " +
+                                  (dir / "lot" / "unit_0001.h5").string(),
+                              &out),
+            2)
+      << out;
+  EXPECT_NE(out.find("bad_spec.json"), std::string::npos) << out;
+  EXPECT_NE(out.find("channels.gyro_*.N"), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(dir / "out_bad" / "unit_0001.allan.h5"));
+  EXPECT_FALSE(fs::exists(dir / "out_bad" / "lot_summary.h5"));
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // The foundation's end-to-end path through the real binary: `simulate` writes a recording
 // from a model file, `analyze` processes it, and the results are read back with the HDF5 C API
 // and compared with the model's theory.
+#include "io/results.hpp"
 #include "support/h5_fixture.hpp"
 
 #include <gtest/gtest.h>
@@ -142,6 +143,28 @@ TEST(SimulateAnalyze, DemoLotWithManifest) {
   for (const char* ch : {"/imu/gyro_x", "/imu/gyro_y", "/imu/gyro_z", "/imu/accel_x",
                          "/imu/accel_y", "/imu/accel_z"})
     EXPECT_NE(csv.find(std::string("unit_0003,") + ch), std::string::npos) << ch;
+}
+
+// Regression: on this unit of the demo lot the fit's reweighting contracts slowly (52 steps to
+// the tolerance) and the fit used to end as "no convergence" after 50, leaving the summary row
+// without coefficients.
+TEST(SimulateAnalyze, SlowlySettlingFitConverges) {
+  const auto dir = test::fresh_dir("e2e_slow_fit");
+  std::string out;
+  ASSERT_EQ(run_command(binary() + " simulate -q --lot 1 --duration 600 --seed 1 -o " +
+                            (dir / "lot").string(),
+                        &out),
+            0)
+      << out;
+  ASSERT_EQ(run_command(binary() + " analyze -q --stats oadev --no-psd --channels '*gyro_z' -o " +
+                            (dir / "out").string() + " " + (dir / "lot" / "unit_0001.h5").string(),
+                        &out),
+            0)
+      << out;
+  const auto rec = io::read_results(dir / "out" / "unit_0001.allan.h5");
+  ASSERT_EQ(rec.channels.size(), 1u);
+  ASSERT_TRUE(rec.channels[0].fit.has_value());
+  EXPECT_EQ(rec.channels[0].fit->status, "ok");
 }
 
 TEST(SimulateAnalyze, BadModelsAreUsageErrorsNamingTheKey) {

@@ -283,6 +283,39 @@ TEST(Confidence, BitIdenticalForAnyThreadCount) {
   }
 }
 
+// One Lag1Cache shared by every statistic of a record (as analyze does) changes no alpha, edf or
+// bound, at any thread count; and it holds one entry per (m, dmax), not per statistic.
+TEST(Confidence, SharedNoiseIdCacheChangesNothing) {
+  auto y = white(40001, 13);
+  double walk = 0.0;
+  for (auto& v : y) {
+    walk += 0.02 * v;
+    v += walk;
+  }
+  const auto p = kernels::phase_from_rate(y, 10.0, 1);
+  const std::vector<std::int64_t> ms{1, 2, 3, 5, 8, 13, 21, 34, 55, 89, 144, 233, 377, 610, 987};
+  for (const int nt : {1, 2}) {
+    kernels::Lag1Cache cache;
+    for (const Stat s :
+         {Stat::Oadev, Stat::Mdev, Stat::Tdev, Stat::Hdev, Stat::Ohdev, Stat::Totdev}) {
+      SCOPED_TRACE(std::string(kernels::stat_name(s)) + ", threads " + std::to_string(nt));
+      auto plain = kernels::compute(s, p, ms, nt);
+      auto shared = plain;
+      kernels::add_confidence(s, p, plain, 0.683, nt);
+      kernels::add_confidence(s, p, shared, 0.683, nt, &cache);
+      EXPECT_EQ(plain.alpha, shared.alpha);
+      EXPECT_EQ(plain.edf, shared.edf);
+      EXPECT_EQ(plain.dev_lo, shared.dev_lo);
+      EXPECT_EQ(plain.dev_hi, shared.dev_hi);
+    }
+    const auto e = cache.get(p, 21, 2);
+    const auto direct = kernels::noise_id_lag1(p, 21, 2);
+    EXPECT_EQ(e.alpha, direct.alpha);
+    EXPECT_EQ(e.d, direct.d);
+    EXPECT_EQ(e.delta, direct.delta);
+  }
+}
+
 TEST(Confidence, GapsReduceEdfAndKeepIntervalsValid) {
   auto y = white(20000, 21);
   const auto clean = kernels::phase_from_rate(y, 1.0, 1);

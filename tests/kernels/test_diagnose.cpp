@@ -52,10 +52,10 @@ void check_scenario(const test::Scenario& s, std::uint64_t seed) {
   if (!s.truth.markovs.empty()) {
     const auto* t = find_param(d, Effect::Markov, "tau_c_s");
     ASSERT_NE(t, nullptr);
-    // The issue asks for 35 %; at this record length (600 s, tau_c = 5 s, the hump spanning
-    // about one decade of taus with edf 20 to 200) the search reaches 40 % on some seeds (see
-    // the seed study), so the test holds the measured 45 % and the shortfall is documented.
-    EXPECT_NEAR(t->value, s.truth.markovs[0].tau_c_s, 0.45 * s.truth.markovs[0].tau_c_s);
+    // The issue's bar: 35 % (the seed study's worst of 20 is 28 %); the reported 1-sigma must
+    // also cover the truth within 4 sigma.
+    EXPECT_NEAR(t->value, s.truth.markovs[0].tau_c_s, 0.35 * s.truth.markovs[0].tau_c_s);
+    EXPECT_NEAR(t->value, s.truth.markovs[0].tau_c_s, 4.0 * t->sigma);
   }
   // Named effects carry their parameters under the model file's keys.
   ASSERT_EQ(d.effect_parameters.size(), d.effects_named.size());
@@ -71,7 +71,7 @@ TEST(Diagnose, EachHiddenEffectIsNamed) {
 
 TEST(Diagnose, TwoHiddenEffectsAreTwoNamedEffects) {
   for (const auto& s : test::hidden_scenarios())
-    if (s.name == "markov+quantization") check_scenario(s, 1001);
+    if (s.name == "markov+quantization" || s.name == "sinusoid+markov") check_scenario(s, 1001);
 }
 
 TEST(Diagnose, CompleteModelGetsNothing) {

@@ -3,7 +3,8 @@
 // many seeds. Disabled by default (about a minute per 10 seeds of all scenarios on one core);
 // run with
 //   test_kernels_diagnose_study --gtest_also_run_disabled_tests
-// and DIAGNOSE_STUDY_SEEDS=N (default 20) seeds per scenario.
+// and DIAGNOSE_STUDY_SEEDS=N (default 20) seeds per scenario; DIAGNOSE_STUDY_ONLY=TEXT keeps
+// the scenarios whose name contains TEXT, DIAGNOSE_STUDY_VERBOSE=1 prints every seed.
 #include "kernels/test_diagnose_support.hpp"
 
 #include <gtest/gtest.h>
@@ -12,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <string>
 
 namespace allanlot {
 namespace {
@@ -53,7 +55,9 @@ TEST(DiagnoseStudy, DISABLED_DetectionAndFalseAlarmRates) {
     g.terms.N *= 1.3;
     scenarios.push_back({"wrong_N", test::base_model(), g, {}});
   }
+  const char* only = std::getenv("DIAGNOSE_STUDY_ONLY");
   for (const auto& s : scenarios) {
+    if (only && s.name.find(only) == std::string::npos) continue;
     int exact = 0, within = 0, wrong_flag = 0;
     double f_err = 0, tc_err = 0;
     std::vector<double> gaps;
@@ -77,6 +81,9 @@ TEST(DiagnoseStudy, DISABLED_DetectionAndFalseAlarmRates) {
         std::printf("  %s seed %d: named %s gap %.3f -> %.3f (p95 %.3f) neff %.1f wrong %d\n",
                     s.name.c_str(), seed, named(d).c_str(), d.before.gap, d.after.gap,
                     d.mc_after.gap_p95, d.n_eff, d.coefficients_wrong ? 1 : 0);
+      if (verbose)
+        for (const auto& note : d.notes)
+          std::printf("    %s\n", note.c_str());
     }
     std::sort(gaps.begin(), gaps.end());
     std::printf("%-24s %3d/%-3d %5.2f  %8.3f           %3d/%-3d      %7.4f    %7.4f   "

@@ -4,6 +4,7 @@
 
 #include <hdf5.h>
 
+#include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -106,6 +107,52 @@ public:
     H5Tclose(t);
     H5Oclose(o);
   }
+
+  /// Integer attribute (stored int64): CONTRACT's numbers may be stored as integers.
+  void attr_int(const std::string& obj, const std::string& name, std::int64_t value) {
+    const hid_t o = H5Oopen(file_, obj.c_str(), H5P_DEFAULT);
+    const hid_t space = H5Screate(H5S_SCALAR);
+    const hid_t a = H5Acreate2(o, name.c_str(), H5T_STD_I64LE, space, H5P_DEFAULT, H5P_DEFAULT);
+    H5Awrite(a, H5T_NATIVE_INT64, &value);
+    H5Aclose(a);
+    H5Sclose(space);
+    H5Oclose(o);
+  }
+
+  /// 1-D array attribute of doubles (where a single number is expected: a wrong shape).
+  void attr_array(const std::string& obj, const std::string& name, const std::vector<double>& v) {
+    const hid_t o = H5Oopen(file_, obj.c_str(), H5P_DEFAULT);
+    const hsize_t n = v.size();
+    const hid_t space = H5Screate_simple(1, &n, nullptr);
+    const hid_t a = H5Acreate2(o, name.c_str(), H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT);
+    H5Awrite(a, H5T_NATIVE_DOUBLE, v.data());
+    H5Aclose(a);
+    H5Sclose(space);
+    H5Oclose(o);
+  }
+
+  /// 1-D compound dataset {double t; double y} of `n` zero records.
+  void compound_dataset(const std::string& path, std::size_t n) {
+    parent(path);
+    struct Rec {
+      double t, y;
+    };
+    const hid_t t = H5Tcreate(H5T_COMPOUND, sizeof(Rec));
+    H5Tinsert(t, "t", offsetof(Rec, t), H5T_NATIVE_DOUBLE);
+    H5Tinsert(t, "y", offsetof(Rec, y), H5T_NATIVE_DOUBLE);
+    const std::vector<Rec> v(n, Rec{0.0, 0.0});
+    const hsize_t dim = n;
+    const hid_t space = H5Screate_simple(1, &dim, nullptr);
+    const hid_t ds =
+        H5Dcreate2(file_, path.c_str(), t, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    H5Dwrite(ds, t, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
+    H5Dclose(ds);
+    H5Sclose(space);
+    H5Tclose(t);
+  }
+
+  /// The file's identifier, for fixtures the helpers above do not cover.
+  hid_t id() const { return file_; }
 
 private:
   void parent(const std::string& path) {
