@@ -8,14 +8,10 @@
 
 #include <gtest/gtest.h>
 
-#include <fcntl.h>
 #include <map>
 #include <set>
-#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
-
-extern char** environ;
 
 namespace allanlot {
 namespace {
@@ -209,21 +205,6 @@ TEST(Faults, DiskFullNeverLeavesAHalfWrittenFileAndTheRerunCompletes) {
   EXPECT_EQ(snapshot(lot), inputs);
 }
 
-pid_t spawn(const std::vector<std::string>& args) {
-  std::vector<char*> argv;
-  for (const auto& a : args)
-    argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t fa;
-  posix_spawn_file_actions_init(&fa);
-  posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&fa, 2, "/dev/null", O_WRONLY, 0);
-  pid_t pid = -1;
-  const int rc = posix_spawn(&pid, argv[0], &fa, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&fa);
-  return rc == 0 ? pid : -1;
-}
-
 int wait_status(pid_t pid) {
   int status = 0;
   waitpid(pid, &status, 0);
@@ -256,7 +237,7 @@ TEST(Faults, TwoRunsIntoTheSameOutdirAtOnce) {
       a.push_back("--force");
       b.push_back("--force");
     }
-    const pid_t pa = spawn(a), pb = spawn(b);
+    const pid_t pa = test::spawn(a), pb = test::spawn(b);
     ASSERT_GT(pa, 0);
     ASSERT_GT(pb, 0);
     EXPECT_EQ(wait_status(pa), 0);

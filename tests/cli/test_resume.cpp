@@ -8,18 +8,14 @@
 
 #include <chrono>
 #include <csignal>
-#include <fcntl.h>
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <spawn.h>
 #include <string>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <thread>
 #include <vector>
-
-extern char** environ;
 
 namespace allanlot {
 namespace {
@@ -151,22 +147,6 @@ TEST(MemoryLimit, WavesOfOneChannelGiveTheSameNumbers) {
   }
 }
 
-// Starts the binary with `args` and returns its pid.
-pid_t spawn(const std::vector<std::string>& args) {
-  std::vector<char*> argv;
-  for (const auto& a : args)
-    argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t fa;
-  posix_spawn_file_actions_init(&fa);
-  posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&fa, 2, "/dev/null", O_WRONLY, 0);
-  pid_t pid = -1;
-  const int rc = posix_spawn(&pid, argv[0], &fa, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&fa);
-  return rc == 0 ? pid : -1;
-}
-
 // Every visible results file must be complete (it reads back, with every channel); temporary
 // files are hidden, and a killed run may leave one behind, never under a results name.
 void expect_only_complete_results(const fs::path& outdir, int* n_complete) {
@@ -202,8 +182,8 @@ TEST(Sigkill, KilledAtRandomMomentsLeavesOnlyCompleteResultsAndTheRerunCompletes
   for (int round = 0; round < 8; ++round) {
     s = s * 1664525u + 1013904223u;
     const int delay_ms = 50 + static_cast<int>(s % 1500);
-    const pid_t pid = spawn({test::binary(), "analyze", "--stats", "oadev", "--threads", "1", "-o",
-                             out.string(), lot.string()});
+    const pid_t pid = test::spawn({test::binary(), "analyze", "--stats", "oadev", "--threads", "1",
+                                   "-o", out.string(), lot.string()});
     ASSERT_GT(pid, 0);
     std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
     kill(pid, SIGKILL);
