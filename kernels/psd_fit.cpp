@@ -83,7 +83,7 @@ double flicker_rate_cov(std::int64_t d) {
 // the project's FFTW planner mutex with FFTW_ESTIMATE (deterministic, see psd.hpp).
 class RealFft {
 public:
-  explicit RealFft(std::int64_t L) : L_(L) {
+  explicit RealFft(std::int64_t L) {
     in_.reset(static_cast<double*>(fftw_malloc(sizeof(double) * static_cast<std::size_t>(L))));
     out_.reset(static_cast<fftw_complex*>(
         fftw_malloc(sizeof(fftw_complex) * static_cast<std::size_t>(L / 2 + 1))));
@@ -105,7 +105,6 @@ public:
   }
 
 private:
-  std::int64_t L_;
   std::unique_ptr<double[], FftwFree> in_;
   std::unique_ptr<fftw_complex[], FftwFree> out_;
   fftw_plan plan_ = nullptr;
