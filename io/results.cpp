@@ -245,19 +245,30 @@ void write_results(const std::filesystem::path& path, const RecordingResult& r) 
   atomic.commit();
 }
 
-RecordingResult read_results(const std::filesystem::path& path) {
+// A results file opened for reading, with its root attributes read into `r` (both readers).
+struct OpenResults {
+  Handle file, root;
+};
+
+OpenResults open_results(const std::string& file, RecordingResult& r) {
   h5::quiet_library();
-  const std::string file = path.string();
   if (H5Fis_hdf5(file.c_str()) <= 0) throw Error(file, "", "not an HDF5 results file");
-  Handle f =
-      check(H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, file, "", "H5Fopen");
+  OpenResults o;
+  o.file = check(H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, file, "", "H5Fopen");
+  o.root = check(H5Gopen2(o.file.get(), "/", H5P_DEFAULT), H5Gclose, file, "/", "H5Gopen2");
+  r.device_id = read_string_attr(o.root.get(), "device_id", file, "/");
+  r.source_file = read_string_attr(o.root.get(), "source_file", file, "/");
+  r.tool_version = read_string_attr(o.root.get(), "tool_version", file, "/");
+  r.created_utc = read_string_attr(o.root.get(), "created_utc", file, "/");
+  r.command_line = read_string_attr(o.root.get(), "command_line", file, "/");
+  return o;
+}
+
+RecordingResult read_results(const std::filesystem::path& path) {
+  const std::string file = path.string();
   RecordingResult r;
-  Handle root = check(H5Gopen2(f.get(), "/", H5P_DEFAULT), H5Gclose, file, "/", "H5Gopen2");
-  r.device_id = read_string_attr(root.get(), "device_id", file, "/");
-  r.source_file = read_string_attr(root.get(), "source_file", file, "/");
-  r.tool_version = read_string_attr(root.get(), "tool_version", file, "/");
-  r.created_utc = read_string_attr(root.get(), "created_utc", file, "/");
-  r.command_line = read_string_attr(root.get(), "command_line", file, "/");
+  OpenResults o = open_results(file, r);
+  Handle& f = o.file;
 
   struct Found {
     std::vector<std::string> groups;
@@ -408,18 +419,11 @@ void find_channel_groups(hid_t g, const std::string& path, const std::string& fi
 }  // namespace
 
 RecordingResult read_summary_results(const std::filesystem::path& path) {
-  h5::quiet_library();
   const std::string file = path.string();
-  if (H5Fis_hdf5(file.c_str()) <= 0) throw Error(file, "", "not an HDF5 results file");
-  Handle f =
-      check(H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, file, "", "H5Fopen");
   RecordingResult r;
-  Handle root = check(H5Gopen2(f.get(), "/", H5P_DEFAULT), H5Gclose, file, "/", "H5Gopen2");
-  r.device_id = read_string_attr(root.get(), "device_id", file, "/");
-  r.source_file = read_string_attr(root.get(), "source_file", file, "/");
-  r.tool_version = read_string_attr(root.get(), "tool_version", file, "/");
-  r.created_utc = read_string_attr(root.get(), "created_utc", file, "/");
-  r.command_line = read_string_attr(root.get(), "command_line", file, "/");
+  OpenResults o = open_results(file, r);
+  Handle& f = o.file;
+  Handle& root = o.root;
   std::vector<std::string> groups;
   find_channel_groups(root.get(), "", file, groups);
   for (const std::string& gp : groups) {
