@@ -245,6 +245,20 @@ void write_results(const std::filesystem::path& path, const RecordingResult& r) 
   atomic.commit();
 }
 
+// A channel group's own attributes (both readers); its groups are read by the caller.
+ChannelResult read_channel_attributes(hid_t g, const std::string& file, const std::string& gp) {
+  ChannelResult ch;
+  ch.path = gp;
+  ch.units = read_string_attr(g, "units", file, gp);
+  ch.sample_rate_hz = read_double_attr(g, "sample_rate_hz", file, gp);
+  ch.n_samples = static_cast<std::int64_t>(read_double_attr(g, "n_samples", file, gp));
+  ch.n_gaps = static_cast<std::int64_t>(read_double_attr(g, "n_gaps", file, gp));
+  ch.data_type = read_string_attr(g, "data_type", file, gp);
+  ch.status = read_string_attr(g, "status", file, gp);
+  ch.notes = read_string_attr(g, "notes", file, gp);
+  return ch;
+}
+
 // A results file opened for reading, with its root attributes read into `r` (both readers).
 struct OpenResults {
   Handle file, root;
@@ -285,15 +299,7 @@ RecordingResult read_results(const std::filesystem::path& path) {
     throw Error(file, "", "cannot walk the results file");
   for (const std::string& gp : found.groups) {
     Handle g = check(H5Gopen2(f.get(), gp.c_str(), H5P_DEFAULT), H5Gclose, file, gp, "H5Gopen2");
-    ChannelResult ch;
-    ch.path = gp;
-    ch.units = read_string_attr(g.get(), "units", file, gp);
-    ch.sample_rate_hz = read_double_attr(g.get(), "sample_rate_hz", file, gp);
-    ch.n_samples = static_cast<std::int64_t>(read_double_attr(g.get(), "n_samples", file, gp));
-    ch.n_gaps = static_cast<std::int64_t>(read_double_attr(g.get(), "n_gaps", file, gp));
-    ch.data_type = read_string_attr(g.get(), "data_type", file, gp);
-    ch.status = read_string_attr(g.get(), "status", file, gp);
-    ch.notes = read_string_attr(g.get(), "notes", file, gp);
+    ChannelResult ch = read_channel_attributes(g.get(), file, gp);
     if (H5Lexists(g.get(), "allan", H5P_DEFAULT) > 0) {
       for (const kernels::Stat s : kernels::all_stats()) {
         const std::string name(kernels::stat_name(s));
@@ -428,15 +434,7 @@ RecordingResult read_summary_results(const std::filesystem::path& path) {
   find_channel_groups(root.get(), "", file, groups);
   for (const std::string& gp : groups) {
     Handle g = check(H5Gopen2(f.get(), gp.c_str(), H5P_DEFAULT), H5Gclose, file, gp, "H5Gopen2");
-    ChannelResult ch;
-    ch.path = gp;
-    ch.units = read_string_attr(g.get(), "units", file, gp);
-    ch.sample_rate_hz = read_double_attr(g.get(), "sample_rate_hz", file, gp);
-    ch.n_samples = static_cast<std::int64_t>(read_double_attr(g.get(), "n_samples", file, gp));
-    ch.n_gaps = static_cast<std::int64_t>(read_double_attr(g.get(), "n_gaps", file, gp));
-    ch.data_type = read_string_attr(g.get(), "data_type", file, gp);
-    ch.status = read_string_attr(g.get(), "status", file, gp);
-    ch.notes = read_string_attr(g.get(), "notes", file, gp);
+    ChannelResult ch = read_channel_attributes(g.get(), file, gp);
     if (H5Lexists(g.get(), "fit", H5P_DEFAULT) > 0) {
       Handle fg =
           check(H5Gopen2(g.get(), "fit", H5P_DEFAULT), H5Gclose, file, gp + "/fit", "H5Gopen2");
