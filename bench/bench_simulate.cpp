@@ -3,6 +3,9 @@
 // ramp), at 1 and 2 threads. One SimulationPlan is shared by the six channels, as the
 // simulate command does, so the flicker filter's spectrum is computed once per plan; the plan
 // is made outside the timed loop, the first (spectrum-computing) run included in warm-up.
+// Arguments: n (samples a channel) and threads; samples/s counts every channel's samples.
+// Run: build/bench/bench_simulate --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
+// (or through bench/run-all).
 #include "kernels/simulate.hpp"
 
 #include <benchmark/benchmark.h>
@@ -70,6 +73,7 @@ void BM_SimulateWhite(benchmark::State& state) {
 BENCHMARK(BM_SimulateUnit)
     ->ArgPair(5'400'000, 1)
     ->ArgPair(5'400'000, 2)
+    ->ArgNames({"n", "threads"})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK(BM_SimulateWhite)
@@ -77,6 +81,7 @@ BENCHMARK(BM_SimulateWhite)
     ->ArgPair(1'000'003, 2)
     ->ArgPair(5'400'000, 1)
     ->ArgPair(5'400'000, 2)
+    ->ArgNames({"n", "threads"})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

@@ -57,6 +57,34 @@ SumCount second_difference_core(const PhaseData& p, std::int64_t m, std::int64_t
   return out;
 }
 
+std::vector<SumCount> second_difference_sums(const PhaseData& p,
+                                             std::span<const std::int64_t> m_list, int nthreads,
+                                             SumCache* cache) {
+  std::vector<SumCount> sums(m_list.size());
+  std::vector<std::int64_t> missing;
+  std::vector<std::size_t> where;
+  for (std::size_t j = 0; j < m_list.size(); ++j) {
+    if (cache)
+      if (const auto hit = cache->second(m_list[j])) {
+        sums[j] = {hit->first, hit->second};
+        continue;
+      }
+    missing.push_back(m_list[j]);
+    where.push_back(j);
+  }
+  const auto computed = sums_tiled(
+      missing, nthreads,
+      [&p](std::int64_t m) {
+        return SecondDifference{p.x.data(), m};
+      },
+      [&p](std::int64_t m) { return p.n_points() - 2 * m; });
+  for (std::size_t i = 0; i < missing.size(); ++i) {
+    sums[where[i]] = computed[i];
+    if (cache) cache->store_second(missing[i], computed[i].sum, computed[i].n);
+  }
+  return sums;
+}
+
 WindowSums make_window_sums(const PhaseData& p, std::int64_t m_cap, int nthreads) {
   const std::int64_t n = p.n_points();
   const double* x = p.x.data();
@@ -163,19 +191,15 @@ StatResult adev(const PhaseData& p, std::span<const std::int64_t> m_list, int nt
                                 [&p](std::int64_t m) { return allan_norm(p, m); });
 }
 
-StatResult oadev(const PhaseData& p, std::span<const std::int64_t> m_list, int nthreads) {
+StatResult oadev(const PhaseData& p, std::span<const std::int64_t> m_list, int nthreads,
+                 SumCache* cache) {
   detail::check_m_list("oadev", m_list);
   const auto sums = p.has_gaps()
                         ? detail::sums_per_m(m_list, nthreads,
                                              [&p](std::int64_t m) {
                                                return detail::second_difference_core(p, m, 1);
                                              })
-                        : detail::sums_tiled(
-                              m_list, 2, nthreads,
-                              [&p](std::int64_t m) {
-                                return detail::SecondDifference{p.x.data(), m};
-                              },
-                              [&p](std::int64_t m) { return p.n_points() - 2 * m; });
+                        : detail::second_difference_sums(p, m_list, nthreads, cache);
   return detail::rows_from_sums(p.tau0_s, m_list, sums,
                                 [&p](std::int64_t m) { return allan_norm(p, m); });
 }
@@ -198,7 +222,7 @@ StatResult modified_family(std::string_view stat, const PhaseData& p,
           ? detail::sums_per_m(m_list, nthreads,
                                [&p, &w](std::int64_t m) { return detail::modified_core(p, w, m); })
           : detail::sums_tiled(
-                m_list, 3, nthreads,
+                m_list, nthreads,
                 [&w](std::int64_t m) {
                   return detail::ModifiedInnerSum{w.s.data(), m, w.inv_scale};
                 },

@@ -39,7 +39,9 @@ StatResult adev(const PhaseData& p, std::span<const std::int64_t> m_list, int nt
 /// Overlapping Allan deviation, NIST SP1065 eq. (11), p. 16:
 ///
 ///   sigma^2(tau) = 1 / (2 tau^2 (N - 2m)) * sum_{i=0}^{N-2m-1} (x_{i+2m} - 2 x_{i+m} + x_i)^2
-StatResult oadev(const PhaseData& p, std::span<const std::int64_t> m_list, int nthreads = 0);
+/// With a cache (stats.hpp), sums stored by TOTDEV are reused and new ones stored.
+StatResult oadev(const PhaseData& p, std::span<const std::int64_t> m_list, int nthreads = 0,
+                 SumCache* cache = nullptr);
 
 /// Modified Allan deviation, NIST SP1065 eq. (14), p. 17:
 ///
@@ -71,6 +73,13 @@ struct SumCount {
 /// 2 stride, ... and their count, the shared core of ADEV (stride m) and OADEV (stride 1),
 /// as allantools' calc_adev_phase(phase, rate, mj, stride). Terms touching a gap are skipped.
 SumCount second_difference_core(const PhaseData& p, std::int64_t m, std::int64_t stride);
+
+/// The overlapping second-difference sums (stride 1, N - 2m terms) of gap-free data for every
+/// m of m_list, by the tiled sweep; those found in `cache` are taken from it, the others
+/// computed and stored (cache may be null).
+std::vector<SumCount> second_difference_sums(const PhaseData& p,
+                                             std::span<const std::int64_t> m_list, int nthreads,
+                                             SumCache* cache);
 
 /// Exact fixed-point second-level prefix sums of the phase, the input of the MDEV/TDEV core.
 ///

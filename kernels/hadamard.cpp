@@ -58,7 +58,7 @@ StatResult ohdev(const PhaseData& p, std::span<const std::int64_t> m_list, int n
                                                return detail::third_difference_core(p, m, 1);
                                              })
                         : detail::sums_tiled(
-                              m_list, 3, nthreads,
+                              m_list, nthreads,
                               [&p](std::int64_t m) {
                                 return detail::ThirdDifference{p.x.data(), m};
                               },

@@ -45,18 +45,23 @@ struct Lag1Estimate {
 Lag1Estimate noise_id_lag1(const PhaseData& p, std::int64_t m, int dmax);
 
 /// The lag-1 estimates of one phase record, shared between the statistics computed on it:
-/// noise_id_lag1 depends only on (m, dmax), so the Allan and total family (dmax 2) and the
-/// Hadamard family (dmax 3) each need it once per m instead of once per statistic (it was a
-/// third of a channel's time in `analyze` with the six default statistics). Thread-safe; a
+/// noise_id_lag1 depends only on (m, dmax), and the differencing levels of dmax 2 are the first
+/// levels of dmax 3, so the cache keeps each m's deltas per level and the Allan and total
+/// family (dmax 2) and the Hadamard family (dmax 3) share one run per m (it was a third of a
+/// channel's time in `analyze` with the six default statistics). Thread-safe; a
 /// value computed twice by two threads is the same value, so results do not depend on the
 /// thread count. Valid for one PhaseData only (the caller keeps one cache per record).
 class Lag1Cache {
 public:
   Lag1Estimate get(const PhaseData& p, std::int64_t m, int dmax);
+  /// Computes the estimates of every m of `ms` not yet held for dmax in one multi-m sweep
+  /// over a gap-free record (two sweeps per differencing level for all m together, instead
+  /// of two passes per m); same values as get(). Does nothing for gapped records or dmax > 3.
+  void prefetch(const PhaseData& p, std::span<const std::int64_t> ms, int dmax);
 
 private:
   std::mutex mutex_;
-  std::map<std::pair<std::int64_t, int>, Lag1Estimate> values_;
+  std::map<std::int64_t, std::vector<double>> deltas_;  // m -> delta at levels 0, 1, ...
 };
 
 /// Barnes' bias function B1(N, r = 1, mu): the expected ratio of the N-sample variance to the

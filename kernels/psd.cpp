@@ -140,49 +140,55 @@ PsdResult PsdPlan::welch(std::span<const double> rate, double rate_hz, int nthre
     throw std::invalid_argument("welch: rate has " + std::to_string(n) +
                                 " samples, fewer than the segment length " + std::to_string(d.L));
   // Sanity check at entry (no throw inside the parallel region): infinities are errors, NaN
-  // are gaps. nan_before[i] = number of NaN among rate[0 .. i).
-  std::vector<std::int64_t> nan_before(static_cast<std::size_t>(n) + 1, 0);
+  // are gaps, remembered by position (a gap-free record stores nothing).
+  std::vector<std::int64_t> nan_at;
   for (std::int64_t i = 0; i < n; ++i) {
     const double v = rate[static_cast<std::size_t>(i)];
     if (std::isinf(v))
       throw std::invalid_argument("welch: rate has an infinite sample at index " +
                                   std::to_string(i));
-    nan_before[static_cast<std::size_t>(i) + 1] =
-        nan_before[static_cast<std::size_t>(i)] + (std::isnan(v) ? 1 : 0);
+    if (std::isnan(v)) nan_at.push_back(i);
   }
   const std::int64_t hop = d.L / 2;
   const std::int64_t n_all = welch_segment_count(n, d.L);
   std::vector<std::int64_t> starts;
   for (std::int64_t j = 0; j < n_all; ++j) {
-    const auto s = static_cast<std::size_t>(j * hop);
-    if (nan_before[s + static_cast<std::size_t>(d.L)] == nan_before[s]) starts.push_back(j * hop);
+    const std::int64_t s = j * hop;
+    const auto first_nan = std::lower_bound(nan_at.begin(), nan_at.end(), s);
+    if (first_nan == nan_at.end() || *first_nan >= s + d.L) starts.push_back(s);
   }
   const auto n_seg = static_cast<std::int64_t>(starts.size());
   if (n_seg == 0)
     throw std::invalid_argument("welch: rate has no gap-free segment of " + std::to_string(d.L) +
                                 " samples (every segment touches a NaN)");
 
-  // One row of |X_k|^2 per used segment, each written by one thread.
+  // Rounds of one batch per thread: each batch's |X_k|^2 rows go to its own slot, then the
+  // round's rows are added to acc in segment order. acc is thus the same sequential sum over
+  // segments for any thread count, and only one round of rows is held (2^17 bins x 4 segments
+  // x threads) instead of every segment's (40 x 2^17 doubles, the size of the record).
   const auto nb = d.n_bins;
-  std::vector<double> rows(static_cast<std::size_t>(n_seg * nb));
   const std::int64_t n_batches = (n_seg + kBatch - 1) / kBatch;
   [[maybe_unused]] const int nt = resolve_threads(nthreads);
-  ExceptionCollector ec;
-#pragma omp parallel num_threads(nt)
-  {
-    std::unique_ptr<double[], FftwFree> in;
-    std::unique_ptr<fftw_complex[], FftwFree> out;
-    ec.run([&] {
-      in = fftw_alloc<double>(static_cast<std::size_t>(d.L * kBatch));
-      out = fftw_alloc<fftw_complex>(static_cast<std::size_t>(nb * kBatch));
-    });
-#pragma omp for schedule(static)
-    for (std::int64_t b = 0; b < n_batches; ++b) {
-      if (!in || !out) continue;
+  const std::int64_t per_round = std::max<std::int64_t>(1, std::min<std::int64_t>(nt, n_batches));
+  std::vector<double> acc(static_cast<std::size_t>(nb), 0.0);
+  std::vector<double> rows(static_cast<std::size_t>(per_round * kBatch * nb));
+  std::vector<std::unique_ptr<double[], FftwFree>> in(static_cast<std::size_t>(per_round));
+  std::vector<std::unique_ptr<fftw_complex[], FftwFree>> out(static_cast<std::size_t>(per_round));
+  for (std::int64_t t = 0; t < per_round; ++t) {
+    in[static_cast<std::size_t>(t)] = fftw_alloc<double>(static_cast<std::size_t>(d.L * kBatch));
+    out[static_cast<std::size_t>(t)] =
+        fftw_alloc<fftw_complex>(static_cast<std::size_t>(nb * kBatch));
+  }
+  for (std::int64_t r0 = 0; r0 < n_batches; r0 += per_round) {
+    const std::int64_t r1 = std::min(n_batches, r0 + per_round);
+#pragma omp parallel for num_threads(nt) schedule(static, 1)
+    for (std::int64_t b = r0; b < r1; ++b) {
+      double* buf_in = in[static_cast<std::size_t>(b - r0)].get();
+      fftw_complex* buf_out = out[static_cast<std::size_t>(b - r0)].get();
       const std::int64_t s0 = b * kBatch;
       const std::int64_t s1 = std::min(n_seg, s0 + kBatch);
       for (std::int64_t s = s0; s < s0 + kBatch; ++s) {
-        double* seg = in.get() + (s - s0) * d.L;
+        double* seg = buf_in + (s - s0) * d.L;
         if (s >= s1) {  // unused slot of the last batch
           std::fill(seg, seg + d.L, 0.0);
           continue;
@@ -195,16 +201,21 @@ PsdResult PsdPlan::welch(std::span<const double> rate, double rate_hz, int nthre
         for (std::int64_t t = 0; t < d.L; ++t)
           seg[t] = (y[t] - mean) * d.window[static_cast<std::size_t>(t)];
       }
-      fftw_execute_dft_r2c(d.plan, in.get(), out.get());
+      fftw_execute_dft_r2c(d.plan, buf_in, buf_out);
       for (std::int64_t s = s0; s < s1; ++s) {
-        const fftw_complex* X = out.get() + (s - s0) * nb;
-        double* row = rows.data() + s * nb;
+        const fftw_complex* X = buf_out + (s - s0) * nb;
+        double* row = rows.data() + (s - r0 * kBatch) * nb;
         for (std::int64_t k = 0; k < nb; ++k)
           row[k] = X[k][0] * X[k][0] + X[k][1] * X[k][1];
       }
     }
+    const std::int64_t seg_end = std::min(n_seg, r1 * kBatch);
+#pragma omp parallel for num_threads(nt) schedule(static)
+    for (std::int64_t k = 0; k < nb; ++k)
+      for (std::int64_t s = r0 * kBatch; s < seg_end; ++s)
+        acc[static_cast<std::size_t>(k)] +=
+            rows[static_cast<std::size_t>((s - r0 * kBatch) * nb + k)];
   }
-  ec.rethrow();
 
   PsdResult r;
   r.rate_hz = rate_hz;
@@ -219,13 +230,9 @@ PsdResult PsdPlan::welch(std::span<const double> rate, double rate_hz, int nthre
   // segment (sum over all L bins times df = rate_hz / L gives sum (w y)^2 / sum w^2); x2
   // folds the negative frequencies in, except at DC and Nyquist, which have no mirror.
   const double base = 1.0 / (rate_hz * d.sum_w2 * static_cast<double>(n_seg));
-#pragma omp parallel for num_threads(nt) schedule(static)
   for (std::int64_t k = 0; k < nb; ++k) {
-    double acc = 0;
-    for (std::int64_t s = 0; s < n_seg; ++s)
-      acc += rows[static_cast<std::size_t>(s * nb + k)];
     const double c = (k == 0 || k == nb - 1) ? 1.0 : 2.0;
-    r.psd[static_cast<std::size_t>(k)] = c * base * acc;
+    r.psd[static_cast<std::size_t>(k)] = c * base * acc[static_cast<std::size_t>(k)];
     r.f_hz[static_cast<std::size_t>(k)] = static_cast<double>(k) * r.df_hz;
   }
   std::int64_t n_adj = 0;
@@ -427,6 +434,15 @@ AvarPsdResult avar_from_psd(const PsdResult& p, std::span<const double> tau_s,
   for (std::int64_t j = 0; j <= Li / 2; ++j)
     sin_tab[static_cast<std::size_t>(j)] =
         std::sin(std::numbers::pi * static_cast<double>(j) / static_cast<double>(Li));
+  // The tau-independent factor of every bin, weight x psd / sin^2(pi k / L), once for all taus:
+  // the inner loop then has no division (it was half of this function's time).
+  std::vector<double> bin_weight(static_cast<std::size_t>(nb), 0.0);
+  for (auto k = static_cast<std::int64_t>(kb); k < nb; ++k) {
+    const auto ku = static_cast<std::size_t>(k);
+    const double sd = sin_tab[ku];
+    const double wgt = k == nb - 1 ? 0.5 : 1.0;  // the Nyquist bin's cell is half inside
+    bin_weight[ku] = wgt * p.psd[ku] / (sd * sd);
+  }
   [[maybe_unused]] const int nt = resolve_threads(nthreads);
 #pragma omp parallel for num_threads(nt) schedule(dynamic)
   for (std::int64_t i = 0; i < static_cast<std::int64_t>(nt_tau); ++i) {
@@ -439,16 +455,15 @@ AvarPsdResult avar_from_psd(const PsdResult& p, std::span<const double> tau_s,
       const auto m = static_cast<std::int64_t>(m_round);
       const std::int64_t step = m % Li;
       std::int64_t j = (static_cast<std::int64_t>(kb) * step) % Li;
-      const double inv_m2 = 1.0 / (m_round * m_round);
+      // Branch-free index arithmetic (min and a conditional subtraction): j jumps by m mod L
+      // and its half of the period is unpredictable for most m.
       for (auto k = static_cast<std::int64_t>(kb); k < nb; ++k) {
-        const auto ku = static_cast<std::size_t>(k);
-        const double sn = sin_tab[static_cast<std::size_t>(j <= Li / 2 ? j : Li - j)];
-        const double sd = sin_tab[ku];
-        const double wgt = k == nb - 1 ? 0.5 : 1.0;  // the Nyquist bin's cell is half inside
-        band += wgt * p.psd[ku] * (2.0 * (sn * sn) * (sn * sn) * inv_m2 / (sd * sd));
+        const double sn = sin_tab[static_cast<std::size_t>(std::min(j, Li - j))];
+        band += bin_weight[static_cast<std::size_t>(k)] * ((sn * sn) * (sn * sn));
         j += step;
-        if (j >= Li) j -= Li;
+        j -= j >= Li ? Li : 0;
       }
+      band *= 2.0 / (m_round * m_round);
     } else {
       for (auto k = static_cast<std::int64_t>(kb); k < nb; ++k) {
         const auto ku = static_cast<std::size_t>(k);

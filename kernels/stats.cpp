@@ -71,7 +71,19 @@ std::int64_t max_m(Stat s, std::int64_t n_points) {
   return 0;
 }
 
-StatResult compute(Stat s, const PhaseData& p, std::span<const std::int64_t> m_list, int nthreads) {
+std::optional<std::pair<double, std::int64_t>> SumCache::second(std::int64_t m) const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  if (const auto it = second_.find(m); it != second_.end()) return it->second;
+  return std::nullopt;
+}
+
+void SumCache::store_second(std::int64_t m, double sum, std::int64_t n) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  second_.emplace(m, std::make_pair(sum, n));
+}
+
+StatResult compute(Stat s, const PhaseData& p, std::span<const std::int64_t> m_list, int nthreads,
+                   SumCache* cache) {
   for (const std::int64_t m : m_list)
     if (m < 1)
       throw std::invalid_argument(std::string(stat_name(s)) + ": m must be >= 1, got " +
@@ -84,7 +96,7 @@ StatResult compute(Stat s, const PhaseData& p, std::span<const std::int64_t> m_l
   case Stat::Adev:
     return adev(p, ms, nthreads);
   case Stat::Oadev:
-    return oadev(p, ms, nthreads);
+    return oadev(p, ms, nthreads, cache);
   case Stat::Mdev:
     return mdev(p, ms, nthreads);
   case Stat::Tdev:
@@ -94,7 +106,7 @@ StatResult compute(Stat s, const PhaseData& p, std::span<const std::int64_t> m_l
   case Stat::Ohdev:
     return ohdev(p, ms, nthreads);
   case Stat::Totdev:
-    return totdev(p, ms, nthreads);
+    return totdev(p, ms, nthreads, cache);
   }
   throw std::invalid_argument("unknown statistic");
 }

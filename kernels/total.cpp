@@ -13,35 +13,38 @@ bool total_valid(std::int64_t n, std::int64_t m) {
   return n >= 3 && m >= 1 && 2 * m <= n - 1;
 }
 
-// The doubly reflected sequence x*_k (header comment); only |k - [0, N-1]| <= m is needed.
-struct Reflected {
+// The doubly reflected sequence x*_k (header comment): x*_{-k} = 2 x_0 - x_k on the left,
+// x*_{N-1+k} = 2 x_{N-1} - x_{N-1-k} on the right; only |k - [0, N-1]| <= m is needed.
+//
+// Sums over the centres i = 1 .. m-1 (reflected on the left) and i = N-m .. N-2 (reflected on
+// the right); the centres m .. N-1-m in between are the OADEV terms k = i - m. With
+// 2m <= N-1 (total_valid) a left centre reflects exactly its first point (i - m < 0,
+// i + m <= N-1) and a right centre exactly its last (i - m >= 0, i + m > N-1), so the terms
+// are written without a branch; each is x*_{i-m} - 2 x*_i + x*_{i+m} evaluated left to right.
+struct LeftEnd {
   const double* x;
-  std::int64_t n;
+  std::int64_t m;
   double operator()(std::int64_t k) const {
-    if (k < 0) return 2.0 * x[0] - x[-k];
-    if (k > n - 1) return 2.0 * x[n - 1] - x[2 * (n - 1) - k];
-    return x[k];
+    const std::int64_t i = k + 1;
+    return (2.0 * x[0] - x[m - i]) - 2.0 * x[i] + x[i + m];
   }
+  V2 pair(std::int64_t k) const { return V2{(*this)(k), (*this)(k + 1)}; }
+};
+struct RightEnd {
+  const double* x;
+  std::int64_t m, n;
+  double operator()(std::int64_t k) const {
+    const std::int64_t i = k + n - m;
+    return x[i - m] - 2.0 * x[i] + (2.0 * x[n - 1] - x[2 * (n - 1) - (i + m)]);
+  }
+  V2 pair(std::int64_t k) const { return V2{(*this)(k), (*this)(k + 1)}; }
 };
 
-// Sums over the centres i = 1 .. m-1 (reflected on the left) and i = N-m .. N-2 (reflected on
-// the right); the centres m .. N-1-m in between are the OADEV terms k = i - m.
 double left_sum(const PhaseData& p, std::int64_t m) {
-  const Reflected xs{p.x.data(), p.n_points()};
-  return blocked_sum_of_squares(scalar_term([xs, m](std::int64_t k) {
-                                  const std::int64_t i = k + 1;
-                                  return xs(i - m) - 2.0 * xs(i) + xs(i + m);
-                                }),
-                                m - 1);
+  return blocked_sum_of_squares(LeftEnd{p.x.data(), m}, m - 1);
 }
 double right_sum(const PhaseData& p, std::int64_t m) {
-  const std::int64_t n = p.n_points();
-  const Reflected xs{p.x.data(), n};
-  return blocked_sum_of_squares(scalar_term([xs, m, n](std::int64_t k) {
-                                  const std::int64_t i = k + n - m;
-                                  return xs(i - m) - 2.0 * xs(i) + xs(i + m);
-                                }),
-                                m - 1);
+  return blocked_sum_of_squares(RightEnd{p.x.data(), m, p.n_points()}, m - 1);
 }
 
 }  // namespace
@@ -59,21 +62,24 @@ SumCount total_core(const PhaseData& p, std::int64_t m) {
 
 }  // namespace detail
 
-StatResult totdev(const PhaseData& p, std::span<const std::int64_t> m_list, int nthreads) {
+StatResult totdev(const PhaseData& p, std::span<const std::int64_t> m_list, int nthreads,
+                  SumCache* cache) {
   detail::check_m_list("totdev", m_list);
   if (p.has_gaps())
     throw std::invalid_argument("totdev: cannot run on gapped data (" + std::to_string(p.n_gaps) +
                                 " missing samples): the reflected extension of TOTVAR is "
                                 "undefined across a gap");
   const std::int64_t n = p.n_points();
-  // The inner centres are OADEV's terms and share its cache-tiled sweep; the reflected ends
-  // (m - 1 centres each) are summed per m. Same order as total_core: left, inner, right.
-  auto sums = detail::sums_tiled(
-      m_list, 2, nthreads,
-      [&p](std::int64_t m) {
-        return detail::SecondDifference{p.x.data(), m};
-      },
-      [n](std::int64_t m) { return detail::total_valid(n, m) ? n - 2 * m : 0; });
+  // The inner centres are OADEV's terms and share its cache-tiled sweep (and, through the
+  // cache, OADEV's sums themselves); the reflected ends (m - 1 centres each) are summed per m.
+  // Same order as total_core: left, inner, right.
+  std::vector<std::int64_t> valid_m;
+  for (const std::int64_t m : m_list)
+    if (detail::total_valid(n, m)) valid_m.push_back(m);
+  const auto inner = detail::second_difference_sums(p, valid_m, nthreads, cache);
+  std::vector<detail::SumCount> sums(m_list.size());
+  for (std::size_t j = 0, v = 0; j < m_list.size(); ++j)
+    if (detail::total_valid(n, m_list[j])) sums[j] = inner[v++];
   const auto ends = detail::sums_per_m(m_list, nthreads, [&p, n](std::int64_t m) {
     detail::SumCount lr;  // sum = left run, n = unused
     if (detail::total_valid(n, m)) lr.sum = detail::left_sum(p, m);

@@ -28,7 +28,8 @@ namespace allanlot::kernels {
 /// fixed by the record length, so "leave out the terms that touch a gap" has no definition
 /// that keeps TOTVAR's meaning (Stable32 fills gaps before a total variance instead); an error
 /// is better than a number of unknown meaning.
-StatResult totdev(const PhaseData& p, std::span<const std::int64_t> m_list, int nthreads = 0);
+StatResult totdev(const PhaseData& p, std::span<const std::int64_t> m_list, int nthreads = 0,
+                  SumCache* cache = nullptr);
 
 namespace detail {
 

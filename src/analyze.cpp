@@ -22,6 +22,7 @@
 #include <ctime>
 #include <fstream>
 #include <map>
+#include <mutex>
 #include <optional>
 #include <ostream>
 #include <sys/resource.h>
@@ -52,21 +53,27 @@ std::string utc_now() {
   return buf;
 }
 
+// Seconds per stage. read and write are wall time of the one thread doing them; kernels
+// (phase, statistics, confidence intervals), psd (PSD, PSD fit, cross-check) and fit (the
+// eq. (3) fit) are summed over the channels, so with channels in parallel they add up to more
+// than the wall time (analysis_wall, from the first read to the last channel done).
 struct StageTimes {
-  double read = 0, kernels = 0, write = 0;
+  double read = 0, kernels = 0, psd = 0, fit = 0, write = 0, analysis_wall = 0;
 };
 
 // One channel read into memory and prepared for the kernels.
 struct Prepared {
   io::ChannelResult result;
   kernels::PhaseData phase;
+  StageTimes times;  // kernels, psd, fit of this channel
   bool ok = false;
 };
 
 // The Welch PSD of the channel's rate (psd/, log-binned) and equation (2) applied to it at the
 // oadev taus against the time-domain variance (crosscheck/). The rate is rebuilt from the
 // phase (mean removed, NaN where an increment is missing) so that phase and rate input are
-// treated alike. A record too short for a PSD is a note, not a failure of the channel.
+// treated alike; the phase is released once the rate is built (this is the channel's last
+// stage). A record too short for a PSD is a note, not a failure of the channel.
 void psd_and_crosscheck(Prepared& c, const kernels::StatResult& oadev, int threads,
                         const std::array<kernels::TermFit, kernels::kNumTerms>* allan_terms) {
   const std::vector<double>& x = c.phase.x;
@@ -76,6 +83,9 @@ void psd_and_crosscheck(Prepared& c, const kernels::StatResult& oadev, int threa
     rate[k] = c.phase.clean(static_cast<std::int64_t>(k), static_cast<std::int64_t>(k) + 1)
                   ? (x[k + 1] - x[k]) * rate_hz
                   : std::nan("");
+  // The phase is not needed after this point: freeing it here keeps a channel's peak at the
+  // phase plus one working array at every stage.
+  c.phase = kernels::PhaseData{};
   kernels::PsdResult psd;
   try {
     psd = kernels::welch_psd(rate, rate_hz, threads);
@@ -135,11 +145,13 @@ void compute_channel(Prepared& c, const AnalyzeOptions& opt, int kernel_threads)
                                     "(rescale them, e.g. with a scale attribute)");
       }
   };
+  const auto t_stats = Clock::now();
   bool any_row = false;
   const kernels::StatResult* mdev = nullptr;
   std::optional<kernels::StatResult> oadev_for_fit;
   c.result.stats.reserve(opt.stats.size());  // `mdev` points into it: no reallocation
   kernels::Lag1Cache noise_id;               // shared by the statistics of this channel
+  kernels::SumCache sums;                    // OADEV's sums are TOTDEV's inner sums
   for (const kernels::Stat s : opt.stats) {
     if (c.phase.has_gaps() && !kernels::supports_gaps(s)) {
       // Skipped, not failed: the channel's other statistics stand, and the note says why.
@@ -152,7 +164,7 @@ void compute_channel(Prepared& c, const AnalyzeOptions& opt, int kernel_threads)
         kernels::make_m_list(opt.grid, kernels::max_m(s, c.phase.n_points()), c.phase.n_points());
     kernels::StatResult r = (s == kernels::Stat::Tdev && mdev && mdev->m == ms)
                                 ? kernels::tdev_from_mdev(*mdev)
-                                : kernels::compute(s, c.phase, ms, kernel_threads);
+                                : kernels::compute(s, c.phase, ms, kernel_threads, &sums);
     require_finite(s, r);
     kernels::add_confidence(s, c.phase, r, opt.confidence, kernel_threads, &noise_id);
     any_row = any_row || r.size() > 0;
@@ -165,30 +177,41 @@ void compute_channel(Prepared& c, const AnalyzeOptions& opt, int kernel_threads)
     throw std::invalid_argument("too short for any tau of the requested statistics (" +
                                 std::to_string(c.result.n_samples) + " samples)");
   }
-  if (!opt.fit && !opt.psd) return;
+  if (!opt.fit && !opt.psd) {
+    c.times.kernels += seconds_since(t_stats);
+    return;
+  }
   if (!oadev_for_fit) {
     const auto ms = kernels::make_m_list(
         opt.grid, kernels::max_m(kernels::Stat::Oadev, c.phase.n_points()), c.phase.n_points());
-    oadev_for_fit = kernels::compute(kernels::Stat::Oadev, c.phase, ms, kernel_threads);
+    oadev_for_fit = kernels::compute(kernels::Stat::Oadev, c.phase, ms, kernel_threads, &sums);
     require_finite(kernels::Stat::Oadev, *oadev_for_fit);
     kernels::add_confidence(kernels::Stat::Oadev, c.phase, *oadev_for_fit, opt.confidence,
                             kernel_threads, &noise_id);
   }
+  c.times.kernels += seconds_since(t_stats);
   std::array<kernels::TermFit, kernels::kNumTerms> allan_terms{};
   bool have_allan_terms = false;
   if (opt.fit) {
+    const auto t_fit = Clock::now();
     c.result.fit = fit_channel(*oadev_for_fit, c.phase, c.result.units, &allan_terms);
     have_allan_terms = c.result.fit->status == kernels::fit_status_name(kernels::FitStatus::Ok);
+    c.times.fit += seconds_since(t_fit);
   }
-  if (opt.psd)
+  if (opt.psd) {
+    const auto t_psd = Clock::now();
     psd_and_crosscheck(c, *oadev_for_fit, kernel_threads,
                        have_allan_terms ? &allan_terms : nullptr);
+    c.times.psd += seconds_since(t_psd);
+  }
 }
 
 std::string join_stats(const std::vector<kernels::Stat>& stats) {
   std::string s;
-  for (std::size_t i = 0; i < stats.size(); ++i)
-    s += (i ? "," : "") + std::string(kernels::stat_name(stats[i]));
+  for (std::size_t i = 0; i < stats.size(); ++i) {
+    if (i) s += ',';
+    s += kernels::stat_name(stats[i]);
+  }
   return s;
 }
 
@@ -202,10 +225,10 @@ constexpr std::uint64_t kBytesPerSampleInFlight = 32;
 
 // Analyses one recording. Throws io::Error when the input as a whole cannot be analysed
 // (unreadable, no channel, every channel failed); channel failures inside a readable file are
-// recorded in the channel's status and reported on `err`. Channels are read and analysed in
-// waves of at most `memory_limit / (32 bytes x samples)` channels (at least one), so that the
-// memory held never exceeds the budget by more than one channel; the waves are in channel
-// order and every kernel is thread-invariant, so the wave size never changes a number.
+// recorded in the channel's status and reported on `err`. At most
+// min(threads, memory_limit / (32 bytes x samples)) channels (at least one) are in memory at
+// once, each freed as soon as it is analysed; every kernel is thread-invariant, so neither
+// number changes a result.
 io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOptions& opt,
                                       int threads, std::uint64_t memory_limit, StageTimes& times,
                                       std::ostream& err, bool& channel_failed) {
@@ -251,17 +274,38 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
 
   const std::uint64_t per_channel =
       kBytesPerSampleInFlight * static_cast<std::uint64_t>(max_samples);
-  const std::size_t wave =
+  const std::size_t n_selected = selected.size();
+  const std::size_t slots =
       std::clamp<std::size_t>(static_cast<std::size_t>(memory_limit / per_channel), 1,
-                              std::max<std::size_t>(selected.size(), 1));
+                              std::max<std::size_t>(n_selected, 1));
+  // One level of parallelism (STYLE.md): across channels when there are at least as many
+  // channels as threads, otherwise inside the kernels over taus. Each worker takes the next
+  // channel, reads it (HDF5 calls one at a time, under read_mutex, in channel order so that
+  // the input hash is that of the sequential read), builds its phase, analyses it and frees
+  // it: the read of one channel overlaps the analysis of another, and at most `workers`
+  // channels are in memory. The kernels give bit-identical results for any thread count, so
+  // none of these choices changes a number.
+  const bool across = n_selected >= static_cast<std::size_t>(threads) && threads > 1;
+  const int workers =
+      across ? static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(threads), slots))
+             : 1;
+  const int kernel_threads = std::max(1, threads / workers);
   std::uint64_t hash = io::kHashSeed;
-  std::vector<Prepared> done;
-  for (std::size_t start = 0; start < selected.size(); start += wave) {
-    t0 = Clock::now();
-    std::vector<Prepared> work;
-    for (std::size_t w = start; w < std::min(selected.size(), start + wave); ++w) {
-      const io::ChannelInfo& ch = *selected[w];
-      Prepared c;
+  std::vector<Prepared> done(n_selected);
+  std::mutex read_mutex;
+  std::size_t next = 0;
+  const auto t_analysis = Clock::now();
+#pragma omp parallel num_threads(workers)
+  for (;;) {
+    std::size_t i = 0;
+    std::vector<double> samples;
+    {
+      const std::lock_guard<std::mutex> lock(read_mutex);
+      if (next == n_selected) break;
+      i = next++;
+      const auto t_read = Clock::now();
+      const io::ChannelInfo& ch = *selected[i];
+      Prepared& c = done[i];
       c.result.path = ch.path;
       c.result.units = ch.units;
       c.result.sample_rate_hz = ch.sample_rate_hz;
@@ -276,45 +320,40 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
                           std::to_string(ch.n_samples) +
                               " samples: more than this machine's memory holds for analysis (" +
                               std::to_string(kBytesPerSampleInFlight) + " bytes per sample)");
-        const std::vector<double> samples = reader.read(ch);
+        samples = reader.read(ch);
         hash = io::hash_channel(hash, ch.path, samples);
-        c.phase = kernels::make_phase(samples, ch.data_type, ch.sample_rate_hz, threads);
-        c.result.n_gaps = c.phase.n_gaps;
         c.ok = true;
       } catch (const io::Error& e) {
         c.result.status = "failed: " + e.reason();
       } catch (const std::exception& e) {
         c.result.status = std::string("failed: ") + e.what();
       }
-      work.push_back(std::move(c));
+      times.read += seconds_since(t_read);
     }
-    times.read += seconds_since(t0);
-
-    // One level of parallelism (STYLE.md): across channels when there are at least as many
-    // channels as threads, otherwise inside the kernels over taus. The kernels give
-    // bit-identical results for any thread count, so the choice never changes a number.
-    t0 = Clock::now();
-    const auto n = static_cast<std::int64_t>(work.size());
-    const bool across = n >= threads && threads > 1;
-    const int kernel_threads = across ? 1 : threads;
-#pragma omp parallel for num_threads(across ? threads : 1) schedule(dynamic, 1)
-    for (std::int64_t i = 0; i < n; ++i) {
-      Prepared& c = work[static_cast<std::size_t>(i)];
-      if (!c.ok) continue;
-      try {
-        compute_channel(c, opt, kernel_threads);
-      } catch (const std::exception& e) {
-        c.result.status = std::string("failed: ") + e.what();
-        c.ok = false;
-      } catch (...) {
-        c.result.status = "failed: unexpected error";
-        c.ok = false;
-      }
-      c.phase = kernels::PhaseData{};  // free the channel's memory as soon as it is done
+    Prepared& c = done[i];
+    if (!c.ok) continue;
+    try {
+      const auto t_phase = Clock::now();
+      c.phase = kernels::make_phase(samples, selected[i]->data_type, selected[i]->sample_rate_hz,
+                                    kernel_threads);
+      c.result.n_gaps = c.phase.n_gaps;
+      samples = std::vector<double>{};  // the phase replaces the samples
+      c.times.kernels += seconds_since(t_phase);
+      compute_channel(c, opt, kernel_threads);
+    } catch (const std::exception& e) {
+      c.result.status = std::string("failed: ") + e.what();
+      c.ok = false;
+    } catch (...) {
+      c.result.status = "failed: unexpected error";
+      c.ok = false;
     }
-    times.kernels += seconds_since(t0);
-    for (Prepared& c : work)
-      done.push_back(std::move(c));
+    c.phase = kernels::PhaseData{};  // free the channel's memory as soon as it is done
+  }
+  times.analysis_wall += seconds_since(t_analysis);
+  for (const Prepared& c : done) {
+    times.kernels += c.times.kernels;
+    times.psd += c.times.psd;
+    times.fit += c.times.fit;
   }
   rec.attributes.emplace_back("input_hash", io::hash_hex(hash));
 
@@ -562,7 +601,9 @@ int run_analyze(const AnalyzeOptions& opt, std::ostream& out, std::ostream& err)
   const std::size_t n_inputs = inputs.files.size() + inputs.failures.size();
   if (opt.verbose)
     err << "allanlot: stage seconds: read " << times.read << ", kernels " << times.kernels
-        << ", write " << times.write << " (" << threads << " threads); peak memory "
+        << ", psd " << times.psd << ", fit " << times.fit << ", write " << times.write
+        << ", analysis wall " << times.analysis_wall << " (" << threads
+        << " threads; kernels, psd and fit summed over channels); peak memory "
         << peak_rss_bytes() / (1 << 20) << " MiB (budget " << memory_limit / (1 << 20) << " MiB)\n";
   if (!opt.quiet) {
     out << "analysed " << n_ok - n_current << " of " << n_inputs << " input(s)";

@@ -2,11 +2,11 @@
 // averaging factors that every public statistic shares (argument check, the cache-tiled
 // parallel sweep, the rows of the result).
 //
-// Determinism: every sum of squares is formed in one fixed order, whatever the thread count
-// and whichever path computes it: terms k = 0 .. n-1 in blocks of kBlock, inside a block
-// four interleaved partial sums (lane l takes the terms k = l mod 4), a block's value
-// (s0 + s1) + (s2 + s3), and the block values added in index order. Threads only decide who
-// computes a block, never how it is rounded.
+// Determinism: every sum of squares is formed in one fixed order, whatever the thread count,
+// the SIMD level and whichever path computes it: terms k = 0 .. n-1 in blocks of kBlock,
+// inside a block sixteen interleaved partial sums (lane l takes the terms k = l mod 16), a
+// block's value by the fixed tree of reduce_lanes, and the block values added in index order.
+// Threads and vector widths only decide who computes a block, never how it is rounded.
 #pragma once
 
 #ifndef ALLANLOT_KERNELS_FAMILY_HEADER
@@ -70,12 +70,12 @@ std::vector<SumCount> sums_per_m(std::span<const std::int64_t> m_list, int nthre
 }
 
 /// Terms per block of the blocked summation of squares: the rounding error of a sum of n
-/// squares is bounded by (kBlock/4 + n/kBlock) eps (~6e-13 for n = 5.4e6) instead of n eps
+/// squares is bounded by (kBlock/16 + n/kBlock) eps (~6e-13 for n = 5.4e6) instead of n eps
 /// for one running sum.
 inline constexpr std::int64_t kBlock = 1024;
 
 // Two-lane vectors (GCC/Clang vector extension, SSE2 registers): a pair of lanes is two of the
-// four partial sums, so the vector code rounds exactly as the scalar four-sum loop would.
+// sixteen partial sums, so the vector code rounds exactly as a scalar sixteen-sum loop would.
 using V2 = double __attribute__((vector_size(16)));
 using U2 = std::uint64_t __attribute__((vector_size(16)));
 using I2 = std::int64_t __attribute__((vector_size(16)));
@@ -158,23 +158,55 @@ ScalarTerm<G> scalar_term(G g) {
   return ScalarTerm<G>{g};
 }
 
-/// Sum of f(k)^2 for k in [b, e), e - b <= kBlock, in the fixed order above.
+/// Partial sums per block: lane l takes the terms k = b + l (mod kLanes). Sixteen independent
+/// additions in flight hide the add latency on every vector width (8 two-double registers,
+/// 4 four-double or 2 eight-double registers hold the same lanes), so the order, and with it
+/// every bit, is the same on every SIMD level.
+inline constexpr int kLanes = 16;
+
+/// A block's value from its lanes, in one fixed tree: lanes l and l + 8, then l and l + 4,
+/// l and l + 2, and the last two (the pairing a halving of any vector width produces).
+inline double reduce_lanes(const double (&s)[kLanes]) {
+  double t[8], u[4];
+  for (int l = 0; l < 8; ++l)
+    t[l] = s[l] + s[l + 8];
+  for (int l = 0; l < 4; ++l)
+    u[l] = t[l] + t[l + 4];
+  return (u[0] + u[2]) + (u[1] + u[3]);
+}
+
+/// Sum of f(k)^2 for k in [b, e), e - b <= kBlock, in the fixed order above, with two-double
+/// vectors: the baseline path, and the only one for terms that are not contiguous loads.
 template <class Term>
-double block_sum(const Term& f, std::int64_t b, std::int64_t e) {
-  V2 s01 = {0.0, 0.0}, s23 = {0.0, 0.0};
+double block_sum_baseline(const Term& f, std::int64_t b, std::int64_t e) {
+  V2 acc[kLanes / 2] = {};
   std::int64_t k = b;
-  for (; k + 4 <= e; k += 4) {
-    const V2 d01 = f.pair(k), d23 = f.pair(k + 2);
-    s01 += d01 * d01;
-    s23 += d23 * d23;
+  for (; k + kLanes <= e; k += kLanes) {
+#pragma GCC unroll 8
+    for (int a = 0; a < kLanes / 2; ++a) {
+      const V2 d = f.pair(k + 2 * a);
+      acc[a] += d * d;
+    }
   }
-  double s0 = s01[0];
+  double s[kLanes];
+  std::memcpy(s, acc, sizeof s);
   for (; k < e; ++k) {
     const double d = f(k);
-    s0 += d * d;
+    s[(k - b) & (kLanes - 1)] += d * d;
   }
-  return (s0 + s01[1]) + (s23[0] + s23[1]);
+  return reduce_lanes(s);
 }
+
+template <class Term>
+double block_sum(const Term& f, std::int64_t b, std::int64_t e) {
+  return block_sum_baseline(f, b, e);
+}
+
+// The contiguous terms run on the widest vectors the CPU has (kernels/sweep_simd.cpp,
+// kernels/simd.hpp); same lanes, same tree, same bits.
+double block_sum(const SecondDifference& f, std::int64_t b, std::int64_t e);
+double block_sum(const ThirdDifference& f, std::int64_t b, std::int64_t e);
+double block_sum(const ModifiedInnerSum& f, std::int64_t b, std::int64_t e);
 
 /// Sum of f(k)^2 for k = 0 .. n-1 in the fixed blocked order.
 template <class Term>
@@ -185,67 +217,57 @@ double blocked_sum_of_squares(const Term& f, std::int64_t n) {
   return total;
 }
 
-/// Largest span k .. k + reach m (in samples) of the averaging factors that are swept tile
-/// by tile: a tile's terms then read at most kTileBlocks kBlock + kTileReach samples
-/// (1.1 MiB), which stay in a core's L2 cache (2 MiB on the target Xeons) while every small m
-/// uses them, so the small m cost one pass over the array together instead of one each.
-inline constexpr std::int64_t kTileReach = 131072;
+/// Blocks per tile of the multi-tau sweep below: 16 blocks, 16384 terms, 128 KiB of each
+/// stream.
 inline constexpr std::int64_t kTileBlocks = 16;
 
-/// Sums of squared terms for every m of m_list on gap-free data. `make(m)` returns the term
-/// functor for m and `count(m)` its number of terms; `reach` is the term's span in units of m
-/// (2 for second differences, 3 for third). The small m are swept in tiles of kTileBlocks
-/// blocks (one OpenMP work item per tile, all small m), the large m one per work item; both
-/// produce each block value in the fixed order and add them in index order, so a result
-/// depends on neither the thread count nor the path.
+/// Sums of squared terms for every m of m_list on gap-free data: the multi-tau sweep. `make(m)`
+/// returns the term functor for m and `count(m)` its number of terms. The record is walked in
+/// tiles of kTileBlocks blocks (one OpenMP work item per tile) and every m sums its terms of
+/// the tile before the next tile starts. The tile's own samples x_k .. (128 KiB) are read by
+/// every m from L2; for m up to about 65536 the shifted reads x_{k+m}, x_{k+2m} (x_{k+3m}) of
+/// all m fall within ~1 MiB and stay in L2 too, and for larger m only those come from L3 or
+/// memory, one stream fewer than a sweep per m (measured: the 21 largest OADEV m take 85 ms
+/// instead of 150 ms on 5.4 M samples). Each block value is formed in the fixed order and the
+/// blocks are added in index order, so a result depends neither on the thread count nor on
+/// which other m were swept with it.
 template <class Make, class Count>
-std::vector<SumCount> sums_tiled(std::span<const std::int64_t> m_list, std::int64_t reach,
-                                 int nthreads, Make make, Count count) {
+std::vector<SumCount> sums_tiled(std::span<const std::int64_t> m_list, int nthreads, Make make,
+                                 Count count) {
   std::vector<SumCount> sums(m_list.size());
-  std::vector<std::size_t> small, large;
+  std::vector<std::size_t> active;  // the m with at least one term
   std::int64_t max_blocks = 0;
   for (std::size_t j = 0; j < m_list.size(); ++j) {
     sums[j].n = std::max<std::int64_t>(0, count(m_list[j]));
     if (sums[j].n == 0) continue;
-    if (reach * m_list[j] <= kTileReach) {
-      small.push_back(j);
-      max_blocks = std::max(max_blocks, (sums[j].n + kBlock - 1) / kBlock);
-    } else {
-      large.push_back(j);
-    }
+    active.push_back(j);
+    max_blocks = std::max(max_blocks, (sums[j].n + kBlock - 1) / kBlock);
   }
-  const auto n_small = static_cast<std::int64_t>(small.size());
-  const auto n_large = static_cast<std::int64_t>(large.size());
+  const auto n_active = static_cast<std::int64_t>(active.size());
   const std::int64_t n_tiles = (max_blocks + kTileBlocks - 1) / kTileBlocks;
-  // block_value[s * max_blocks + b]: block b of small m number s.
-  std::vector<double> block_value(static_cast<std::size_t>(n_small * max_blocks), 0.0);
+  // block_value[a * max_blocks + b]: block b of active m number a.
+  std::vector<double> block_value(static_cast<std::size_t>(n_active * max_blocks), 0.0);
   ExceptionCollector errors;
   [[maybe_unused]] const int nt = resolve_threads(nthreads);  // unused without OpenMP
-  // Large m first: they are the longest items, which helps the dynamic schedule's balance.
 #pragma omp parallel for num_threads(nt) schedule(dynamic, 1)
-  for (std::int64_t w = 0; w < n_large + n_tiles; ++w)
+  for (std::int64_t w = 0; w < n_tiles; ++w)
     errors.run([&] {
-      if (w < n_large) {
-        const std::size_t j = large[static_cast<std::size_t>(w)];
-        sums[j].sum = blocked_sum_of_squares(make(m_list[j]), sums[j].n);
-        return;
-      }
-      const std::int64_t b0 = (w - n_large) * kTileBlocks;
-      for (std::int64_t s = 0; s < n_small; ++s) {
-        const std::size_t j = small[static_cast<std::size_t>(s)];
+      const std::int64_t b0 = w * kTileBlocks;
+      for (std::int64_t a = 0; a < n_active; ++a) {
+        const std::size_t j = active[static_cast<std::size_t>(a)];
         const auto f = make(m_list[j]);
         const std::int64_t n = sums[j].n;
         for (std::int64_t b = b0; b < b0 + kTileBlocks && b * kBlock < n; ++b)
-          block_value[static_cast<std::size_t>(s * max_blocks + b)] =
+          block_value[static_cast<std::size_t>(a * max_blocks + b)] =
               block_sum(f, b * kBlock, std::min(n, (b + 1) * kBlock));
       }
     });
   errors.rethrow();
-  for (std::int64_t s = 0; s < n_small; ++s) {
-    const std::size_t j = small[static_cast<std::size_t>(s)];
+  for (std::int64_t a = 0; a < n_active; ++a) {
+    const std::size_t j = active[static_cast<std::size_t>(a)];
     double total = 0.0;
     for (std::int64_t b = 0; b * kBlock < sums[j].n; ++b)
-      total += block_value[static_cast<std::size_t>(s * max_blocks + b)];
+      total += block_value[static_cast<std::size_t>(a * max_blocks + b)];
     sums[j].sum = total;
   }
   return sums;

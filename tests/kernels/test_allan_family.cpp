@@ -4,6 +4,7 @@
 #include "kernels/allan.hpp"
 #include "kernels/hadamard.hpp"
 #include "kernels/phase.hpp"
+#include "kernels/simd.hpp"
 #include "kernels/stats.hpp"
 #include "kernels/tau_grid.hpp"
 #include "kernels/total.hpp"
@@ -35,7 +36,7 @@ constexpr double kNbs14Rel = 1e-6;
 // the trend removal, rms second differences >= ~1): each term differs by the one rounding of
 // x to double (eps max|x| / |d| ~ 1e-13, zero-mean), by its own few flops (~4 eps), by MDEV's
 // fixed-point rounding (2^-(59 - 11) max|x| / |d| ~ 1e-12, zero-mean), and the blocked sum
-// adds (kBlock/4 + n/kBlock) eps ~ 3e-14. The zero-mean errors shrink as 1/sqrt(n) ~ 1/50 in
+// adds (kBlock/16 + n/kBlock) eps ~ 1e-14. The zero-mean errors shrink as 1/sqrt(n) ~ 1/50 in
 // the sum, so the deviations agree to a few 1e-14 (measured: <= 1.0e-14); 1e-12 leaves a
 // factor 100 for unlucky data and still catches any formula or index error, which moves a
 // deviation by at least ~1/n ~ 3e-4.
@@ -397,6 +398,97 @@ TEST(AllanFamilyProperties, BitIdenticalForAnyThreadCount) {
       EXPECT_EQ(r1.n, rn.n) << kNames[si] << " " << nt << " threads";
       EXPECT_EQ(r1.dev, rn.dev) << kNames[si] << " " << nt << " threads";
     }
+  }
+}
+
+// The AVX2 and AVX-512 sums (kernels/sweep_simd.cpp) must round exactly like the baseline
+// SSE2 loops: same sixteen lanes, same tree, no fused multiply-add. Every level this CPU has
+// is compared bit for bit on every statistic (200001 samples: blocks with tails of every
+// length occur across the m).
+TEST(AllanFamilyProperties, BitIdenticalOnEverySimdLevel) {
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::vector<double> y(200001);
+  for (auto& v : y)
+    v = 9.80665 + 1e-3 * g(rng);
+  const auto ms = kernels::make_m_list(kernels::parse_tau_grid("log:20"), 100000);
+  const auto p = kernels::phase_from_rate(y, 100.0, 2);
+  const kernels::SimdLevel best = kernels::best_simd_level();
+  RecordProperty("best_simd_level", std::string(kernels::simd_level_name(best)));
+  const kernels::SimdLevel before = kernels::simd_level();
+  std::vector<StatResult> baseline;
+  ASSERT_EQ(kernels::set_simd_level(kernels::SimdLevel::Baseline), kernels::SimdLevel::Baseline);
+  for (int si = 0; si < 7; ++si)
+    baseline.push_back(kernels::compute(static_cast<Stat>(si), p, ms, 2));
+  for (const auto level : {kernels::SimdLevel::Avx2, kernels::SimdLevel::Avx512}) {
+    if (level > best) continue;
+    ASSERT_EQ(kernels::set_simd_level(level), level);
+    for (int si = 0; si < 7; ++si) {
+      const auto r = kernels::compute(static_cast<Stat>(si), p, ms, 2);
+      EXPECT_EQ(baseline[static_cast<std::size_t>(si)].dev, r.dev)
+          << kNames[si] << " on " << kernels::simd_level_name(level);
+    }
+  }
+  kernels::set_simd_level(before);
+}
+
+// The documented order of the sums (kernels/detail/sweep.hpp): blocks of 1024 terms, sixteen
+// interleaved lanes per block, the lanes reduced by the fixed tree, blocks added in order.
+// Rebuilt here in plain scalar code for OADEV at a few m; the kernel's sum must be the same
+// double, on whichever SIMD level and thread count it runs.
+TEST(AllanFamilyProperties, SumOrderIsTheDocumentedOne) {
+  std::mt19937_64 rng(12);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::vector<double> y(50003);
+  for (auto& v : y)
+    v = 1.0 + g(rng);
+  const auto p = kernels::phase_from_rate(y, 1.0, 1);
+  const double* x = p.x.data();
+  for (const std::int64_t m : {1, 7, 1000, 10000}) {
+    const std::int64_t n = p.n_points() - 2 * m;
+    double total = 0.0;
+    for (std::int64_t b = 0; b < n; b += 1024) {
+      double lane[16] = {};
+      for (std::int64_t k = b; k < std::min(n, b + 1024); ++k) {
+        const double d = x[k + 2 * m] - 2.0 * x[k + m] + x[k];
+        lane[(k - b) % 16] += d * d;
+      }
+      double t[8], u[4];
+      for (int l = 0; l < 8; ++l)
+        t[l] = lane[l] + lane[l + 8];
+      for (int l = 0; l < 4; ++l)
+        u[l] = t[l] + t[l + 4];
+      total += (u[0] + u[2]) + (u[1] + u[3]);
+    }
+    const double tau = static_cast<double>(m);
+    const double expected = std::sqrt(total / (2.0 * tau * tau * static_cast<double>(n)));
+    for (const int nt : {1, 2})
+      EXPECT_EQ(kernels::compute(Stat::Oadev, p, MList{m}, nt).dev[0], expected) << "m " << m;
+  }
+}
+
+// OADEV's second-difference sums are TOTDEV's inner sums (kernels::SumCache): whichever of
+// the two runs first, sharing them must not change a bit of either.
+TEST(AllanFamilyProperties, SharedSumsChangeNothing) {
+  std::mt19937_64 rng(13);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::vector<double> y(100003);
+  for (auto& v : y)
+    v = 1.0 + g(rng);
+  const auto p = kernels::phase_from_rate(y, 1.0, 1);
+  const auto ms = kernels::make_m_list(kernels::parse_tau_grid("log:16"), 60000);
+  const auto oadev = kernels::compute(Stat::Oadev, p, ms, 2);
+  const auto totdev = kernels::compute(Stat::Totdev, p, ms, 2);
+  {
+    kernels::SumCache cache;
+    EXPECT_EQ(kernels::compute(Stat::Oadev, p, ms, 2, &cache).dev, oadev.dev);
+    EXPECT_EQ(kernels::compute(Stat::Totdev, p, ms, 1, &cache).dev, totdev.dev);
+  }
+  {
+    kernels::SumCache cache;
+    EXPECT_EQ(kernels::compute(Stat::Totdev, p, ms, 1, &cache).dev, totdev.dev);
+    ASSERT_TRUE(cache.second(ms.front()).has_value());
+    EXPECT_EQ(kernels::compute(Stat::Oadev, p, ms, 2, &cache).dev, oadev.dev);
   }
 }
 

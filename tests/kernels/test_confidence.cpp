@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <limits>
 #include <random>
+#include <set>
 #include <string>
 
 namespace allanlot {
@@ -314,6 +315,68 @@ TEST(Confidence, SharedNoiseIdCacheChangesNothing) {
     EXPECT_EQ(e.d, direct.d);
     EXPECT_EQ(e.delta, direct.delta);
   }
+}
+
+// Gap-free records evaluate the differencing levels on the fly from the phase; records with
+// a gap index store each level (the path noise_id_lag1 always took). The same phase with an
+// all-zero gap index takes the stored path: both must give the same bits, for every level a
+// random walk, flicker-like and white mixture reaches, with dmax 2 and 3, directly and through
+// a cache that answers dmax 2 from a dmax 3 run and the reverse.
+TEST(NoiseId, OnTheFlyLevelsEqualStoredLevels) {
+  std::mt19937_64 rng(31);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::vector<double> y(30001);
+  double walk = 0.0, walk2 = 0.0;
+  for (auto& v : y) {
+    walk += 0.02 * g(rng);
+    walk2 += 0.001 * walk;
+    v = g(rng) + walk + walk2;
+  }
+  const auto fly = kernels::phase_from_rate(y, 10.0, 1);
+  kernels::PhaseData stored = fly;
+  stored.gaps.assign(fly.x.size(), 0);
+  ASSERT_FALSE(fly.has_gaps());
+  ASSERT_TRUE(stored.has_gaps());
+  std::set<int> levels;
+  kernels::Lag1Cache cache3_first, cache2_first;
+  for (const std::int64_t m : {1, 2, 3, 7, 50, 333, 1000}) {
+    for (const int dmax : {2, 3}) {
+      const auto a = kernels::noise_id_lag1(fly, m, dmax);
+      const auto b = kernels::noise_id_lag1(stored, m, dmax);
+      EXPECT_EQ(a.delta, b.delta) << "m " << m << " dmax " << dmax;
+      EXPECT_EQ(a.d, b.d) << "m " << m << " dmax " << dmax;
+      EXPECT_EQ(a.alpha, b.alpha) << "m " << m << " dmax " << dmax;
+      levels.insert(a.d);
+    }
+    for (const int dmax : {3, 2}) {
+      const auto e = cache3_first.get(fly, m, dmax);
+      EXPECT_EQ(e.delta, kernels::noise_id_lag1(fly, m, dmax).delta) << m << " " << dmax;
+      EXPECT_EQ(e.d, kernels::noise_id_lag1(fly, m, dmax).d) << m << " " << dmax;
+    }
+    for (const int dmax : {2, 3}) {
+      const auto e = cache2_first.get(fly, m, dmax);
+      EXPECT_EQ(e.delta, kernels::noise_id_lag1(fly, m, dmax).delta) << m << " " << dmax;
+      EXPECT_EQ(e.d, kernels::noise_id_lag1(fly, m, dmax).d) << m << " " << dmax;
+    }
+  }
+  // The multi-m sweep (Lag1Cache::prefetch) for all m at once gives the same bits as each m
+  // alone, for dmax 3 and then dmax 2 read from it, and for dmax 2 swept first then dmax 3.
+  const std::vector<std::int64_t> all_m = {1, 2, 3, 7, 50, 333, 1000};
+  for (const int first : {3, 2}) {
+    kernels::Lag1Cache swept;
+    swept.prefetch(fly, all_m, first);
+    swept.prefetch(fly, all_m, 5 - first);
+    for (const std::int64_t m : all_m)
+      for (const int dmax : {2, 3}) {
+        const auto e = swept.get(fly, m, dmax);
+        const auto direct = kernels::noise_id_lag1(fly, m, dmax);
+        EXPECT_EQ(e.delta, direct.delta) << "swept, m " << m << " dmax " << dmax;
+        EXPECT_EQ(e.d, direct.d) << "swept, m " << m << " dmax " << dmax;
+      }
+  }
+  // The data reach the deeper levels, so the test covers them.
+  EXPECT_GE(levels.size(), 2u);
+  EXPECT_TRUE(levels.count(2) || levels.count(3));
 }
 
 TEST(Confidence, GapsReduceEdfAndKeepIntervalsValid) {
