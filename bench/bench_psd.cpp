@@ -2,7 +2,8 @@
 // gyro X), at 1 and 2 threads (the benchmark argument):
 //  - BM_Welch: the Welch PSD (Hann, 50 % overlap, L = 2^18 by the segment rule: 40 segments);
 //  - BM_Eq2: equation (2) on that PSD at the default OADEV taus (log:16, about 90);
-//  - BM_PsdFit: the PSD-domain eq. (3) fit (no threads inside; the argument is ignored);
+//  - BM_PsdFit: the PSD-domain eq. (3) fit (no threads inside) of a first channel, and
+//    BM_PsdFitNextChannel of the next ones (regressors from the WelchTermCache);
 //  - BM_PsdCrosscheck: the three together plus the log binning, i.e. what `analyze` adds to a
 //    channel for psd/, psd_fit/ and crosscheck/.
 // Simulation is outside the timed loops. Every case reports samples/s: the channel's 5.4 M
@@ -86,6 +87,8 @@ BENCHMARK(BM_Eq2)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
+// The first channel of a segment length computes the terms' expected Welch spectra; the next
+// ones take them from the WelchTermCache, as `analyze` does (BM_PsdFitNextChannel).
 void BM_PsdFit(benchmark::State& state) {
   const PsdResult p = welch_psd(channel(), kRate, 0);
   for (auto _ : state)
@@ -94,15 +97,27 @@ void BM_PsdFit(benchmark::State& state) {
 }
 BENCHMARK(BM_PsdFit)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+void BM_PsdFitNextChannel(benchmark::State& state) {
+  const PsdResult p = welch_psd(channel(), kRate, 0);
+  WelchTermCache terms;
+  (void)psd_fit(p, {}, &terms);
+  for (auto _ : state)
+    benchmark::DoNotOptimize(psd_fit(p, {}, &terms));
+  samples_counter(state);
+}
+BENCHMARK(BM_PsdFitNextChannel)->Unit(benchmark::kMillisecond)->UseRealTime();
+
 void BM_PsdCrosscheck(benchmark::State& state) {
   const auto& y = channel();
   const auto taus = default_taus();
   const int threads = static_cast<int>(state.range(0));
+  WelchTermCache terms;  // as in `analyze`: a lot's channels share the regressors
+  (void)psd_fit(welch_psd(y, kRate, threads), {}, &terms);
   for (auto _ : state) {
     const PsdResult p = welch_psd(y, kRate, threads);
     benchmark::DoNotOptimize(log_bin(p));
     benchmark::DoNotOptimize(avar_from_psd(p, taus, {}, threads));
-    benchmark::DoNotOptimize(psd_fit(p));
+    benchmark::DoNotOptimize(psd_fit(p, {}, &terms));
   }
   samples_counter(state);
 }

@@ -183,14 +183,25 @@ std::array<std::vector<double>, kNumTerms> welch_term_psd(std::int64_t L, double
   return out;
 }
 
-PsdFitResult psd_fit(const PsdResult& psd, const PsdFitOptions& opt) {
+const std::array<std::vector<double>, kNumTerms>& WelchTermCache::get(std::int64_t segment_length,
+                                                                      double rate_hz) {
+  if (segment_length != segment_length_ || rate_hz != rate_hz_ || terms_[0].empty()) {
+    terms_ = welch_term_psd(segment_length, rate_hz);
+    segment_length_ = segment_length;
+    rate_hz_ = rate_hz;
+  }
+  return terms_;
+}
+
+PsdFitResult psd_fit(const PsdResult& psd, const PsdFitOptions& opt, WelchTermCache* terms) {
   check_options(opt);
   const std::int64_t L = psd.segment_length;
   if (L < 16 || psd.size() != static_cast<std::size_t>(L / 2 + 1) || psd.psd.size() != psd.size() ||
       psd.edf.size() != psd.size())
     throw std::invalid_argument("psd_fit: psd is not a Welch result (sizes disagree)");
   PsdFitResult res;
-  const auto regs = welch_term_psd(L, psd.rate_hz);
+  WelchTermCache local;
+  const auto& regs = (terms ? *terms : local).get(L, psd.rate_hz);
 
   // Bin the PSD and each term's expected value identically; bins below first_bin are NaN in
   // the regressors (and masked here), so rows that include them drop out.

@@ -73,6 +73,21 @@ inline constexpr std::string_view kPsdFitMethod =
 std::array<std::vector<double>, kNumTerms> welch_term_psd(std::int64_t segment_length,
                                                           double rate_hz);
 
+/// welch_term_psd for the last (segment_length, rate_hz) asked: the channels of a lot share
+/// both, so they pay for the regressors (two FFTs of the segment length and a cosine per
+/// sample, about 120 ms at L = 2^18) once. Same values as welch_term_psd. One object per
+/// thread (Eq3Fit's pattern).
+class WelchTermCache {
+public:
+  const std::array<std::vector<double>, kNumTerms>& get(std::int64_t segment_length,
+                                                        double rate_hz);
+
+private:
+  std::int64_t segment_length_ = 0;
+  double rate_hz_ = 0.0;
+  std::array<std::vector<double>, kNumTerms> terms_;
+};
+
 struct PsdFitOptions {
   std::int64_t first_bin = 2;     // lowest Welch bin used (>= 2, see welch_term_psd)
   int bins_per_decade = 10;       // log binning of the PSD (kernels::log_bin)
@@ -106,8 +121,9 @@ struct PsdFitResult {
 /// Fits eq. (3) to a Welch PSD from kernels::welch / welch_psd. Broken preconditions
 /// (psd not from welch, options out of range) throw std::invalid_argument; too few bins gives
 /// status NoData, a design that cannot separate the five terms RankDeficient. Deterministic,
-/// no threads.
-PsdFitResult psd_fit(const PsdResult& psd, const PsdFitOptions& options = {});
+/// no threads. `terms` (optional) keeps the regressors from channel to channel.
+PsdFitResult psd_fit(const PsdResult& psd, const PsdFitOptions& options = {},
+                     WelchTermCache* terms = nullptr);
 
 /// Term-by-term comparison of two fits of the same channel (the Allan fit and the PSD fit).
 struct FitAgreement {

@@ -123,7 +123,10 @@ io::FitRecord fit_channel(const kernels::StatResult& oadev, const kernels::Phase
 
 io::FitRecord psd_fit_channel(const kernels::PsdResult& psd, const std::string& units,
                               const std::array<kernels::TermFit, kernels::kNumTerms>* allan_terms) {
-  const kernels::PsdFitResult f = kernels::psd_fit(psd);
+  // One cache per thread, as the Eq3Fit plan above: the regressors depend only on the segment
+  // length and the rate, which the channels of a lot share.
+  thread_local kernels::WelchTermCache welch_terms;
+  const kernels::PsdFitResult f = kernels::psd_fit(psd, {}, &welch_terms);
   io::FitRecord rec;
   rec.method = std::string(kernels::kPsdFitMethod);
   rec.status = std::string(kernels::fit_status_name(f.status));

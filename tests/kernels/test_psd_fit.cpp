@@ -202,6 +202,31 @@ TEST(PsdFit, QuantizationAndWhiteSeparate) {
   EXPECT_FALSE(f[Term::R].detected);
 }
 
+// The regressors kept from channel to channel (WelchTermCache) give the fit without them, bit
+// for bit, also when the segment length changes between two channels and back.
+TEST(PsdFit, CachedRegressorsChangeNothing) {
+  kernels::ChannelSpec s;
+  s.rate_hz = 1000;
+  s.terms.N = 0.01;
+  s.terms.B = 0.002;
+  const auto long_y = simulate(s, std::size_t{1} << 20, 5);
+  const auto short_y = simulate(s, std::size_t{1} << 18, 6);
+  const kernels::PsdResult a = kernels::welch_psd(long_y, s.rate_hz, 1);
+  const kernels::PsdResult b = kernels::welch_psd(short_y, s.rate_hz, 1);
+  ASSERT_NE(a.segment_length, b.segment_length);
+  kernels::WelchTermCache cache;
+  for (const kernels::PsdResult* p : {&a, &b, &a}) {
+    const kernels::PsdFitResult plain = kernels::psd_fit(*p);
+    const kernels::PsdFitResult cached = kernels::psd_fit(*p, {}, &cache);
+    ASSERT_EQ(plain.status, cached.status);
+    for (std::size_t t = 0; t < kernels::kNumTerms; ++t) {
+      EXPECT_EQ(plain.terms[t].value, cached.terms[t].value) << t;
+      EXPECT_EQ(plain.terms[t].sigma, cached.terms[t].sigma) << t;
+    }
+    EXPECT_EQ(plain.psd_model, cached.psd_model);
+  }
+}
+
 TEST(PsdFit, DumbInputs) {
   kernels::PsdResult p;
   EXPECT_THROW(kernels::psd_fit(p), std::invalid_argument);
