@@ -96,48 +96,44 @@ SimdLevel active() {
   return static_cast<SimdLevel>(level_store().load(std::memory_order_relaxed));
 }
 
+// The wide loops of the active level, or null for the baseline.
+struct WideSums {
+  double (*second)(const double*, std::int64_t, std::int64_t, std::int64_t);
+  double (*third)(const double*, std::int64_t, std::int64_t, std::int64_t);
+  double (*modified)(const std::uint64_t*, std::int64_t, double, std::int64_t, std::int64_t);
+};
+
+const WideSums* wide() {
+#ifdef ALLANLOT_WIDE_SIMD
+  static constexpr WideSums kAvx2{avx2::second, avx2::third, avx2::modified};
+  static constexpr WideSums kAvx512{avx512::second, avx512::third, avx512::modified};
+  switch (active()) {
+  case SimdLevel::Avx512:
+    return &kAvx512;
+  case SimdLevel::Avx2:
+    return &kAvx2;
+  case SimdLevel::Baseline:
+    break;
+  }
+#endif
+  return nullptr;
+}
+
 }  // namespace
 
 double block_sum(const SecondDifference& f, std::int64_t b, std::int64_t e) {
-#ifdef ALLANLOT_WIDE_SIMD
-  switch (active()) {
-  case SimdLevel::Avx512:
-    return avx512::second(f.x, f.m, b, e);
-  case SimdLevel::Avx2:
-    return avx2::second(f.x, f.m, b, e);
-  case SimdLevel::Baseline:
-    break;
-  }
-#endif
-  return block_sum_baseline(f, b, e);
+  const WideSums* w = wide();
+  return w ? w->second(f.x, f.m, b, e) : block_sum_baseline(f, b, e);
 }
 
 double block_sum(const ThirdDifference& f, std::int64_t b, std::int64_t e) {
-#ifdef ALLANLOT_WIDE_SIMD
-  switch (active()) {
-  case SimdLevel::Avx512:
-    return avx512::third(f.x, f.m, b, e);
-  case SimdLevel::Avx2:
-    return avx2::third(f.x, f.m, b, e);
-  case SimdLevel::Baseline:
-    break;
-  }
-#endif
-  return block_sum_baseline(f, b, e);
+  const WideSums* w = wide();
+  return w ? w->third(f.x, f.m, b, e) : block_sum_baseline(f, b, e);
 }
 
 double block_sum(const ModifiedInnerSum& f, std::int64_t b, std::int64_t e) {
-#ifdef ALLANLOT_WIDE_SIMD
-  switch (active()) {
-  case SimdLevel::Avx512:
-    return avx512::modified(f.s, f.m, f.q, b, e);
-  case SimdLevel::Avx2:
-    return avx2::modified(f.s, f.m, f.q, b, e);
-  case SimdLevel::Baseline:
-    break;
-  }
-#endif
-  return block_sum_baseline(f, b, e);
+  const WideSums* w = wide();
+  return w ? w->modified(f.s, f.m, f.q, b, e) : block_sum_baseline(f, b, e);
 }
 
 }  // namespace detail

@@ -401,16 +401,22 @@ TEST(AllanFamilyProperties, BitIdenticalForAnyThreadCount) {
   }
 }
 
+// White rate samples offset + sigma g_k, g standard normal from seed.
+std::vector<double> white_rate(std::size_t n, unsigned seed, double offset, double sigma) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::vector<double> y(n);
+  for (auto& v : y)
+    v = offset + sigma * g(rng);
+  return y;
+}
+
 // The AVX2 and AVX-512 sums (kernels/sweep_simd.cpp) must round exactly like the baseline
 // SSE2 loops: same sixteen lanes, same tree, no fused multiply-add. Every level this CPU has
 // is compared bit for bit on every statistic (200001 samples: blocks with tails of every
 // length occur across the m).
 TEST(AllanFamilyProperties, BitIdenticalOnEverySimdLevel) {
-  std::mt19937_64 rng(11);
-  std::normal_distribution<double> g(0.0, 1.0);
-  std::vector<double> y(200001);
-  for (auto& v : y)
-    v = 9.80665 + 1e-3 * g(rng);
+  const auto y = white_rate(200001, 11, 9.80665, 1e-3);
   const auto ms = kernels::make_m_list(kernels::parse_tau_grid("log:20"), 100000);
   const auto p = kernels::phase_from_rate(y, 100.0, 2);
   const kernels::SimdLevel best = kernels::best_simd_level();
@@ -437,12 +443,7 @@ TEST(AllanFamilyProperties, BitIdenticalOnEverySimdLevel) {
 // Rebuilt here in plain scalar code for OADEV at a few m; the kernel's sum must be the same
 // double, on whichever SIMD level and thread count it runs.
 TEST(AllanFamilyProperties, SumOrderIsTheDocumentedOne) {
-  std::mt19937_64 rng(12);
-  std::normal_distribution<double> g(0.0, 1.0);
-  std::vector<double> y(50003);
-  for (auto& v : y)
-    v = 1.0 + g(rng);
-  const auto p = kernels::phase_from_rate(y, 1.0, 1);
+  const auto p = kernels::phase_from_rate(white_rate(50003, 12, 1.0, 1.0), 1.0, 1);
   const double* x = p.x.data();
   for (const std::int64_t m : {1, 7, 1000, 10000}) {
     const std::int64_t n = p.n_points() - 2 * m;
@@ -470,12 +471,7 @@ TEST(AllanFamilyProperties, SumOrderIsTheDocumentedOne) {
 // OADEV's second-difference sums are TOTDEV's inner sums (kernels::SumCache): whichever of
 // the two runs first, sharing them must not change a bit of either.
 TEST(AllanFamilyProperties, SharedSumsChangeNothing) {
-  std::mt19937_64 rng(13);
-  std::normal_distribution<double> g(0.0, 1.0);
-  std::vector<double> y(100003);
-  for (auto& v : y)
-    v = 1.0 + g(rng);
-  const auto p = kernels::phase_from_rate(y, 1.0, 1);
+  const auto p = kernels::phase_from_rate(white_rate(100003, 13, 1.0, 1.0), 1.0, 1);
   const auto ms = kernels::make_m_list(kernels::parse_tau_grid("log:16"), 60000);
   const auto oadev = kernels::compute(Stat::Oadev, p, ms, 2);
   const auto totdev = kernels::compute(Stat::Totdev, p, ms, 2);
