@@ -5,6 +5,10 @@
 //  - BM_StatisticSimd: oadev, mdev, ohdev and totdev at 1 thread on each SIMD level
 //    (baseline SSE2, AVX2, AVX-512; simd:0/1/2), the vectorization step;
 //  - BM_TotdevAfterOadev: TOTDEV reusing OADEV's sums (kernels::SumCache), as in `analyze`;
+//  - BM_OadevLargeM: the OADEV m above 65536 one sweep per m (swept:0) against the multi-tau
+//    sweep (swept:1);
+//  - BM_NoiseIdLag1: lag-1 noise identification of every lag-1 m per m (swept:0) against one
+//    sweep per differencing level for all m (swept:1);
 //  - BM_ConfidenceSixStatistics: the confidence intervals (noise identification, EDF) of the
 //    six default statistics of the channel with one shared Lag1Cache, at 1 and 2 threads;
 //  - BM_StreamingPass: a plain read pass (sum of squares) over the same phase array, 1 thread:
@@ -27,6 +31,7 @@
 // Run: build/bench/bench_allan --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
 // (bench/run-all runs it with the other programs and writes the ratios to
 // bench/results/summary.md; --benchmark_filter=Naive etc. selects cases).
+#include "kernels/allan.hpp"
 #include "kernels/confidence.hpp"
 #include "kernels/noise_id.hpp"
 #include "kernels/phase.hpp"
@@ -145,6 +150,60 @@ void BM_TotdevAfterOadev(benchmark::State& state) {
   }
   samples_counter(state);
   tau_counters(state, rows);
+}
+
+// The multi-tau sweep against one sweep per m (the same SIMD block sums, same bits), on the
+// OADEV m above 65536 (3 x m > 2^17 phase points): there the shifted streams leave L2 and
+// sharing the unshifted one between the m is the sweep's gain. Arg 0: one m at a time
+// (detail::second_difference_core per m), arg 1: all together (kernels::compute).
+void BM_OadevLargeM(benchmark::State& state) {
+  namespace k = allanlot::kernels;
+  const auto& p = channel();
+  std::vector<std::int64_t> ms;
+  for (const std::int64_t m : default_m_list(Stat::Oadev))
+    if (m > 65536) ms.push_back(m);
+  const bool swept = state.range(0) == 1;
+  for (auto _ : state) {
+    if (swept) {
+      benchmark::DoNotOptimize(k::compute(Stat::Oadev, p, ms, 1).dev.data());
+    } else {
+      double total = 0.0;
+      for (const std::int64_t m : ms)
+        total += k::detail::second_difference_core(p, m, 1).sum;
+      benchmark::DoNotOptimize(total);
+    }
+  }
+  state.SetLabel(std::string(swept ? "multi-tau sweep, " : "one sweep per m, ") +
+                 std::to_string(ms.size()) + " taus");
+  samples_counter(state);
+  tau_counters(state, ms.size());
+}
+
+// Lag-1 noise identification (dmax 3, every default OADEV m with at least 30 averages): one
+// m at a time (noise_id_lag1, two passes per level and m) against Lag1Cache::prefetch (two
+// sweeps per level for all m together). Same bits (tests/kernels/test_confidence.cpp).
+void BM_NoiseIdLag1(benchmark::State& state) {
+  namespace k = allanlot::kernels;
+  const auto& p = channel();
+  std::vector<std::int64_t> ms;
+  for (const std::int64_t m : default_m_list(Stat::Oadev))
+    if ((p.n_points() - 1) / m >= 30) ms.push_back(m);
+  const bool swept = state.range(0) == 1;
+  for (auto _ : state) {
+    if (swept) {
+      k::Lag1Cache cache;
+      cache.prefetch(p, ms, 3);
+      benchmark::DoNotOptimize(cache.get(p, ms.front(), 3).delta);
+    } else {
+      int sum = 0;
+      for (const std::int64_t m : ms)
+        sum += k::noise_id_lag1(p, m, 3).d;
+      benchmark::DoNotOptimize(sum);
+    }
+  }
+  state.SetLabel(std::string(swept ? "one sweep per level, " : "per m, ") +
+                 std::to_string(ms.size()) + " m");
+  samples_counter(state);
 }
 
 // Confidence intervals of one channel's six default statistics (noise identification at every
@@ -317,6 +376,18 @@ BENCHMARK(BM_StatisticSimd)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK(BM_TotdevAfterOadev)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_OadevLargeM)
+    ->Arg(0)
+    ->Arg(1)
+    ->ArgNames({"swept"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_NoiseIdLag1)
+    ->Arg(0)
+    ->Arg(1)
+    ->ArgNames({"swept"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK(BM_ConfidenceSixStatistics)
     ->Arg(1)
     ->Arg(2)
