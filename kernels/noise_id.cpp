@@ -548,7 +548,8 @@ Lag1Estimate Lag1Cache::get(const PhaseData& p, std::int64_t m, int dmax) {
   return e;
 }
 
-void Lag1Cache::prefetch(const PhaseData& p, std::span<const std::int64_t> ms, int dmax) {
+void Lag1Cache::prefetch(const PhaseData& p, std::span<const std::int64_t> ms, int dmax,
+                         int nthreads) {
   if (p.has_gaps() || dmax > 3) return;  // gapped records keep the per-m path
   std::vector<std::int64_t> todo;
   {
@@ -561,12 +562,29 @@ void Lag1Cache::prefetch(const PhaseData& p, std::span<const std::int64_t> ms, i
     }
   }
   if (todo.empty()) return;
-  auto deltas = lag1_deltas_swept(p, todo, dmax);
+  // One sweep per thread over an interleaved share of the m (each share mixes small and large
+  // m, so the shares cost about the same); an m's deltas do not depend on its share.
+  [[maybe_unused]] const int nt = resolve_threads(nthreads);
+  const auto shares = static_cast<std::int64_t>(
+      std::min<std::size_t>(static_cast<std::size_t>(std::max(nt, 1)), todo.size()));
+  std::vector<std::vector<std::int64_t>> share_m(static_cast<std::size_t>(shares));
+  for (std::size_t i = 0; i < todo.size(); ++i)
+    share_m[i % static_cast<std::size_t>(shares)].push_back(todo[i]);
+  std::vector<std::vector<std::vector<double>>> share_deltas(static_cast<std::size_t>(shares));
+  ExceptionCollector errors;
+#pragma omp parallel for num_threads(nt) schedule(static, 1)
+  for (std::int64_t sh = 0; sh < shares; ++sh)
+    errors.run([&] {
+      const auto su = static_cast<std::size_t>(sh);
+      share_deltas[su] = lag1_deltas_swept(p, share_m[su], dmax);
+    });
+  errors.rethrow();
   const std::lock_guard<std::mutex> lock(mutex_);
-  for (std::size_t i = 0; i < todo.size(); ++i) {
-    auto& stored = deltas_[todo[i]];
-    if (deltas[i].size() > stored.size()) stored = std::move(deltas[i]);
-  }
+  for (std::size_t sh = 0; sh < share_m.size(); ++sh)
+    for (std::size_t i = 0; i < share_m[sh].size(); ++i) {
+      auto& stored = deltas_[share_m[sh][i]];
+      if (share_deltas[sh][i].size() > stored.size()) stored = std::move(share_deltas[sh][i]);
+    }
 }
 
 std::vector<int> identify_alpha(Stat s, const PhaseData& p, const StatResult& r, int nthreads,
@@ -589,7 +607,7 @@ std::vector<int> identify_alpha(Stat s, const PhaseData& p, const StatResult& r,
   std::vector<std::int64_t> lag1_m;
   for (std::size_t i = 0; i < rows; ++i)
     if ((p.n_points() - 1) / r.m[i] >= kLag1MinPoints) lag1_m.push_back(r.m[i]);
-  lag1->prefetch(p, lag1_m, stable32_dmax(s));
+  lag1->prefetch(p, lag1_m, stable32_dmax(s), nthreads);
   std::vector<RowId> ids(rows);
   ExceptionCollector errors;
   const std::int64_t count = static_cast<std::int64_t>(rows);

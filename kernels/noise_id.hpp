@@ -57,7 +57,9 @@ public:
   /// Computes the estimates of every m of `ms` not yet held for dmax in one multi-m sweep
   /// over a gap-free record (two sweeps per differencing level for all m together, instead
   /// of two passes per m); same values as get(). Does nothing for gapped records or dmax > 3.
-  void prefetch(const PhaseData& p, std::span<const std::int64_t> ms, int dmax);
+  /// With nthreads > 1 (0 = OpenMP default) the m are shared out, one sweep per thread; the
+  /// values do not depend on the thread count.
+  void prefetch(const PhaseData& p, std::span<const std::int64_t> ms, int dmax, int nthreads = 1);
 
 private:
   std::mutex mutex_;

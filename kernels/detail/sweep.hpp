@@ -227,8 +227,8 @@ inline constexpr std::int64_t kTileBlocks = 16;
 /// the tile before the next tile starts. The tile's own samples x_k .. (128 KiB) are read by
 /// every m from L2; for m up to about 65536 the shifted reads x_{k+m}, x_{k+2m} (x_{k+3m}) of
 /// all m fall within ~1 MiB and stay in L2 too, and for larger m only those come from L3 or
-/// memory, one stream fewer than a sweep per m (measured: the 21 largest OADEV m take 75 ms
-/// against 124 ms one m at a time on 5.4 M samples, bench_allan BM_OadevLargeM). Each block value
+/// memory, one stream fewer than a sweep per m (measured: the 21 largest OADEV m take 76 ms
+/// against 118 ms one m at a time on 5.4 M samples, bench_allan BM_OadevLargeM). Each block value
 /// is formed in the fixed order and the blocks are added in index order, so a result depends
 /// neither on the thread count nor on which other m were swept with it.
 template <class Make, class Count>

@@ -364,8 +364,8 @@ TEST(NoiseId, OnTheFlyLevelsEqualStoredLevels) {
   const std::vector<std::int64_t> all_m = {1, 2, 3, 7, 50, 333, 1000};
   for (const int first : {3, 2}) {
     kernels::Lag1Cache swept;
-    swept.prefetch(fly, all_m, first);
-    swept.prefetch(fly, all_m, 5 - first);
+    swept.prefetch(fly, all_m, first, first == 3 ? 1 : 3);  // thread counts 1 and 3
+    swept.prefetch(fly, all_m, 5 - first, 2);
     for (const std::int64_t m : all_m)
       for (const int dmax : {2, 3}) {
         const auto e = swept.get(fly, m, dmax);
