@@ -285,7 +285,7 @@ TEST(Confidence, BitIdenticalForAnyThreadCount) {
 }
 
 // One Lag1Cache shared by every statistic of a record (as analyze does) changes no alpha, edf or
-// bound, at any thread count; and it holds one entry per (m, dmax), not per statistic.
+// bound, at any thread count; and an estimate read back from it is noise_id_lag1's.
 TEST(Confidence, SharedNoiseIdCacheChangesNothing) {
   auto y = white(40001, 13);
   double walk = 0.0;
