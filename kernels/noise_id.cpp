@@ -124,49 +124,6 @@ RowId identify_row(Stat s, const PhaseData& p, const StatResult& r, std::size_t 
 // (0 + 1) + (2 + 3)) and missing values contribute a zero instead of a branch: one running
 // sum would wait on the add latency at every term, and noise identification reads the record
 // about thirty times per channel. A fixed order still, so the same bits for any thread count.
-// The same sums for values known to be finite: no test per value. Equal bits to lag1_of when
-// every value is finite (a missing value there adds +0.0, which changes no sum, and the last
-// value's missing successor likewise); nullopt when a sum overflows, where lag1_of decides.
-template <class G>
-std::optional<double> lag1_of_finite(G g, std::int64_t n_values) {
-  if (n_values < 2) return std::nullopt;
-  double sum[4] = {0.0, 0.0, 0.0, 0.0};
-  std::int64_t t = 0;
-  for (; t + 4 <= n_values; t += 4) {
-#pragma GCC unroll 4
-    for (int l = 0; l < 4; ++l)
-      sum[l] += g(t + l);
-  }
-  for (; t < n_values; ++t)
-    sum[t & 3] += g(t);
-  const double mean = ((sum[0] + sum[1]) + (sum[2] + sum[3])) / static_cast<double>(n_values);
-  double num[4] = {0.0, 0.0, 0.0, 0.0}, den[4] = {0.0, 0.0, 0.0, 0.0};
-  double a_next = g(0) - mean;
-  for (t = 0; t + 5 <= n_values; t += 4) {
-#pragma GCC unroll 4
-    for (int l = 0; l < 4; ++l) {
-      const double a = a_next;
-      a_next = g(t + l + 1) - mean;
-      den[l] += a * a;
-      num[l] += a * a_next;
-    }
-  }
-  for (; t < n_values; ++t) {
-    const double a = a_next;
-    den[t & 3] += a * a;
-    if (t + 1 < n_values) {
-      a_next = g(t + 1) - mean;
-      num[t & 3] += a * a_next;
-    }
-  }
-  const double d = (den[0] + den[1]) + (den[2] + den[3]);
-  const double u = (num[0] + num[1]) + (num[2] + num[3]);
-  if (!std::isfinite(d) || !std::isfinite(u) || !std::isfinite(mean)) return std::nullopt;
-  if (!(d > 0.0)) return 0.0;
-  const auto n = static_cast<double>(n_values);
-  return (n - 1.0) / n * u / d;
-}
-
 template <class G>
 double lag1_of(G g, std::int64_t n_values) {
   double sum[4] = {0.0, 0.0, 0.0, 0.0};
@@ -221,11 +178,13 @@ bool stops_at(double delta, int d, int dmax, std::int64_t nz) {
   return delta < kDeltaStationary || d >= dmax || nz - d < 3;
 }
 
+std::vector<std::vector<double>> lag1_deltas_swept(const PhaseData& p,
+                                                   std::span<const std::int64_t> ms, int dmax);
+
 // delta at the differencing levels 0, 1, ... up to where the method stops for dmax. Gap-free
-// records compute each level's values on the fly from the phase (level 1 is
-// rate_averages' expression, level d + 1 the difference of level d, the same operations as
-// difference() applied to stored values, so the same bits) instead of storing a decimated
-// copy per level: for m = 1 that copy was the size of the record.
+// records (dmax <= 3, every caller) take the multi-m sweep below with this one m: it computes
+// each level's values on the fly from the phase instead of storing a decimated copy per level
+// (for m = 1 that copy was the size of the record), with the same sums as the stored path.
 std::vector<double> lag1_deltas(const PhaseData& p, std::int64_t m, int dmax) {
   if (m < 1) throw std::invalid_argument("noise_id_lag1: m must be >= 1, got " + std::to_string(m));
   if (dmax < 1)
@@ -234,37 +193,8 @@ std::vector<double> lag1_deltas(const PhaseData& p, std::int64_t m, int dmax) {
   if (nz < 2)
     throw std::invalid_argument("noise_id_lag1: fewer than 2 phase points at m = " +
                                 std::to_string(m));
+  if (!p.has_gaps() && dmax <= 3) return lag1_deltas_swept(p, std::span(&m, 1), dmax).front();
   std::vector<double> deltas;
-  if (!p.has_gaps()) {
-    const double* x = p.x.data();
-    const double scale = 1.0 / (static_cast<double>(m) * p.tau0_s);
-    const auto level0 = [x, m](std::int64_t k) { return x[k * m]; };
-    const auto level1 = [x, m, scale](std::int64_t k) {
-      return (x[(k + 1) * m] - x[k * m]) * scale;
-    };
-    const auto level2 = [level1](std::int64_t k) { return level1(k + 1) - level1(k); };
-    const auto level3 = [level2](std::int64_t k) { return level2(k + 1) - level2(k); };
-    const auto r1_of = [](auto g, std::int64_t n) {
-      if (const auto r = lag1_of_finite(g, n)) return *r;
-      return lag1_of(g, n);
-    };
-    for (int d = 0;; ++d) {
-      double r1 = 0.0;
-      if (d == 0)
-        r1 = r1_of(level0, nz);
-      else if (d == 1)
-        r1 = r1_of(level1, nz - 1);
-      else if (d == 2)
-        r1 = r1_of(level2, nz - 2);
-      else if (d == 3)
-        r1 = r1_of(level3, nz - 3);
-      else
-        break;  // dmax is at most 3 in every caller; deeper levels take the stored path
-      deltas.push_back(delta_of(r1));
-      if (stops_at(deltas.back(), d, dmax, nz)) return deltas;
-    }
-    deltas.clear();
-  }
   // Level 0 is the decimated phase itself; from level 1 on, the differences, which are the
   // m-sample rate averages (NaN across gaps) and their differences.
   std::vector<double> z(static_cast<std::size_t>(nz));
@@ -307,7 +237,7 @@ constexpr std::int64_t kSweepTile = std::int64_t{1} << 15;
 // Pass A (sums, for the mean) or pass B (num and den about the mean) of level D for every
 // active run, walking the record once in tiles: the indices t of a run whose position t m
 // falls in the tile are handled while the tile is in cache. Each run adds its values in
-// increasing t to lane t mod 4, exactly the order of lag1_of_finite.
+// increasing t to lane t mod 4, exactly the order of lag1_of.
 template <int D, bool kPassB>
 void sweep_level(const double* x, std::int64_t n_points, std::vector<SweepRun*>& runs) {
   for (std::int64_t x0 = 0; x0 < n_points; x0 += kSweepTile) {
@@ -409,8 +339,9 @@ void sweep_level(const double* x, std::int64_t n_points, std::vector<SweepRun*>&
 // lag1_deltas for many m of one gap-free record at once: each level is two sweeps over the
 // record for all m still differencing, instead of two passes per m (the decimated reads of
 // the small m each touch every cache line of the record: ~60 passes over 43 MB per channel
-// before). Same sums in the same order as lag1_of_finite, so the same bits; where a sum
-// overflows, that m's level is recomputed by lag1_of as lag1_deltas would.
+// before). Same sums in the same order as lag1_of on finite values (a missing value adds
+// +0.0 there, which changes no sum), so the same bits; where a sum overflows, that m's level is
+// recomputed by lag1_of, which leaves non-finite values out.
 std::vector<std::vector<double>> lag1_deltas_swept(const PhaseData& p,
                                                    std::span<const std::int64_t> ms, int dmax) {
   std::vector<SweepRun> runs(ms.size());

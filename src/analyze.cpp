@@ -217,10 +217,11 @@ std::string join_stats(const std::vector<kernels::Stat>& stats) {
 
 std::uint64_t physical_memory();
 
-// Bytes one channel of n samples may hold while it is analysed: the phase (8 n), the rate
-// rebuilt for the PSD (8 n), the fixed-point prefix sums of MDEV/TDEV (8 n) and the samples
-// as read (8 n, freed once the phase is built); measured peak RSS of a six-channel 90-minute
-// unit on one thread is about 14 bytes per sample of the unit, below this bound.
+// Bytes one channel of n samples may hold while it is analysed, counted generously: the phase
+// (8 n), the rate rebuilt for the PSD (8 n), the fixed-point prefix sums of MDEV/TDEV (8 n) and
+// the samples as read (8 n). No stage holds more than two of them at once (the samples are
+// freed once the phase is built, the phase before the PSD): the measured peak of a 90-minute
+// 1 kHz channel in flight is about 3 x 8 n with the process's own memory (bench_unit.sh).
 constexpr std::uint64_t kBytesPerSampleInFlight = 32;
 
 // Analyses one recording. Throws io::Error when the input as a whole cannot be analysed
