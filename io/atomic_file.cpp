@@ -36,8 +36,16 @@ AtomicFile::AtomicFile(std::filesystem::path final_path) : final_(std::move(fina
   std::string h;
   for (const char* c = host; *c; ++c)
     h += std::isalnum(static_cast<unsigned char>(*c)) || *c == '-' ? *c : '_';
-  const std::string name = "." + final_.filename().string() + ".tmp." + h + "." +
-                           std::to_string(::getpid()) + "." + std::to_string(g_counter++);
+  // Appended piece by piece: `"." + std::string` trips GCC 12's -Wrestrict false positive
+  // (GCC bug 105651).
+  std::string name(1, '.');
+  name += final_.filename().string();
+  name += ".tmp.";
+  name += h;
+  name += '.';
+  name += std::to_string(::getpid());
+  name += '.';
+  name += std::to_string(g_counter++);
   temp_ = final_.parent_path() / name;
 }
 

@@ -142,8 +142,10 @@ std::string to_string(const TauGridSpec& spec) {
     return "log:" + std::to_string(spec.per_decade);
   case TauGridKind::Explicit: {
     std::string s = "m:";
-    for (std::size_t i = 0; i < spec.m.size(); ++i)
-      s += (i ? "," : "") + std::to_string(spec.m[i]);
+    for (std::size_t i = 0; i < spec.m.size(); ++i) {
+      if (i) s += ',';
+      s += std::to_string(spec.m[i]);
+    }
     return s;
   }
   }

@@ -317,7 +317,7 @@ std::string render(const Plot& p) {
     append_coord(tick_marks, X(t.value));
     tick_marks += " ";
     append_coord(tick_marks, top + plot_h);
-    tick_marks += "v" + std::string(t.major ? "6" : "3");
+    tick_marks += t.major ? "v6" : "v3";
   }
   for (const Tick& t : yt) {
     std::string& g = t.major ? grid_major : grid_minor;
@@ -331,7 +331,7 @@ std::string render(const Plot& p) {
     append_coord(tick_marks, left);
     tick_marks += " ";
     append_coord(tick_marks, Y(t.value));
-    tick_marks += "h" + std::string(t.major ? "-6" : "-3");
+    tick_marks += t.major ? "h-6" : "h-3";
   }
   if (!grid_minor.empty())
     o += "<path d=\"" + grid_minor + "\" stroke=\"#eee\" stroke-width=\"1\" fill=\"none\"/>\n";
@@ -358,8 +358,12 @@ std::string render(const Plot& p) {
         d += j == 0 ? "M" : "L";
         d += coord(X(b.x[idx[j]])) + " " + coord(Y(b.hi[idx[j]]));
       }
-      for (std::size_t j = idx.size(); j-- > 0;)
-        d += "L" + coord(X(b.x[idx[j]])) + " " + coord(Y(b.lo[idx[j]]));
+      for (std::size_t j = idx.size(); j-- > 0;) {
+        d += 'L';
+        d += coord(X(b.x[idx[j]]));
+        d += ' ';
+        d += coord(Y(b.lo[idx[j]]));
+      }
       d += "Z";
     }
     o += "<path d=\"" + d + "\" fill=\"" + escape(b.color) + "\" fill-opacity=\"" +

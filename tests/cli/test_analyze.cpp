@@ -164,8 +164,8 @@ TEST(Analyze, SomeInputsFailOthersAreAnalysed) {
 TEST(Analyze, UsageErrorsExitTwo) {
   const auto dir = test::fresh_dir("analyze_usage");
   write_unit(dir / "u.h5", "", 3, 2000);
-  const std::string in = " " + (dir / "u.h5").string();
-  const std::string o = " -o " + (dir / "out").string();
+  const std::string in = ' ' + (dir / "u.h5").string();
+  const std::string o = std::string(" -o ").append((dir / "out").string());
   std::string out;
   EXPECT_EQ(run_command(binary() + " analyze --stats bogus" + o + in, &out), 2);
   EXPECT_NE(out.find("unknown statistic 'bogus'"), std::string::npos) << out;

@@ -456,7 +456,8 @@ TEST(BadInputs, EachFailsAloneWithItsReasonAndTheLotGoesOn) {
   std::string args;
   for (const Case& c : all) {
     c.make(in / (c.stem + ".h5"));
-    args += " " + (in / (c.stem + ".h5")).string();
+    args += ' ';
+    args += (in / (c.stem + ".h5")).string();
   }
   for (const auto& e : fs::directory_iterator(in))
     hashes[e.path()] = file_hash(e.path());

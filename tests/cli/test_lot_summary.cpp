@@ -96,7 +96,7 @@ TEST(LotSummary, PlantedOutlierIsTheOnlyOneFlagged) {
   const int n = 21;
   std::vector<io::SummaryRow> rows;
   for (int i = 0; i < n; ++i) {
-    auto r = row("U" + std::to_string(i), "/imu/gyro_x", 18.0 + 0.5 * normal_score(i, n));
+    auto r = row('U' + std::to_string(i), "/imu/gyro_x", 18.0 + 0.5 * normal_score(i, n));
     r.value[2] = 4.5 + 0.3 * normal_score((i * 8) % n, n);
     r.unit[2] = "deg/h";
     r.detected[2] = 1;

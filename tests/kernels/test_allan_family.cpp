@@ -1,5 +1,5 @@
 // ADEV, OADEV, MDEV, TDEV, HDEV, OHDEV and TOTDEV against Stable32 (every table in
-// shared/reference/stable32), NIST SP1065's NBS14 values, the naive long-double reference
+// tests/data/stable32), NIST SP1065's NBS14 values, the naive long-double reference
 // (with and without gaps); properties, thread invariance and dumb inputs.
 #include "kernels/allan.hpp"
 #include "kernels/hadamard.hpp"
@@ -117,7 +117,7 @@ PhaseData phase_dat() {
   return kernels::phase_from_phase(x, 1.0, 1);
 }
 
-// tau0 = 42 s for these runs (shared/reference/stable32/README.md); frequency data.
+// tau0 = 42 s for these runs (tests/data/stable32/README.md); frequency data.
 PhaseData pink() {
   const auto y = test::read_column("stable32/pink_frequency/pink_frequency.txt");
   EXPECT_EQ(y.size(), 10000u);

@@ -1,5 +1,5 @@
 // Confidence intervals and noise identification against Stable32 1.60 (every table of
-// shared/reference/stable32 that prints Alpha or Min/Max Sigma), thread invariance, gaps and
+// tests/data/stable32 that prints Alpha or Min/Max Sigma), thread invariance, gaps and
 // dumb inputs.
 #include "kernels/confidence.hpp"
 #include "kernels/noise_id.hpp"

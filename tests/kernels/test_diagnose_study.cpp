@@ -29,8 +29,10 @@ bool names_exactly(const kernels::Diagnosis& d, std::vector<Effect> want) {
 
 std::string named(const kernels::Diagnosis& d) {
   std::string s;
-  for (const Effect e : d.effects_named)
-    s += (s.empty() ? "" : ",") + std::string(kernels::effect_name(e));
+  for (const Effect e : d.effects_named) {
+    if (!s.empty()) s += ',';
+    s += kernels::effect_name(e);
+  }
   return s.empty() ? "-" : s;
 }
 

@@ -89,8 +89,10 @@ GapResult gap(const std::vector<double>& y, double rate_hz, const std::vector<st
 
 std::string describe(const GapResult& g) {
   std::string s = "gap " + std::to_string(g.gap) + ", z:";
-  for (double z : g.z)
-    s += " " + std::to_string(z);
+  for (double z : g.z) {
+    s += ' ';
+    s += std::to_string(z);
+  }
   return s;
 }
 

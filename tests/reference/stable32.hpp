@@ -1,4 +1,4 @@
-// Reads the Stable32 tables of shared/reference/stable32 (columns AF, Tau, #, Alpha,
+// Reads the Stable32 tables of tests/data/stable32 (columns AF, Tau, #, Alpha,
 // Min Sigma, Sigma, Max Sigma; '#' starts a header line) and plain one-column data files.
 #pragma once
 
