@@ -23,7 +23,7 @@ std::string sanitize_device_id(const std::string& id) {
     out.push_back(ok ? static_cast<char>(c) : '_');
   }
   if (out.empty()) out.push_back('_');  // not `out = "_"`: GCC 12 bug 105329 (-Wrestrict)
-  if (out[0] == '.') out[0] = '_';  // never ".", "..", or a hidden file
+  if (out[0] == '.') out[0] = '_';      // never ".", "..", or a hidden file
   return out;
 }
 
