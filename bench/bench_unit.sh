@@ -17,8 +17,8 @@
 #                       [--workdir ${TMPDIR:-/tmp}/allanlot-bench-unit] [--results bench/results]
 #                       [--duration 5400]
 #
-# --duration (seconds of data) exists for testing the script; the figures quoted in README.md
-# are for 5400. The simulated unit is reused while its duration and seed match.
+# --duration (seconds of data) exists for testing the script; the figures quoted in
+# docs/performance.md are for 5400. The simulated unit is reused while its duration and seed match.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 

@@ -2,9 +2,9 @@
 // `analyze` calls them for one channel (src/analyze.cpp compute_channel): phase building,
 // each statistic on an arbitrary m list, confidence intervals and noise identification, the
 // eq. (3) fit, and the Welch PSD with its log binning, eq. (2) cross-check and PSD fit.
-// Documented preconditions throw std::invalid_argument (STYLE.md "Errors"); anything else
-// that escapes (another exception, a crash, a sanitizer report) is a finding, and so is a
-// deviation that is negative, or NaN where no input sample was.
+// Documented preconditions throw std::invalid_argument (docs/development.md "Errors");
+// anything else that escapes (another exception, a crash, a sanitizer report) is a finding, and
+// so is a deviation that is negative, or NaN where no input sample was.
 #include "kernels/allan.hpp"
 #include "kernels/confidence.hpp"
 #include "kernels/fit.hpp"

@@ -1,4 +1,4 @@
-// The diagnose command's HDF5 output (CONTRACT "Command: diagnose"): group
+// The diagnose command's HDF5 output (docs/diagnose.md "Output"): group
 // /<channel>/diagnosis of OUT.h5, which may be a new file or an existing one (a results file of
 // `analyze`, or an earlier diagnosis), in which case only that group is replaced.
 #pragma once

@@ -78,7 +78,7 @@ void write_attribute(hid_t obj, const std::string& name, const std::vector<doubl
 
 /// Creation property lists for groups and datasets with object time tracking off: HDF5 stores
 /// modification times by default, which would make two runs with the same inputs write
-/// different bytes (CONTRACT: same seed and model, the same bytes).
+/// different bytes (docs/cli.md "Command: simulate": same seed and model, the same bytes).
 Handle group_create_plist(const std::string& file, const std::string& object);
 Handle dataset_create_plist(const std::string& file, const std::string& object);
 

@@ -51,8 +51,8 @@ std::string describe_type(hid_t type) {
   }
 }
 
-// The object itself, then each ancestor group up to the root: CONTRACT's lookup order for
-// sample_rate_hz, units, scale, offset and data_type.
+// The object itself, then each ancestor group up to the root: the lookup order of
+// docs/formats.md "Input recordings" for sample_rate_hz, units, scale, offset and data_type.
 std::vector<std::string> lookup_chain(const std::string& path) {
   std::vector<std::string> chain{path};
   std::string p = path;

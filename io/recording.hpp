@@ -1,5 +1,6 @@
-// Input recordings (CONTRACT "Input: recordings"): channel discovery and chunked reading of
-// one unit's HDF5 file, and the writer that `allanlot simulate` uses for the same layout.
+// Input recordings (docs/formats.md "Input recordings"): channel discovery and chunked
+// reading of one unit's HDF5 file, and the writer that `allanlot simulate` uses for the same
+// layout.
 #pragma once
 
 #include "kernels/phase.hpp"

@@ -15,8 +15,8 @@
 
 namespace allanlot::io {
 
-/// A `/<channel>/diagnosis` group as written by `allanlot diagnose -o OUT.h5` (CONTRACT
-/// "Command: diagnose"; io/diagnosis.hpp writes it), read for display only. Curves are kept
+/// A `/<channel>/diagnosis` group as written by `allanlot diagnose -o OUT.h5` (docs/diagnose.md
+/// "Output"; io/diagnosis.hpp writes it), read for display only. Curves are kept
 /// here as Allan *deviations*: datasets named `adev_*` are taken as they are, all others are
 /// variances and converted by a square root.
 ///

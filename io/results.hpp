@@ -1,4 +1,4 @@
-// Results files (CONTRACT "Results file layout") and the lot summary ("Lot summary").
+// Results files (docs/formats.md "Results file layout") and the lot summary ("Lot summary").
 #pragma once
 
 #include "kernels/stats.hpp"
@@ -17,7 +17,7 @@ namespace allanlot::io {
 /// One term of the equation (3) fit, in channel units and in datasheet units.
 struct TermRecord {
   std::string term;             // "R", "K", "B", "N", "Q"
-  double value = 0, sigma = 0;  // channel units and seconds (CONTRACT)
+  double value = 0, sigma = 0;  // channel units and seconds (docs/formats.md)
   double upper = 0;             // one-sided 95 % upper bound (meaningful when not detected)
   bool detected = false;        // significantly non-zero
   std::string unit;             // e.g. "deg/s*s^0.5"

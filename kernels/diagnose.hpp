@@ -1,4 +1,4 @@
-// Model-discrepancy diagnosis (CONTRACT "Command: diagnose"): where a noise model disagrees
+// Model-discrepancy diagnosis (docs/diagnose.md): where a noise model disagrees
 // with a measured channel, which effect is missing, and the model with that effect added.
 //
 // Where. The measured overlapping Allan variance (NIST SP1065 eq. (11)) on a log tau grid is
@@ -84,7 +84,7 @@
 
 namespace allanlot::kernels {
 
-/// The effect vocabulary of CONTRACT "Command: diagnose".
+/// The effect vocabulary of docs/diagnose.md.
 enum class Effect { Quantization, White, Flicker, RandomWalk, Ramp, Sinusoid, Markov };
 inline constexpr int kNumEffects = 7;
 
@@ -124,7 +124,7 @@ struct Band {
 /// The measurement against one model, tau by tau.
 struct Comparison {
   std::vector<double> avar_model;         // model_avar_sampled at each m [u^2]
-  std::vector<double> z;                  // CONTRACT's z
+  std::vector<double> z;                  // docs/diagnose.md's z
   std::vector<double> p_value;            // two-sided chi-square p-value of each tau
   std::vector<std::uint8_t> significant;  // p_value < band_alpha / n_eff
   double gap = 0;                         // sqrt(mean z^2)
@@ -219,7 +219,8 @@ struct Diagnosis {
 Diagnosis diagnose(std::span<const double> rate, double rate_hz, const ChannelSpec& model,
                    const DiagnoseOptions& opt = {});
 
-/// gap = sqrt(mean z^2) with CONTRACT's z, for avar_measured against avar_model.
+/// gap = sqrt(mean z^2) with the z of docs/diagnose.md "Where", for avar_measured against
+/// avar_model.
 double diagnose_gap(std::span<const double> avar_measured, std::span<const double> avar_model,
                     std::span<const double> edf);
 

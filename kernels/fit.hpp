@@ -1,7 +1,7 @@
 // The paper's equation (3) fitted to an overlapping Allan variance curve, with uncertainties
 // that account for the correlation between the estimates at neighbouring taus.
 //
-// Model (CONTRACT "Units and conventions"; paper eq. (3); IEEE Std 952-1997 annex C):
+// Model (docs/formats.md "Units and conventions"; paper eq. (3); IEEE Std 952-1997 annex C):
 //
 //   avar(tau) = R^2 tau^2/2 + K^2 tau/3 + B^2 (2 ln2/pi) + N^2/tau + 3 Q^2/tau^2
 //             = sum_j theta_j g_j(tau),   theta = (R^2, K^2, B^2, N^2, Q^2) >= 0,
@@ -162,7 +162,9 @@ struct FitOptions {
 
 /// One term of eq. (3) as fitted.
 struct TermFit {
-  double value = 0.0;  // coefficient, >= 0, in the CONTRACT unit (u/s, u/s^0.5, u, u*s^0.5, u*s)
+  // Coefficient, >= 0, in the unit of docs/formats.md "Units and conventions" (u/s, u/s^0.5,
+  // u, u*s^0.5, u*s).
+  double value = 0.0;
   // 1-sigma of value: sigma_theta / (2 value) (first-order propagation) when detected;
   // otherwise sqrt(theta + sigma_theta) - sqrt(theta), finite also at value = 0.
   double sigma = 0.0;
@@ -183,7 +185,7 @@ struct TermFit {
 /// applied to the fitted model curve for comparison.
 struct Readout {
   bool valid = false;  // the fit detects the term this read-out estimates (see FitResult)
-  double value = 0.0;  // in the CONTRACT unit of its term
+  double value = 0.0;  // in the docs/formats.md unit of its term
   double sigma = 0.0;  // half the chi-square interval (FitOptions::readout_confidence) there
   double tau_s = 0.0;  // where the curve was read
   double model = 0.0;  // the same read-out applied to the fitted eq. (3) curve
@@ -204,7 +206,7 @@ struct FitResult {
   double chi2_dof = 0.0;           // chi2 / chi2_expected (0 when the expectation is 0)
   int dof = 0;                     // number of taus - number of free terms
   std::vector<double> avar_model;  // eq. (3) at the input taus (u^2)
-  std::vector<double> adev_model;  // its square root (CONTRACT fit/adev_model)
+  std::vector<double> adev_model;  // its square root (docs/formats.md fit/adev_model)
   // Conventional read-outs of the measured curve (IEEE Std 952-1997 annex C), for comparison
   // with datasheets. Each is a lower envelope of eq. (3), so each reads high by whatever else
   // contributes at its tau; Readout::model applies the same read-out to the fitted curve (at

@@ -1,5 +1,6 @@
 // OpenMP shims so that every kernel builds with ALLANLOT_USE_OPENMP=OFF, and one place that
-// decides how many threads a region gets (STYLE.md: every region names its thread count).
+// decides how many threads a region gets (docs/development.md "Threads and determinism":
+// every region names its thread count).
 #pragma once
 
 #ifdef _OPENMP

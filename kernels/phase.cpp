@@ -13,7 +13,8 @@ namespace {
 
 // Fixed chunk length of the parallel prefix sum. It must not depend on the thread count:
 // the chunk boundaries decide the rounding, and fixing them makes x bit-identical for any
-// number of threads (STYLE.md "prefix sums are built in fixed-size chunks").
+// number of threads (docs/development.md "Threads and determinism": prefix sums are built in
+// fixed-size chunks).
 constexpr std::int64_t kChunk = 1 << 16;
 
 void check_rate_hz(double rate_hz) {

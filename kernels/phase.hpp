@@ -11,7 +11,7 @@
 
 namespace allanlot::kernels {
 
-/// What the samples of a channel are (CONTRACT "Units and conventions").
+/// What the samples of a channel are (docs/formats.md "Units and conventions").
 enum class DataType {
   Rate,  // frequency-like: angular rate, acceleration, fractional frequency
   Phase  // its integral: angle, velocity, time error

@@ -1,10 +1,10 @@
 // Power spectral density of a rate channel (Welch), its log-frequency binning, and the
 // paper's equation (2) evaluated on the measured PSD (the `psd/` and `crosscheck/` groups of
-// the results layout, CONTRACT.md).
+// the results layout, docs/formats.md).
 //
-// Conventions (CONTRACT "Units and conventions"): every PSD here is one-sided, in u^2/Hz, on
-// 0 <= f <= rate_hz / 2; eq. (2) of the paper uses the two-sided S(f) = one-sided / 2, so
-// white noise of coefficient N has one-sided PSD 2 N^2.
+// Conventions (docs/formats.md "Units and conventions"): every PSD here is one-sided, in
+// u^2/Hz, on 0 <= f <= rate_hz / 2; eq. (2) of the paper uses the two-sided S(f) = one-sided
+// / 2, so white noise of coefficient N has one-sided PSD 2 N^2.
 //
 // Reproducibility. Each segment's periodogram is computed by one thread into its own row, with
 // an FFTW_ESTIMATE plan on fftw_malloc'ed (SIMD-aligned) buffers, and the rows are added in

@@ -1,7 +1,8 @@
 // The paper's five-term noise model fitted to the Welch PSD alone (the `psd_fit/` group of the
 // results layout), to compare term by term with the Allan-domain fit (kernels/fit.hpp).
 //
-// PSD forms of the terms (paper, below eq. (3); two-sided S2, CONTRACT's one-sided S1 = 2 S2):
+// PSD forms of the terms (paper, below eq. (3); two-sided S2, and the one-sided S1 = 2 S2 of
+// docs/formats.md "Units and conventions"):
 //   R (ramp):              S2 = R^2 / (2 pi f)^3
 //   K (rate random walk):  S2 = K^2 / (2 pi f)^2     S1 = K^2 / (2 pi^2 f^2)
 //   B (flicker):           S2 = B^2 / (2 pi f)       S1 = B^2 / (pi f)

@@ -5,8 +5,8 @@
 //   y_k = offset + flicker(B) + white(N) + random_walk(K) + ramp(R) + quantization(Q)
 //         + sum of sinusoids + sum of first-order Gauss-Markov processes,
 //
-// with every coefficient in the channel's own units u and seconds (CONTRACT "Units and
-// conventions"): R [u/s], K [u/s^0.5], B [u], N [u*s^0.5], Q [u*s], so that
+// with every coefficient in the channel's own units u and seconds (docs/formats.md "Units
+// and conventions"): R [u/s], K [u/s^0.5], B [u], N [u*s^0.5], Q [u*s], so that
 //
 //   avar(tau) = R^2 tau^2/2 + K^2 tau/3 + B^2 (2 ln 2/pi) + N^2/tau + 3 Q^2/tau^2   (eq. (3)).
 //
@@ -148,7 +148,7 @@ double flicker_avar_factor(std::int64_t m);
 
 /// One-sided PSD of the spec's stochastic components at f_hz (> 0), in u^2/Hz: the paper's
 /// forms under eq. (3), which are two-sided S(f) in the convention of its eq. (2), doubled
-/// (CONTRACT): K^2 / (2 pi^2 f^2) + B^2 / (pi f) + 2 N^2 + 2 (2 pi f)^2 Q^2 tau0, plus
+/// (docs/formats.md): K^2 / (2 pi^2 f^2) + B^2 / (pi f) + 2 N^2 + 2 (2 pi f)^2 Q^2 tau0, plus
 /// 4 sigma^2 tau_c / (1 + (2 pi f tau_c)^2) per Gauss-Markov effect. These are the
 /// continuous-time forms, valid for f << rate_hz / 2 (the sampled flicker and quantization
 /// spectra are 1/(2 sin(pi f tau0)) and sin^2(pi f tau0) shaped near Nyquist). The ramp and the

@@ -49,7 +49,7 @@ std::span<const Stat> all_stats() {
 }
 
 std::int64_t max_m(Stat s, std::int64_t n_points) {
-  // Stable32 1.60's largest averaging factor, read off its tables in shared/reference
+  // Stable32 1.60's largest averaging factor, read off its tables in tests/data/stable32
   // (PHASE.DAT, N = 1001, and pink_frequency, N = 10001 phase points): the non-overlapping
   // ADEV and HDEV stop at (M-1)/5 for M = N-1 frequency points (199 and 1999: m = 200 is on
   // the all-tau grid but absent), the overlapping and modified statistics at (N-1)/4 (247 and

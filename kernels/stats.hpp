@@ -54,7 +54,7 @@ bool supports_gaps(Stat s);
 std::span<const Stat> all_stats();
 
 /// Largest averaging factor Stable32 1.60 evaluates for `n_points` phase points N (its
-/// tables in shared/reference): (N-2)/5 for ADEV and HDEV, (N-1)/4 for OADEV, MDEV, TDEV and
+/// tables in tests/data/stable32): (N-2)/5 for ADEV and HDEV, (N-1)/4 for OADEV, MDEV, TDEV and
 /// OHDEV, (N-1)/2 for TOTDEV (Riley's stop ratios 5, 4, 2), so that every estimate keeps a
 /// reasonable number of terms. 0 when N < 2.
 std::int64_t max_m(Stat s, std::int64_t n_points);

@@ -41,9 +41,9 @@ TauGridSpec parse_tau_grid(std::string_view text);
 /// The grid's averaging factors in increasing order, all in [1, m_max]. Explicit lists are
 /// sorted, de-duplicated and clipped to [1, m_max]. Empty when m_max < 1.
 ///
-/// Stable32 grid, read off every all-tau table of Stable32 1.60 in shared/reference: it starts
-/// at m = 1 and steps by floor(m / K) + 1, i.e. every m up to K, then steps of 2 up to 2K, of
-/// 3 up to 3K, ... (PHASE.DAT, K = 71: 1..71, 73..143 step 2, 146..215 step 3, ...), a
+/// Stable32 grid, read off every all-tau table of Stable32 1.60 in tests/data/stable32: it
+/// starts at m = 1 and steps by floor(m / K) + 1, i.e. every m up to K, then steps of 2 up to
+/// 2K, of 3 up to 3K, ... (PHASE.DAT, K = 71: 1..71, 73..143 step 2, 146..215 step 3, ...), a
 /// spacing that tends to K points per factor e of tau; the run ends at the statistic's
 /// m_max. With stable32_k = 0 this overload throws std::invalid_argument, because K depends
 /// on N: use the overload below.

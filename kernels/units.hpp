@@ -1,8 +1,8 @@
 // The one audited conversion between the noise coefficients in a channel's own units and the
 // units datasheets print them in.
 //
-// Coefficients are stored in the channel's units u and seconds (CONTRACT "Units and
-// conventions"): R [u/s], K [u/s^0.5], B [u], N [u*s^0.5], Q [u*s]. Datasheets print them per
+// Coefficients are stored in the channel's units u and seconds (docs/formats.md "Units
+// and conventions"): R [u/s], K [u/s^0.5], B [u], N [u*s^0.5], Q [u*s]. Datasheets print them per
 // hour and per sqrt(hour) (gyros) or in mg (accelerometers). Every factor below is a product
 // of exact unit relations; none is a fitted or rounded number:
 //
@@ -26,7 +26,7 @@
 //   Q  m/s^2*s               * 1           = m/s
 // Channels in deg/h, rad/s, g or mg are first scaled to deg/s or m/s^2. Clocks (units `s`,
 // a time-error phase whose rate is dimensionless, and `1`, fractional frequency) and any other
-// unit string keep their own units, composed as in the CONTRACT.
+// unit string keep their own units, composed as in docs/formats.md.
 #pragma once
 
 #include <optional>

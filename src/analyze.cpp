@@ -127,9 +127,9 @@ void psd_and_crosscheck(Prepared& c, const kernels::StatResult& oadev, int threa
 }
 
 // Computes every requested statistic of one prepared channel, then the eq. (3) fit of its
-// overlapping Allan curve (computed for the fit when not requested: CONTRACT writes fit/
-// whatever --stats says). TDEV is derived from MDEV when both are requested (tau/sqrt(3) times
-// the same sum, SP1065 eq. (16)) instead of summing the same third differences twice. Throws
+// overlapping Allan curve (computed for the fit when not requested: docs/formats.md writes
+// fit/ whatever --stats says). TDEV is derived from MDEV when both are requested (tau/sqrt(3)
+// times the same sum, SP1065 eq. (16)) instead of summing the same third differences twice. Throws
 // std::exception on a numerical precondition (the caller records it as the channel's failure).
 void compute_channel(Prepared& c, const AnalyzeOptions& opt, int kernel_threads) {
   // Samples near the top of double's range (|x| ~ 1e300) square to infinity: fail the channel
@@ -279,7 +279,7 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
   const std::size_t slots =
       std::clamp<std::size_t>(static_cast<std::size_t>(memory_limit / per_channel), 1,
                               std::max<std::size_t>(n_selected, 1));
-  // One level of parallelism (STYLE.md): across channels when there are at least as many
+  // One level of parallelism (docs/development.md): across channels when there are at least as many
   // channels as threads, otherwise inside the kernels over taus. Each worker takes the next
   // channel, reads it (HDF5 calls one at a time, under read_mutex, in channel order so that
   // the input hash is that of the sequential read), builds its phase, analyses it and frees

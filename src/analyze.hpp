@@ -1,4 +1,4 @@
-// `allanlot analyze` (CONTRACT "Command: analyze"): the batch driver over recordings.
+// `allanlot analyze` (docs/cli.md "Command: analyze"): the batch driver over recordings.
 #pragma once
 
 #include "kernels/stats.hpp"
@@ -35,7 +35,7 @@ struct AnalyzeOptions {
   bool progress = true;  // a progress line on stderr (off with --quiet)
 };
 
-/// Runs the analysis and returns the exit status of CONTRACT (0, 1 or 2). Failures are named
+/// Runs the analysis and returns the exit status of docs/cli.md (0, 1 or 2). Failures are named
 /// on `err` with file, dataset and reason; the closing summary goes to `out`.
 int run_analyze(const AnalyzeOptions& opt, std::ostream& out, std::ostream& err);
 

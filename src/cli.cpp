@@ -52,7 +52,7 @@ std::vector<kernels::Stat> parse_stats(const std::string& list) {
   return out;
 }
 
-// CONTRACT's default statistics, reduced to those this build computes (so that the default
+// The default statistics of docs/cli.md, reduced to those this build computes (so that the default
 // never names a statistic that is not there).
 std::string default_stats() {
   std::string s;
@@ -118,7 +118,7 @@ int run(int argc, char** argv) {
   auto* simulate = app.add_subcommand(
       "simulate", "Write simulated recordings from a noise model (default: the paper's unit)");
   simulate->add_option("-o,--output", sim_out, "Output FILE.h5, or DIR with --lot")->required();
-  simulate->add_option("--model", sopt.model_path, "Model file (JSON, see CONTRACT)");
+  simulate->add_option("--model", sopt.model_path, "Model file (JSON, see docs/formats.md)");
   simulate->add_option("--duration", sopt.duration_s, "Record length in seconds")
       ->capture_default_str();
   simulate->add_option("--seed", sopt.seed, "Random seed")->capture_default_str();
@@ -196,7 +196,7 @@ int run(int argc, char** argv) {
     std::cout << e.what() << "\n";
     return kExitOk;
   } catch (const CLI::ParseError& e) {
-    // CLI11's own exit codes differ per error; CONTRACT says 2 for every usage error.
+    // CLI11's own exit codes differ per error; docs/cli.md says 2 for every usage error.
     std::cerr << "allanlot: usage error: " << e.what() << "\n"
               << "Run 'allanlot --help' or 'allanlot <command> --help'.\n";
     return kExitUsage;

@@ -1,4 +1,4 @@
-// The allanlot command line (CONTRACT "Command: ..."): parses arguments, dispatches to the
+// The allanlot command line (docs/cli.md): parses arguments, dispatches to the
 // subcommands and turns exceptions into exit statuses.
 #pragma once
 
@@ -10,8 +10,8 @@ class App;
 
 namespace allanlot::cli {
 
-/// Exit statuses (CONTRACT): every input analysed; some inputs failed; usage error or
-/// nothing could be analysed.
+/// Exit statuses (docs/cli.md "Exit status"): every input analysed; some inputs failed; usage
+/// error or nothing could be analysed.
 enum ExitStatus : int { kExitOk = 0, kExitSomeFailed = 1, kExitUsage = 2 };
 
 int run(int argc, char** argv);

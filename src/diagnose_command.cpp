@@ -77,7 +77,7 @@ std::string params_text(const std::vector<kernels::Parameter>& ps) {
   return s;
 }
 
-// The CONTRACT object, with further keys after the required ones.
+// The JSON object of docs/diagnose.md, with further keys after the required ones.
 Json report_json(const std::string& channel, const kernels::Diagnosis& d) {
   Json j;
   j["channel"] = channel;
@@ -336,12 +336,13 @@ Command add_diagnose_command(CLI::App& app) {
       "diagnose", "Compare a measured channel with a noise model, name the missing effects and "
                   "write the corrected model");
   sub->add_option("input", opt->input, "Recording (HDF5)")->required();
-  sub->add_option("--model", opt->model_path, "Model file (JSON, see CONTRACT)")->required();
+  sub->add_option("--model", opt->model_path, "Model file (JSON, see docs/formats.md)")->required();
   sub->add_option("--channel", opt->channel, "Channel path or name (default: the only channel)");
   sub->add_option("-o,--output", opt->output,
                   "Write group /<channel>/diagnosis to this HDF5 file (new or existing)");
   sub->add_option("--model-out", opt->model_out, "Write the corrected model file (JSON)");
-  sub->add_flag("--json", opt->json, "Print one JSON object (CONTRACT) instead of the report");
+  sub->add_flag("--json", opt->json,
+                "Print one JSON object (docs/diagnose.md) instead of the report");
   sub->add_option("--replicas", opt->replicas, "Monte Carlo replicas per model")
       ->check(CLI::Range(0, 100000))
       ->capture_default_str();

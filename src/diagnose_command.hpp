@@ -1,4 +1,4 @@
-// `allanlot diagnose` (CONTRACT "Command: diagnose"): where a noise model disagrees with a
+// `allanlot diagnose` (docs/diagnose.md): where a noise model disagrees with a
 // measured channel, which effect is missing, and the corrected model (kernels/diagnose.hpp).
 #pragma once
 
@@ -16,7 +16,7 @@ struct DiagnoseOptions {
   std::string channel;     // channel path or name; "" = the only channel
   std::string output;      // -o OUT.h5: group /<channel>/diagnosis ("" = none)
   std::string model_out;   // --model-out FILE.json: the corrected model ("" = none)
-  bool json = false;       // print the CONTRACT JSON object instead of the report
+  bool json = false;       // print the JSON object of docs/diagnose.md instead
   int replicas = 30;       // Monte Carlo replicas per model
   std::uint64_t seed = 7;  // seed of the replicas
   int threads = 0;         // 0 = OMP_NUM_THREADS, else all cores

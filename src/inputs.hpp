@@ -1,5 +1,5 @@
-// Expands the INPUT arguments of `analyze` (CONTRACT): HDF5 files, directories searched for
-// *.h5 / *.hdf5, and text manifests (*.txt, one path per line).
+// Expands the INPUT arguments of `analyze` (docs/cli.md "Command: analyze"): HDF5 files,
+// directories searched for *.h5 / *.hdf5, and text manifests (*.txt, one path per line).
 #pragma once
 
 #include <string>

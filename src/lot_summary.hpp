@@ -1,8 +1,8 @@
-// The lot summary (CONTRACT "Lot summary"): rebuilt from the complete results files in OUTDIR
-// plus the failures of the current run, written as lot_summary.csv / lot_summary.h5, with
+// The lot summary (docs/formats.md "Lot summary"): rebuilt from the complete results files in
+// OUTDIR plus the failures of the current run, written as lot_summary.csv / lot_summary.h5, with
 // pass/fail against a spec file (src/spec.hpp), lot statistics per channel kind and term
 // (lot_statistics.csv, /statistics) and outlier units. Shared by `analyze` (after its inputs)
-// and `summarize` (alone, e.g. as a Slurm merge job). docs/lot.md describes the columns.
+// and `summarize` (alone, e.g. as a Slurm merge job). docs/formats.md describes the columns.
 #pragma once
 
 #include "io/results.hpp"

@@ -1,6 +1,6 @@
-// The model file (CONTRACT "Model file"): parsing with strict validation, writing, the embedded
-// demo unit, and lot draws. `simulate` turns a model into recordings, `diagnose` compares a
-// recording with it.
+// The model file (docs/formats.md "Model file"): parsing with strict validation, writing, the
+// embedded demo unit, and lot draws. `simulate` turns a model into recordings, `diagnose`
+// compares a recording with it.
 //
 // Two forms are accepted:
 //   single channel: {"units", "sample_rate_hz", "terms", "effects", "offset", "lot_spread"}
@@ -34,7 +34,7 @@ public:
 /// One channel of a unit.
 struct Channel {
   std::string name;                           // [A-Za-z0-9_]+, the dataset name
-  std::string units = "deg/s";                // CONTRACT units string (kernels/units.hpp)
+  std::string units = "deg/s";                // units string (docs/formats.md, kernels/units.hpp)
   kernels::NoiseTerms terms;                  // channel units and seconds
   std::vector<kernels::Sinusoid> sinusoids;   // effects of type "sinusoid", in file order
   std::vector<kernels::GaussMarkov> markovs;  // effects of type "markov", in file order

@@ -1,4 +1,4 @@
-// `allanlot simulate` (CONTRACT "Command: simulate"): recordings from a noise model, one unit
+// `allanlot simulate` (docs/cli.md "Command: simulate"): recordings from a noise model, one unit
 // or a whole lot.
 #pragma once
 

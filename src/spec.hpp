@@ -1,5 +1,5 @@
 // The spec file (`--spec spec.json`): limits on the noise coefficients per channel kind, and the
-// pass / fail / undecided decision of each channel of a lot against them (docs/lot.md).
+// pass / fail / undecided decision of each channel of a lot against them (docs/lots-and-slurm.md).
 //
 //   {
 //     "name": "tactical grade",                      (optional, printed with the overview)
