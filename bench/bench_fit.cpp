@@ -1,5 +1,5 @@
-// Cost of the eq. (3) fit on analyze's default curve (docs/statistics.md "Tau grids"): a 5.4
-// M-sample channel (90 min at 1 kHz) with 16 taus per decade up to m = N/4 (about 100 taus).
+// Cost of the eq. (3) fit on analyze's default curve (docs/statistics.md "Tau grids"): one
+// 5.4 M-sample channel (90 min at 1 kHz) with 16 taus per decade up to m = N/4 (about 100 taus).
 //  - BM_FitFirstChannel: a fresh plan per iteration, so each fit also builds the covariance
 //    basis (what the first channel of a shape pays);
 //  - BM_FitNextChannel: the plan reused (what every further channel of the lot pays): the

@@ -3,8 +3,8 @@
 // the results layout, docs/formats.md).
 //
 // Conventions (docs/formats.md "Units and conventions"): every PSD here is one-sided, in
-// u^2/Hz, on 0 <= f <= rate_hz / 2; eq. (2) of the paper uses the two-sided S(f) = one-sided
-// / 2, so white noise of coefficient N has one-sided PSD 2 N^2.
+// u^2/Hz, on 0 <= f <= rate_hz / 2; eq. (2) of the paper uses the two-sided
+// S(f) = one-sided / 2, so white noise of coefficient N has one-sided PSD 2 N^2.
 //
 // Reproducibility. Each segment's periodogram is computed by one thread into its own row, with
 // an FFTW_ESTIMATE plan on fftw_malloc'ed (SIMD-aligned) buffers, and the rows are added in

@@ -127,8 +127,8 @@ void psd_and_crosscheck(Prepared& c, const kernels::StatResult& oadev, int threa
 }
 
 // Computes every requested statistic of one prepared channel, then the eq. (3) fit of its
-// overlapping Allan curve (computed for the fit when not requested: docs/formats.md writes
-// fit/ whatever --stats says). TDEV is derived from MDEV when both are requested (tau/sqrt(3)
+// overlapping Allan curve (computed for the fit when not requested: fit/ is written whatever
+// --stats says, docs/formats.md). TDEV is derived from MDEV when both are requested (tau/sqrt(3)
 // times the same sum, SP1065 eq. (16)) instead of summing the same third differences twice. Throws
 // std::exception on a numerical precondition (the caller records it as the channel's failure).
 void compute_channel(Prepared& c, const AnalyzeOptions& opt, int kernel_threads) {

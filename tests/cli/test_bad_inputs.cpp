@@ -1,6 +1,6 @@
 // Bad inputs, in the spirit of FINUFFT's "dumbinputs" (issue #11): every kind of broken,
 // hostile or merely odd recording goes through the real binary in one lot beside good units.
-// For each case: the documented exit status (CONTRACT: 1 when some inputs or channels fail),
+// For each case: the documented exit status (docs/cli.md: 1 when some inputs or channels fail),
 // a message naming the file, the dataset and the reason, the good inputs analysed, no
 // results file for an input that failed as a whole, the failure in the lot summary, and every
 // input byte for byte as it was (compared by hash).

@@ -1,5 +1,5 @@
 // `allanlot diagnose` through the binary: a simulated measurement with a hidden sinusoid, the
-// JSON object of CONTRACT, the -o group written into an existing file, the corrected model
+// JSON object of docs/diagnose.md, the -o group written into an existing file, the corrected model
 // accepted by `simulate`, the input never modified, and usage errors with exit status 2.
 #include "support/h5_fixture.hpp"
 

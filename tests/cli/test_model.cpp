@@ -1,5 +1,5 @@
-// The model file: the CONTRACT example parses, every rule is enforced with the key path in the
-// message, to_json round-trips, the demo unit carries the paper's Table, lot draws are
+// The model file: the example of docs/formats.md parses, every rule is enforced with the key
+// path in the message, to_json round-trips, the demo unit carries the paper's Table, lot draws are
 // deterministic and have the promised spread.
 #include "kernels/units.hpp"
 #include "src/model.hpp"
@@ -14,7 +14,7 @@
 namespace allanlot {
 namespace {
 
-// The CONTRACT's example model.
+// The example model of docs/formats.md "Model file".
 constexpr const char* kContractExample = R"({
   "units": "deg/s",
   "sample_rate_hz": 1000,

@@ -1,4 +1,4 @@
-// Channel discovery (CONTRACT "Input: recordings"), chunked reads of every storage type, and
+// Channel discovery (docs/formats.md "Input recordings"), chunked reads of every storage type, and
 // the writer that `simulate` uses.
 #include "io/error.hpp"
 #include "io/recording.hpp"

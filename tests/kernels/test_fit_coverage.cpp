@@ -2,7 +2,7 @@
 // fraction of fits with |value - true| < sigma must be the 68.3 % a 1-sigma error promises.
 //
 // Set-up: white + flicker + rate random walk at 100 Hz, 2^18 samples (44 min), 16 taus per
-// decade up to m = N/4 (the CONTRACT's default curve), Stable32's edf from add_confidence.
+// decade up to m = N/4 (the default curve, docs/statistics.md), Stable32's edf from add_confidence.
 // Levels: the flicker floor meets the white branch at tau = 10 s (m = 1000) and the random-walk
 // branch at about 300 s, so N and B are both well determined and K is marginal. With the
 // floor crossing at m = 1000, the discrete flicker excess of the simulator at small m

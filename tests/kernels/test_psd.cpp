@@ -45,7 +45,7 @@ ChannelSpec white_spec(double rate_hz, double N) {
   return s;
 }
 
-// The paper's gyro X levels (table of the paper; CONTRACT units: deg/s and seconds).
+// The paper's gyro X levels (table of the paper; docs/formats.md units: deg/s and seconds).
 ChannelSpec gyro_spec() {
   ChannelSpec s;
   s.rate_hz = 1000;

@@ -51,7 +51,7 @@ TEST(WelchTermPsd, MatchesClosedFormsInMidBand) {
     const auto ks = static_cast<std::size_t>(k);
     const double f = static_cast<double>(k) * fs / static_cast<double>(L);
     SCOPED_TRACE(k);
-    // White: one-sided 2 N^2 exactly (CONTRACT).
+    // White: one-sided 2 N^2 exactly (docs/formats.md).
     EXPECT_NEAR(g[kN][ks], 2.0, 1e-12);
     // Quantization: the window averages 8 sin^2(pi f tau0) / tau0 over its main lobe (a few
     // bins), so the relative error is of the order of the curvature, (pi / L)^2 times the
@@ -121,7 +121,7 @@ TEST(WelchTermPsd, FlickerMatchesSimulationAtLowBins) {
   expect_term_matches(s, kB, s.terms.B * s.terms.B, 7, 400);
 }
 
-// The paper's gyro X (its Table; CONTRACT units deg/s, s) on 2^21 samples (35 min at 1 kHz).
+// The paper's gyro X (its Table; units deg/s and s, docs/formats.md) on 2^21 samples.
 kernels::ChannelSpec gyro() {
   kernels::ChannelSpec s;
   s.rate_hz = 1000;

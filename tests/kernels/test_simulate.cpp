@@ -544,7 +544,7 @@ TEST(SimulateModel, AvarTermsAndLimits) {
 TEST(SimulateModel, PsdForms) {
   ChannelSpec s = with_rate(1000);
   s.terms.N = 0.005;
-  EXPECT_DOUBLE_EQ(kernels::model_psd_one_sided(s, 3.0), 2 * 0.005 * 0.005);  // CONTRACT
+  EXPECT_DOUBLE_EQ(kernels::model_psd_one_sided(s, 3.0), 2 * 0.005 * 0.005);  // docs/formats.md
   ChannelSpec b = with_rate(1000);
   b.terms.B = 0.1;
   EXPECT_NEAR(kernels::model_psd_one_sided(b, 2.0), 0.01 / (std::numbers::pi * 2.0), 1e-18);

@@ -112,7 +112,7 @@ public:
     H5Oclose(o);
   }
 
-  /// Integer attribute (stored int64): CONTRACT's numbers may be stored as integers.
+  /// Integer attribute (stored int64): docs/formats.md's numbers may be stored as integers.
   void attr_int(const std::string& obj, const std::string& name, std::int64_t value) {
     const hid_t o = H5Oopen(file_, obj.c_str(), H5P_DEFAULT);
     const hid_t space = H5Screate(H5S_SCALAR);
