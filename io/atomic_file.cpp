@@ -5,9 +5,11 @@
 #include <atomic>
 #include <cctype>
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <fcntl.h>
 #include <fstream>
+#include <functional>
 #include <sys/file.h>
 #include <unistd.h>
 
@@ -27,25 +29,41 @@ void fsync_path(const std::filesystem::path& p, bool directory, const std::strin
 
 }  // namespace
 
-AtomicFile::AtomicFile(std::filesystem::path final_path) : final_(std::move(final_path)) {
-  // Hidden, and unique per host, process and call: two processes writing the same OUTDIR
-  // never share a temporary file, also not Slurm tasks on different nodes of a shared file
-  // system that happen to have the same pid; `summarize` skips names starting with '.'.
+std::string host_tag() {
   char host[256] = {};
   if (::gethostname(host, sizeof host - 1) != 0) host[0] = '\0';
   std::string h;
   for (const char* c = host; *c; ++c)
     h += std::isalnum(static_cast<unsigned char>(*c)) || *c == '-' ? *c : '_';
+  return h;
+}
+
+AtomicFile::AtomicFile(std::filesystem::path final_path) : final_(std::move(final_path)) {
+  // Hidden, and unique per host, process and call: two processes writing the same OUTDIR
+  // never share a temporary file, also not Slurm tasks on different nodes of a shared file
+  // system that happen to have the same pid; `summarize` skips names starting with '.'.
+  std::string tail = ".tmp.";
+  tail += host_tag();
+  tail += '.';
+  tail += std::to_string(::getpid());
+  tail += '.';
+  tail += std::to_string(g_counter++);
+  // A name is at most 255 bytes (NAME_MAX): a long final name (a 240-character device_id) is
+  // cut, with a hash of the whole name so that two long names still differ.
+  std::string stem = final_.filename().string();
+  constexpr std::size_t kNameMax = 255;
+  if (1 + stem.size() + tail.size() > kNameMax) {
+    char hash[17];
+    std::snprintf(hash, sizeof hash, "%016zx", std::hash<std::string>{}(stem));
+    stem.resize(kNameMax - 1 - tail.size() - 17);
+    stem += '~';
+    stem += hash;
+  }
   // Appended piece by piece: `"." + std::string` trips GCC 12's -Wrestrict false positive
   // (GCC bug 105651).
   std::string name(1, '.');
-  name += final_.filename().string();
-  name += ".tmp.";
-  name += h;
-  name += '.';
-  name += std::to_string(::getpid());
-  name += '.';
-  name += std::to_string(g_counter++);
+  name += stem;
+  name += tail;
   temp_ = final_.parent_path() / name;
 }
 

@@ -48,6 +48,9 @@ private:
   int fd_ = -1;
 };
 
+/// This host's name as temporary file names carry it (letters, digits, '-'; others '_').
+std::string host_tag();
+
 /// Writes `text` to `path` atomically (CSV summaries, model files).
 void write_text_atomic(const std::filesystem::path& path, const std::string& text);
 

@@ -1,5 +1,7 @@
 #include "io/hdf5_handle.hpp"
 
+#include "io/seal.hpp"
+
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -174,7 +176,10 @@ Handle create_memory_file(const std::string& file) {
   Handle fapl = check(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, file, "", "H5Pcreate");
   // Grow the image 1 MiB at a time; backing_store = false: nothing is written by HDF5.
   check(H5Pset_fapl_core(fapl.get(), std::size_t{1} << 20, false), file, "", "H5Pset_fapl_core");
-  return check(H5Fcreate(file.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), H5Fclose, file, "",
+  // The user block holds the seal (io/seal.hpp): write_memory_file writes it before the image.
+  Handle fcpl = check(H5Pcreate(H5P_FILE_CREATE), H5Pclose, file, "", "H5Pcreate");
+  check(H5Pset_userblock(fcpl.get(), kSealBytes), file, "", "H5Pset_userblock");
+  return check(H5Fcreate(file.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get()), H5Fclose, file, "",
                "H5Fcreate (in memory)");
 }
 
@@ -186,6 +191,8 @@ void write_memory_file(Handle& f, const std::string& path, const std::string& fi
   if (H5Fget_file_image(f.get(), image.data(), image.size()) != size)
     throw Error(file, "", "H5Fget_file_image failed");
   if (f.close() < 0) throw Error(file, "", "H5Fclose (in memory) failed");
+  const auto seal = seal_block(image);
+  image.insert(image.begin(), seal.begin(), seal.end());
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
   if (fd < 0) throw Error(file, "", std::string("cannot create file: ") + std::strerror(errno));
   std::size_t done = 0;
