@@ -1,6 +1,9 @@
 // Results files (docs/formats.md "Results file layout") and the lot summary ("Lot summary").
 #pragma once
 
+#include "io/diagnosis.hpp"
+#include "io/status.hpp"
+#include "kernels/fit.hpp"
 #include "kernels/stats.hpp"
 
 #include <array>
@@ -39,7 +42,7 @@ struct ReadoutRecord {
 /// The fit/ (or psd_fit/) group.
 struct FitRecord {
   std::string method;
-  std::string status;  // kernels::fit_status_name: "ok", or why there is no fit
+  kernels::FitStatus status = kernels::FitStatus::NoData;  // Ok, or why there is no fit
   int rank = 0;
   double chi2_dof = 0;
   std::vector<TermRecord> terms;
@@ -82,7 +85,7 @@ struct ChannelResult {
   std::int64_t n_samples = 0;
   std::int64_t n_gaps = 0;
   std::string data_type = "rate";  // "rate" or "phase"
-  std::string status = "ok";       // "ok" or "failed: <reason>"
+  ChannelStatus status;            // ok, or failed and why
   std::string notes;               // what was not computed and why, e.g. a skipped statistic
   /// (statistic name, result) in the order computed; written to allan/<name>/.
   std::vector<std::pair<std::string, kernels::StatResult>> stats;
@@ -90,6 +93,7 @@ struct ChannelResult {
   std::optional<FitRecord> psd_fit;            // psd_fit/: the same five terms from the PSD
   std::optional<PsdRecord> psd;                // psd/
   std::optional<CrosscheckRecord> crosscheck;  // crosscheck/
+  std::optional<DiagnosisRecord> diagnosis;    // diagnosis/, added by `allanlot diagnose -o`
 };
 
 /// One results file: one input recording.
@@ -108,7 +112,8 @@ struct RecordingResult {
 /// complete or absent. Throws io::Error naming the path on failure.
 void write_results(const std::filesystem::path& path, const RecordingResult& r);
 
-/// Reads a results file back (root attributes, channels, statistics).
+/// Reads a results file back: every group of the schema (io/schema.hpp). io::Error naming the
+/// file for a schema_version newer than this build reads, or an unknown status.
 RecordingResult read_results(const std::filesystem::path& path);
 
 /// One row of the lot summary: one (device, channel), or one failed input (channel empty).
@@ -117,7 +122,7 @@ struct SummaryRow {
   std::string channel;
   std::string units;
   std::int64_t n_samples = 0;
-  std::string status = "ok";
+  ChannelStatus status;
   std::string source_file;
   /// The five fitted terms R, K, B, N, Q in datasheet units (NaN when there is no fit).
   std::array<double, 5> value{nan(), nan(), nan(), nan(), nan()};
@@ -148,7 +153,7 @@ struct SummaryRow {
   std::array<std::string, 5> spec_term_status;
 
   SummaryRow() = default;
-  SummaryRow(std::string device, std::string chan, std::string u, std::int64_t n, std::string st,
+  SummaryRow(std::string device, std::string chan, std::string u, std::int64_t n, ChannelStatus st,
              std::string source)
       : device_id(std::move(device)), channel(std::move(chan)), units(std::move(u)), n_samples(n),
         status(std::move(st)), source_file(std::move(source)) {}

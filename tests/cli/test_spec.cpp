@@ -123,9 +123,11 @@ TEST(Spec, JudgesRowsWithLimitsInEitherDatasheetForm) {
   accel.channel = "/imu/accel_x";
   EXPECT_EQ(spec::judge(sp, accel).status, "no spec");
   auto failed = gyro_row(17, 0.02, 4.5, 0.1);
-  failed.status = "failed: too short";
+  failed.status = io::ChannelStatus::failed("too short");
   EXPECT_EQ(spec::judge(sp, failed).status, "no data");
-  EXPECT_EQ(spec::judge(sp, io::SummaryRow{"SN9", "", "", 0, "failed: unreadable", "x.h5"}).status,
+  EXPECT_EQ(spec::judge(sp, io::SummaryRow{"SN9", "", "", 0,
+                                           io::ChannelStatus::failed("unreadable"), "x.h5"})
+                .status,
             "no data");
   // A limited term without an estimate cannot pass.
   auto no_b = gyro_row(17.0, 0.02, kNaN, kNaN);
