@@ -18,7 +18,8 @@ namespace {
 namespace fs = std::filesystem;
 
 io::SummaryRow row(const std::string& device, const std::string& channel, double n_value) {
-  io::SummaryRow r{device, channel, "deg/s", 1000, "ok", "/data/" + device + ".h5"};
+  io::SummaryRow r{
+      device, channel, "deg/s", 1000, io::ChannelStatus::ok(), "/data/" + device + ".h5"};
   r.value[3] = n_value;
   r.sigma[3] = 0.01;
   r.unit[3] = "deg/h/sqrt(Hz)";

@@ -21,7 +21,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // A gyro row (deg/s channel) with N and B in their primary datasheet units.
 io::SummaryRow gyro_row(double n, double n_sigma, double b, double b_sigma) {
-  io::SummaryRow r{"SN1", "/imu/gyro_x", "deg/s", 1000, "ok", "/data/sn1.h5"};
+  io::SummaryRow r{"SN1", "/imu/gyro_x", "deg/s", 1000, io::ChannelStatus::ok(), "/data/sn1.h5"};
   r.value[3] = n;
   r.sigma[3] = n_sigma;
   r.unit[3] = "deg/h/sqrt(Hz)";
