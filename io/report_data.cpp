@@ -77,11 +77,12 @@ ReportExtras report_extras(const RecordingResult& r) {
 }
 
 ReportExtras read_report_extras(const std::filesystem::path& file) {
-  const RecordingResult r = read_results(file);
-  ReportExtras x = report_extras(r);
-  // Diagnose may also have written beside groups that are not channels of a results file.
+  // Every diagnosis group, also those of a diagnose output that is not a results file (no
+  // channel groups), so not only those read_results finds under channels.
+  const std::vector<DiagnosisRecord> diagnoses = read_diagnoses(file);
+  ReportExtras x = report_extras(read_results(file));
   x.diagnoses.clear();
-  for (const DiagnosisRecord& d : read_diagnoses(file))
+  for (const DiagnosisRecord& d : diagnoses)
     x.diagnoses.push_back(diagnosis_view(d));
   return x;
 }

@@ -1,4 +1,6 @@
-// Results files (docs/formats.md "Results file layout") and the lot summary ("Lot summary").
+// Results files (docs/formats.md "Results file layout") and the lot summary ("Lot summary"): the
+// records in memory and their readers and writers. What each group and column holds is described
+// once, in io/schema.hpp.
 #pragma once
 
 #include "io/diagnosis.hpp"
@@ -187,13 +189,15 @@ std::string csv_field(const std::string& s);
 
 /// Writes OUTDIR/lot_summary.csv, OUTDIR/lot_statistics.csv and OUTDIR/lot_summary.h5
 /// (compound datasets /summary and /statistics; `attributes` become string attributes of the
-/// file's root, e.g. the spec file used), each file atomically.
+/// file's root, e.g. the spec file used, beside schema_version), each file atomically. The
+/// columns are io/schema.hpp's summary_columns() and statistics_columns().
 void write_lot_summary(const std::filesystem::path& outdir, const std::vector<SummaryRow>& rows,
                        const std::vector<StatisticsRow>& statistics = {},
                        const std::vector<std::pair<std::string, std::string>>& attributes = {});
 
 /// Reads the /summary compound dataset of a lot_summary.h5. Columns missing from older files
-/// keep their defaults (NaN, "", 0, -1 for fits_agree).
+/// keep their defaults (NaN, "", 0, -1 for fits_agree). io::Error naming the file for a newer
+/// schema_version or an unknown status.
 std::vector<SummaryRow> read_lot_summary(const std::filesystem::path& h5_path);
 
 /// Reads the /statistics compound dataset of a lot_summary.h5 (empty when the file predates it).
@@ -202,11 +206,11 @@ std::vector<StatisticsRow> read_lot_statistics(const std::filesystem::path& h5_p
 /// The summary rows of one recording's results.
 std::vector<SummaryRow> summary_rows(const RecordingResult& r);
 
-/// Reads only what summary_rows needs: the root attributes, each channel's attributes, the
-/// terms and attributes of fit/, the agreement attributes of psd_fit/ and the attributes of
-/// crosscheck/; allan/, psd/ and every per-tau or per-frequency array are never opened, so a
-/// lot of thousands of units is summarized quickly. summary_rows(read_summary_results(p)) ==
-/// summary_rows(read_results(p)).
+/// Reads only what summary_rows needs: the fields io/schema.hpp marks `summary` (root and
+/// channel attributes, the datasheet columns and attributes of fit/ and psd_fit/, the
+/// attributes of crosscheck/); allan/, psd/, diagnosis/ and every per-tau or per-frequency array
+/// are never opened, so a lot of thousands of units is summarized quickly.
+/// summary_rows(read_summary_results(p)) == summary_rows(read_results(p)).
 RecordingResult read_summary_results(const std::filesystem::path& path);
 
 }  // namespace allanlot::io
