@@ -66,8 +66,8 @@ struct Column {
   const char* name;
   ColumnMember<Row> member;
   const char* notes;
-  Need need = Need::Required;
-  bool summary = false;  // also read by read_summary_results
+  Need need = Need::Required;  // IfPresent numbers absent from a file read as NaN
+  bool summary = false;        // also read by read_summary_results
 };
 
 // The groups of a results file, in the order their fields are written.

@@ -7,6 +7,7 @@
 #include "io/schema.hpp"
 
 #include <cstddef>
+#include <limits>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -151,7 +152,17 @@ std::vector<Row> read_columns(hid_t g, std::span<const Column<Row>> columns, Dep
   bool sized = false;
   for (const Column<Row>& c : columns) {
     if (depth == Depth::Summary && !c.summary) continue;
-    if (c.need == Need::IfPresent && H5Lexists(g, c.name, H5P_DEFAULT) <= 0) continue;
+    if (c.need == Need::IfPresent && H5Lexists(g, c.name, H5P_DEFAULT) <= 0) {
+      // Absent (a file from before the column): numbers have no value, not a zero.
+      std::visit(
+          [&](auto m) {
+            if constexpr (std::is_same_v<std::remove_cvref_t<decltype(rows[0].*m)>, double>)
+              for (Row& r : rows)
+                r.*m = std::numeric_limits<double>::quiet_NaN();
+          },
+          c.member);
+      continue;
+    }
     std::visit(
         [&](auto m) {
           using V = std::remove_cvref_t<decltype(std::declval<Row&>().*m)>;

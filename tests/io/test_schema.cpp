@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <functional>
 #include <string>
 #include <tuple>
@@ -201,6 +202,26 @@ TEST(Schema, EveryTableLineRoundTrips) {
                 true);
   EXPECT_TRUE(sum.channels[0].stats.empty());
   EXPECT_FALSE(sum.channels[0].psd || sum.channels[0].diagnosis);
+}
+
+// A column read when present (upper_datasheet, absent from early files) has no value when
+// absent, in both readers: the lot summary shows no bound rather than a zero.
+TEST(Schema, AbsentOptionalColumnReadsAsNoValue) {
+  const fs::path path = test::fresh_dir("schema_optional") / "SN_1.allan.h5";
+  io::RecordingResult r = every_field();
+  r.channels[0].diagnosis.reset();
+  io::write_results(path, r);
+  {
+    const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    ASSERT_GE(H5Ldelete(f, "/imu/gyro_x/fit/upper_datasheet", H5P_DEFAULT), 0);
+    H5Fclose(f);
+  }
+  for (const io::RecordingResult& back : {io::read_results(path), io::read_summary_results(path)}) {
+    ASSERT_TRUE(back.channels.at(0).fit);
+    for (const io::TermRecord& t : back.channels[0].fit->terms)
+      EXPECT_TRUE(std::isnan(t.upper_datasheet)) << t.term;
+    EXPECT_TRUE(std::isnan(io::summary_rows(back).at(0).upper[3]));
+  }
 }
 
 TEST(Schema, LotSummaryColumnsRoundTrip) {
