@@ -1,6 +1,7 @@
 // The diagnose command's HDF5 output (docs/diagnose.md "Output"): group
 // /<channel>/diagnosis of OUT.h5, which may be a new file or an existing one (a results file of
-// `analyze`, or an earlier diagnosis), in which case only that group is replaced.
+// `analyze`, or an earlier diagnosis), in which case only that group is replaced. What the group
+// holds is described once, in io/schema.hpp.
 #pragma once
 
 #include <cstdint>
@@ -35,5 +36,11 @@ struct DiagnosisRecord {
 /// io::Error when `out` is the same file. Throws io::Error naming the file on any failure.
 void write_diagnosis(const std::filesystem::path& out, const std::filesystem::path& input,
                      const DiagnosisRecord& r);
+
+/// Every /<channel>/diagnosis group of `file` (a diagnose output, or a results file diagnose
+/// wrote into), in path order, read through the schema (io/schema.hpp). Datasets a group lacks
+/// are left empty. Throws io::Error naming the file and the group on a dataset or attribute of
+/// the wrong type.
+std::vector<DiagnosisRecord> read_diagnoses(const std::filesystem::path& file);
 
 }  // namespace allanlot::io

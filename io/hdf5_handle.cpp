@@ -48,18 +48,48 @@ hssize_t attribute_points(hid_t attr, const std::string& file, const std::string
 
 }  // namespace
 
-bool read_attribute(hid_t obj, const std::string& name, double& out, const std::string& file,
-                    const std::string& object) {
+namespace {
+
+// Opens a numeric attribute of `points` elements (0: any number) and reads it as `mem_type`.
+template <class T>
+bool read_numbers(hid_t obj, const std::string& name, std::vector<T>& out, hid_t mem_type,
+                  hssize_t points, const std::string& file, const std::string& object) {
   if (!has_attribute(obj, name)) return false;
   Handle attr = open_attribute(obj, name, file, object);
   Handle type = check(H5Aget_type(attr.get()), H5Tclose, file, object, "H5Aget_type");
   const H5T_class_t cls = H5Tget_class(type.get());
   if (cls != H5T_INTEGER && cls != H5T_FLOAT)
     throw Error(file, object, "attribute '" + name + "' must be a number");
-  if (attribute_points(attr.get(), file, object) != 1)
+  const hssize_t n = attribute_points(attr.get(), file, object);
+  if (points > 0 && n != points)
     throw Error(file, object, "attribute '" + name + "' must be a single number");
-  check(H5Aread(attr.get(), H5T_NATIVE_DOUBLE, &out), file, object, "H5Aread(" + name + ")");
+  out.assign(static_cast<std::size_t>(n < 0 ? 0 : n), T{});
+  if (!out.empty())
+    check(H5Aread(attr.get(), mem_type, out.data()), file, object, "H5Aread(" + name + ")");
   return true;
+}
+
+}  // namespace
+
+bool read_attribute(hid_t obj, const std::string& name, double& out, const std::string& file,
+                    const std::string& object) {
+  std::vector<double> v;
+  if (!read_numbers(obj, name, v, H5T_NATIVE_DOUBLE, 1, file, object)) return false;
+  out = v[0];
+  return true;
+}
+
+bool read_attribute(hid_t obj, const std::string& name, std::int64_t& out, const std::string& file,
+                    const std::string& object) {
+  std::vector<std::int64_t> v;
+  if (!read_numbers(obj, name, v, H5T_NATIVE_INT64, 1, file, object)) return false;
+  out = v[0];
+  return true;
+}
+
+bool read_attribute(hid_t obj, const std::string& name, std::vector<double>& out,
+                    const std::string& file, const std::string& object) {
+  return read_numbers(obj, name, out, H5T_NATIVE_DOUBLE, 0, file, object);
 }
 
 bool read_attribute(hid_t obj, const std::string& name, std::string& out, const std::string& file,

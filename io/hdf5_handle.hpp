@@ -67,6 +67,10 @@ bool read_attribute(hid_t obj, const std::string& name, double& out, const std::
                     const std::string& object);
 bool read_attribute(hid_t obj, const std::string& name, std::string& out, const std::string& file,
                     const std::string& object);
+bool read_attribute(hid_t obj, const std::string& name, std::int64_t& out, const std::string& file,
+                    const std::string& object);
+bool read_attribute(hid_t obj, const std::string& name, std::vector<double>& out,
+                    const std::string& file, const std::string& object);
 void write_attribute(hid_t obj, const std::string& name, const std::string& value,
                      const std::string& file, const std::string& object);
 void write_attribute(hid_t obj, const std::string& name, double value, const std::string& file,

@@ -1,6 +1,11 @@
-// Results files (docs/formats.md "Results file layout") and the lot summary ("Lot summary").
+// Results files (docs/formats.md "Results file layout") and the lot summary ("Lot summary"): the
+// records in memory and their readers and writers. What each group and column holds is described
+// once, in io/schema.hpp.
 #pragma once
 
+#include "io/diagnosis.hpp"
+#include "io/status.hpp"
+#include "kernels/fit.hpp"
 #include "kernels/stats.hpp"
 
 #include <array>
@@ -39,7 +44,7 @@ struct ReadoutRecord {
 /// The fit/ (or psd_fit/) group.
 struct FitRecord {
   std::string method;
-  std::string status;  // kernels::fit_status_name: "ok", or why there is no fit
+  kernels::FitStatus status = kernels::FitStatus::NoData;  // Ok, or why there is no fit
   int rank = 0;
   double chi2_dof = 0;
   std::vector<TermRecord> terms;
@@ -82,7 +87,7 @@ struct ChannelResult {
   std::int64_t n_samples = 0;
   std::int64_t n_gaps = 0;
   std::string data_type = "rate";  // "rate" or "phase"
-  std::string status = "ok";       // "ok" or "failed: <reason>"
+  ChannelStatus status;            // ok, or failed and why
   std::string notes;               // what was not computed and why, e.g. a skipped statistic
   /// (statistic name, result) in the order computed; written to allan/<name>/.
   std::vector<std::pair<std::string, kernels::StatResult>> stats;
@@ -90,6 +95,7 @@ struct ChannelResult {
   std::optional<FitRecord> psd_fit;            // psd_fit/: the same five terms from the PSD
   std::optional<PsdRecord> psd;                // psd/
   std::optional<CrosscheckRecord> crosscheck;  // crosscheck/
+  std::optional<DiagnosisRecord> diagnosis;    // diagnosis/, added by `allanlot diagnose -o`
 };
 
 /// One results file: one input recording.
@@ -108,7 +114,8 @@ struct RecordingResult {
 /// complete or absent. Throws io::Error naming the path on failure.
 void write_results(const std::filesystem::path& path, const RecordingResult& r);
 
-/// Reads a results file back (root attributes, channels, statistics).
+/// Reads a results file back: every group of the schema (io/schema.hpp). io::Error naming the
+/// file for a schema_version newer than this build reads, or an unknown status.
 RecordingResult read_results(const std::filesystem::path& path);
 
 /// One row of the lot summary: one (device, channel), or one failed input (channel empty).
@@ -117,7 +124,7 @@ struct SummaryRow {
   std::string channel;
   std::string units;
   std::int64_t n_samples = 0;
-  std::string status = "ok";
+  ChannelStatus status;
   std::string source_file;
   /// The five fitted terms R, K, B, N, Q in datasheet units (NaN when there is no fit).
   std::array<double, 5> value{nan(), nan(), nan(), nan(), nan()};
@@ -148,7 +155,7 @@ struct SummaryRow {
   std::array<std::string, 5> spec_term_status;
 
   SummaryRow() = default;
-  SummaryRow(std::string device, std::string chan, std::string u, std::int64_t n, std::string st,
+  SummaryRow(std::string device, std::string chan, std::string u, std::int64_t n, ChannelStatus st,
              std::string source)
       : device_id(std::move(device)), channel(std::move(chan)), units(std::move(u)), n_samples(n),
         status(std::move(st)), source_file(std::move(source)) {}
@@ -182,13 +189,15 @@ std::string csv_field(const std::string& s);
 
 /// Writes OUTDIR/lot_summary.csv, OUTDIR/lot_statistics.csv and OUTDIR/lot_summary.h5
 /// (compound datasets /summary and /statistics; `attributes` become string attributes of the
-/// file's root, e.g. the spec file used), each file atomically.
+/// file's root, e.g. the spec file used, beside schema_version), each file atomically. The
+/// columns are io/schema.hpp's summary_columns() and statistics_columns().
 void write_lot_summary(const std::filesystem::path& outdir, const std::vector<SummaryRow>& rows,
                        const std::vector<StatisticsRow>& statistics = {},
                        const std::vector<std::pair<std::string, std::string>>& attributes = {});
 
 /// Reads the /summary compound dataset of a lot_summary.h5. Columns missing from older files
-/// keep their defaults (NaN, "", 0, -1 for fits_agree).
+/// keep their defaults (NaN, "", 0, -1 for fits_agree). io::Error naming the file for a newer
+/// schema_version or an unknown status.
 std::vector<SummaryRow> read_lot_summary(const std::filesystem::path& h5_path);
 
 /// Reads the /statistics compound dataset of a lot_summary.h5 (empty when the file predates it).
@@ -197,11 +206,11 @@ std::vector<StatisticsRow> read_lot_statistics(const std::filesystem::path& h5_p
 /// The summary rows of one recording's results.
 std::vector<SummaryRow> summary_rows(const RecordingResult& r);
 
-/// Reads only what summary_rows needs: the root attributes, each channel's attributes, the
-/// terms and attributes of fit/, the agreement attributes of psd_fit/ and the attributes of
-/// crosscheck/; allan/, psd/ and every per-tau or per-frequency array are never opened, so a
-/// lot of thousands of units is summarized quickly. summary_rows(read_summary_results(p)) ==
-/// summary_rows(read_results(p)).
+/// Reads only what summary_rows needs: the fields io/schema.hpp marks `summary` (root and
+/// channel attributes, the datasheet columns and attributes of fit/ and psd_fit/, the
+/// attributes of crosscheck/); allan/, psd/, diagnosis/ and every per-tau or per-frequency array
+/// are never opened, so a lot of thousands of units is summarized quickly.
+/// summary_rows(read_summary_results(p)) == summary_rows(read_results(p)).
 RecordingResult read_summary_results(const std::filesystem::path& path);
 
 }  // namespace allanlot::io

@@ -195,7 +195,7 @@ void compute_channel(Prepared& c, const AnalyzeOptions& opt, int kernel_threads)
   if (opt.fit) {
     const auto t_fit = Clock::now();
     c.result.fit = fit_channel(*oadev_for_fit, c.phase, c.result.units, &allan_terms);
-    have_allan_terms = c.result.fit->status == kernels::fit_status_name(kernels::FitStatus::Ok);
+    have_allan_terms = c.result.fit->status == kernels::FitStatus::Ok;
     c.times.fit += seconds_since(t_fit);
   }
   if (opt.psd) {
@@ -253,7 +253,7 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
     if (!channel_matches(opt.channels_glob, p.path)) continue;
     io::ChannelResult cr;
     cr.path = p.path;
-    cr.status = "failed: " + p.reason;
+    cr.status = io::ChannelStatus::failed(p.reason);
     rec.channels.push_back(cr);
     err << "allanlot: error: " << file << ":" << p.path << ": " << p.reason << "\n";
     channel_failed = true;
@@ -325,9 +325,9 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
         hash = io::hash_channel(hash, ch.path, samples);
         c.ok = true;
       } catch (const io::Error& e) {
-        c.result.status = "failed: " + e.reason();
+        c.result.status = io::ChannelStatus::failed(e.reason());
       } catch (const std::exception& e) {
-        c.result.status = std::string("failed: ") + e.what();
+        c.result.status = io::ChannelStatus::failed(e.what());
       }
       times.read += seconds_since(t_read);
     }
@@ -342,10 +342,10 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
       c.times.kernels += seconds_since(t_phase);
       compute_channel(c, opt, kernel_threads);
     } catch (const std::exception& e) {
-      c.result.status = std::string("failed: ") + e.what();
+      c.result.status = io::ChannelStatus::failed(e.what());
       c.ok = false;
     } catch (...) {
-      c.result.status = "failed: unexpected error";
+      c.result.status = io::ChannelStatus::failed("unexpected error");
       c.ok = false;
     }
     c.phase = kernels::PhaseData{};  // free the channel's memory as soon as it is done
@@ -363,8 +363,8 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
     if (!c.result.notes.empty())
       err << "allanlot: note: " << file << ":" << c.result.path << ": " << c.result.notes << "\n";
     if (!c.ok) {
-      err << "allanlot: error: " << file << ":" << c.result.path << ": "
-          << c.result.status.substr(8) << "\n";
+      err << "allanlot: error: " << file << ":" << c.result.path << ": " << c.result.status.reason
+          << "\n";
       channel_failed = true;
     } else {
       ++n_ok;
@@ -374,7 +374,7 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
   if (n_ok == 0) {
     std::string reason = "no channel could be analysed";
     if (rec.channels.size() == 1)
-      reason += " (" + rec.channels[0].path + ": " + rec.channels[0].status.substr(8) + ")";
+      reason += " (" + rec.channels[0].path + ": " + rec.channels[0].status.reason + ")";
     throw io::Error(file, "", reason);
   }
   return rec;
@@ -524,7 +524,8 @@ int run_analyze(const AnalyzeOptions& opt, std::ostream& out, std::ostream& err)
   std::vector<io::SummaryRow> failed_rows;
   for (const auto& [what, reason] : inputs.failures) {
     err << "allanlot: error: " << what << ": " << reason << "\n";
-    failed_rows.push_back({fs::path(what).stem().string(), "", "", 0, "failed: " + reason, what});
+    failed_rows.push_back(
+        {fs::path(what).stem().string(), "", "", 0, io::ChannelStatus::failed(reason), what});
   }
 
   StageTimes times;
@@ -573,12 +574,12 @@ int run_analyze(const AnalyzeOptions& opt, std::ostream& out, std::ostream& err)
       if (!opt.quiet && (opt.table || inputs.files.size() <= 10)) out << fit_table(rec);
     } catch (const io::Error& e) {
       err << "allanlot: error: " << e.what() << "\n";
-      failed_rows.push_back(
-          {fs::path(file).stem().string(), e.dataset(), "", 0, "failed: " + e.reason(), file});
+      failed_rows.push_back({fs::path(file).stem().string(), e.dataset(), "", 0,
+                             io::ChannelStatus::failed(e.reason()), file});
     } catch (const std::exception& e) {
       err << "allanlot: error: " << file << ": " << e.what() << "\n";
       failed_rows.push_back(
-          {fs::path(file).stem().string(), "", "", 0, std::string("failed: ") + e.what(), file});
+          {fs::path(file).stem().string(), "", "", 0, io::ChannelStatus::failed(e.what()), file});
     }
     progress.update(++n_done, samples);
   }

@@ -101,7 +101,7 @@ io::FitRecord fit_channel(const kernels::StatResult& oadev, const kernels::Phase
 
   io::FitRecord rec;
   rec.method = std::string(kernels::kFitMethod);
-  rec.status = std::string(kernels::fit_status_name(f.status));
+  rec.status = f.status;
   rec.rank = f.rank;
   rec.chi2_dof = f.chi2_dof;
   rec.tau = oadev.tau_s;
@@ -129,7 +129,7 @@ io::FitRecord psd_fit_channel(const kernels::PsdResult& psd, const std::string& 
   const kernels::PsdFitResult f = kernels::psd_fit(psd, {}, &welch_terms);
   io::FitRecord rec;
   rec.method = std::string(kernels::kPsdFitMethod);
-  rec.status = std::string(kernels::fit_status_name(f.status));
+  rec.status = f.status;
   rec.rank = f.rank;
   rec.chi2_dof = f.chi2_dof;
   rec.f = f.f_hz;

@@ -131,7 +131,8 @@ std::vector<io::SummaryRow> manifest_failures(const fs::path& manifest,
       continue;
     for (const auto& k : keys)
       present.insert(k);  // a line given twice is listed once
-    out.push_back({entry.stem().string(), "", "", 0, "failed: no results file", keys.front()});
+    out.push_back({entry.stem().string(), "", "", 0, io::ChannelStatus::failed("no results file"),
+                   keys.front()});
   }
   if (in.bad()) throw std::runtime_error(manifest.string() + ": cannot read the manifest");
   return out;
@@ -154,7 +155,7 @@ std::vector<io::StatisticsRow> lot_statistics(std::vector<io::SummaryRow>& rows)
     io::SummaryRow& row = rows[r];
     row.outlier = 0;  // this function alone decides them
     row.outlier_terms.clear();
-    if (row.status != "ok" || row.channel.empty()) continue;
+    if (!row.status.is_ok() || row.channel.empty()) continue;
     for (std::size_t i = 0; i < 5; ++i)
       if (std::isfinite(row.value[i])) groups[{row.channel, i, row.unit[i]}].push_back(r);
   }
@@ -252,7 +253,7 @@ LotOverview write_lot(const fs::path& outdir, std::vector<io::SummaryRow> rows,
       ++ov.n_failed_inputs;
       continue;
     }
-    if (r.status != "ok") ++ov.n_failed_channels;
+    if (!r.status.is_ok()) ++ov.n_failed_channels;
     KindCounts& k = kinds[r.channel];
     k.channel = r.channel;
     const std::string& s = r.spec_status;

@@ -261,7 +261,7 @@ std::string adev_plot(const std::string& id, const io::ChannelResult& ch) {
   const auto [x0, x1] = decade_range(all_tau);
   p.x_min = x0;
   p.x_max = x1;
-  if (ch.fit && !ch.fit->terms.empty() && ch.fit->status == "ok") {
+  if (ch.fit && !ch.fit->terms.empty() && ch.fit->status == kernels::FitStatus::Ok) {
     const auto th = theta_of(*ch.fit);
     // The fitted curve on the oadev taus where it was fitted, then each detected term as its
     // straight-line asymptote over the whole axis, labelled with its slope where it dominates.
@@ -379,7 +379,7 @@ std::string psd_plot(const std::string& id, const io::ChannelResult& ch,
       }
     return s;
   };
-  if (ch.fit && ch.fit->status == "ok" && !ch.fit->terms.empty()) {
+  if (ch.fit && ch.fit->status == kernels::FitStatus::Ok && !ch.fit->terms.empty()) {
     svg::Series s = model_curve(*ch.fit, "eq. (3) fit (Allan)", "#000", "");
     ys.insert(ys.end(), s.y.begin(), s.y.end());
     p.series.push_back(std::move(s));
@@ -643,7 +643,8 @@ std::string channel_section(const Unit& u, const io::ChannelResult& ch, const Ex
     << number(ch.n_samples / std::max(ch.sample_rate_hz, 1e-300), 4) << " s), " << ch.n_gaps
     << " gaps, " << escape(ch.data_type) << " data";
   if (ch.fit)
-    h << "; fit " << escape(ch.fit->status) << ", &chi;&sup2;/dof " << number(ch.fit->chi2_dof, 3);
+    h << "; fit " << escape(io::to_string(ch.fit->status)) << ", &chi;&sup2;/dof "
+      << number(ch.fit->chi2_dof, 3);
   if (ch.crosscheck)
     h << "; eq. (2) max |log&#8321;&#8320; ratio| "
       << number(ch.crosscheck->max_abs_log10_ratio, 3);
@@ -651,9 +652,9 @@ std::string channel_section(const Unit& u, const io::ChannelResult& ch, const Ex
     h << "; spec: <span class=\"" << x->spec << "\">" << x->spec << "</span>";
   if (x && x->agree == "no") h << "; <span class=\"bad\">time- and PSD-domain fits disagree</span>";
   h << "</p>\n";
-  if (ch.status != "ok") h << "<p class=\"bad\">" << escape(ch.status) << "</p>\n";
+  if (!ch.status.is_ok()) h << "<p class=\"bad\">" << escape(io::to_string(ch.status)) << "</p>\n";
   if (!ch.notes.empty()) h << "<p class=\"small\">Notes: " << escape(ch.notes) << "</p>\n";
-  if (ch.status == "ok") {
+  if (ch.status.is_ok()) {
     h << "<div class=\"plots\">\n";
     if (!ch.stats.empty()) h << adev_plot(id + "-adev", ch);
     if (ch.psd && !ch.psd->f.empty()) h << psd_plot(id + "-psd", ch, psd_fit);
@@ -857,9 +858,10 @@ std::string summary_table(const std::string& channel, const std::vector<Member>&
     const RowExtras* x = it == extras.end() ? nullptr : &it->second;
     h << "<tr><td class=\"l\"><a href=\"" << escape(channel_href(*m.unit, channel)) << "\">"
       << escape(m.unit->rec.device_id) << "</a></td>";
-    h << "<td class=\"l" << (m.ch->status == "ok" ? "" : " bad") << "\">" << escape(m.ch->status);
-    if (m.ch->fit && m.ch->fit->status != "ok")
-      h << " <span class=\"bad\">(fit: " << escape(m.ch->fit->status) << ")</span>";
+    h << "<td class=\"l" << (m.ch->status.is_ok() ? "" : " bad") << "\">"
+      << escape(io::to_string(m.ch->status));
+    if (m.ch->fit && m.ch->fit->status != kernels::FitStatus::Ok)
+      h << " <span class=\"bad\">(fit: " << escape(io::to_string(m.ch->fit->status)) << ")</span>";
     h << "</td>";
     for (std::size_t j = 0; j < 5; ++j) {
       const io::TermRecord* t = m.ch->fit ? find_term(*m.ch->fit, kTerms[j].name) : nullptr;
@@ -911,7 +913,7 @@ std::string lot_section(const std::string& title, const std::vector<Unit>& units
       if (!by_channel.count(ch.path)) channels.push_back(ch.path);
       by_channel[ch.path].push_back({&u, &ch});
       ++n_channels;
-      n_failed += ch.status == "ok" ? 0 : 1;
+      n_failed += ch.status.is_ok() ? 0 : 1;
     }
   }
   std::array<std::size_t, 3> spec_count{};
@@ -949,7 +951,7 @@ std::string lot_section(const std::string& title, const std::vector<Unit>& units
   for (const Unit& u : units) {
     std::size_t bad = 0;
     for (const auto& ch : u.rec.channels)
-      bad += ch.status == "ok" ? 0 : 1;
+      bad += ch.status.is_ok() ? 0 : 1;
     h << "<a href=\"" << escape(unit_href(u)) << "\"" << (bad ? " class=\"bad\"" : "") << ">"
       << escape(u.rec.device_id) << "</a>";
   }
@@ -1084,7 +1086,7 @@ int run_report(const ReportOptions& opt, std::ostream& out, std::ostream& err) {
       continue;
     }
     try {
-      io::ReportExtras x = io::read_report_extras(f);
+      io::ReportExtras x = io::report_extras(u.rec);
       for (auto& [chan, fit] : x.psd_fits)
         u.psd_fits[chan] = std::move(fit);
       for (auto& d : x.diagnoses)

@@ -242,7 +242,7 @@ Outcome decide(const Estimate& e, std::optional<double> min, std::optional<doubl
 Verdict judge(const Spec& spec, const io::SummaryRow& row) {
   const bool any_value =
       std::any_of(row.value.begin(), row.value.end(), [](double v) { return std::isfinite(v); });
-  if (row.status != "ok" || row.channel.empty()) return {"no data", "", {}};  // status says why
+  if (!row.status.is_ok() || row.channel.empty()) return {"no data", "", {}};  // status says why
   if (!any_value) return {"no data", "no fitted value", {}};
   const Rule* rule = find_rule(spec, row.channel);
   if (!rule) return {"no spec", "", {}};

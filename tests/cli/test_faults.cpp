@@ -56,7 +56,7 @@ std::set<std::string> check_outdir(const fs::path& outdir) {
       EXPECT_NO_THROW(r = io::read_results(e.path())) << name;
       EXPECT_EQ(r.channels.size(), static_cast<std::size_t>(kChannels)) << name;
       for (const auto& ch : r.channels)
-        EXPECT_EQ(ch.status, "ok") << name << ch.path;
+        EXPECT_EQ(io::to_string(ch.status), "ok") << name << ch.path;
       devices.insert(r.device_id);
     } else {
       EXPECT_TRUE(name == "lot_summary.csv" || name == "lot_summary.h5" ||
@@ -69,7 +69,7 @@ std::set<std::string> check_outdir(const fs::path& outdir) {
     EXPECT_NO_THROW(rows = io::read_lot_summary(outdir / "lot_summary.h5"));
     std::map<std::string, int> ok_rows;
     for (const auto& r : rows)
-      if (r.status == "ok") ++ok_rows[r.device_id];
+      if (io::to_string(r.status) == "ok") ++ok_rows[r.device_id];
     for (const auto& [device, n] : ok_rows) {
       EXPECT_TRUE(devices.count(device)) << device << " is in the summary without results";
       EXPECT_EQ(n, kChannels) << device;

@@ -18,7 +18,8 @@ namespace {
 namespace fs = std::filesystem;
 
 io::SummaryRow row(const std::string& device, const std::string& channel, double n_value) {
-  io::SummaryRow r{device, channel, "deg/s", 1000, "ok", "/data/" + device + ".h5"};
+  io::SummaryRow r{
+      device, channel, "deg/s", 1000, io::ChannelStatus::ok(), "/data/" + device + ".h5"};
   r.value[3] = n_value;
   r.sigma[3] = 0.01;
   r.unit[3] = "deg/h/sqrt(Hz)";
@@ -55,9 +56,10 @@ TEST(LotSummary, StatisticsMatchHandComputedValues) {
   for (int i = 0; i < 5; ++i)
     rows.push_back(row("U" + std::to_string(i), "/imu/gyro_x", n[i]));
   rows[3].detected[3] = 0;
-  rows.push_back({"BAD", "", "", 0, "failed: unreadable", "/data/bad.h5"});  // not counted
+  rows.push_back(
+      {"BAD", "", "", 0, io::ChannelStatus::failed("unreadable"), "/data/bad.h5"});  // not counted
   auto failed = row("U5", "/imu/gyro_x", 1000.0);
-  failed.status = "failed: too short";  // a failed channel's numbers never enter
+  failed.status = io::ChannelStatus::failed("too short");  // a failed channel's numbers never enter
   rows.push_back(failed);
   const auto stats = cli::lot_statistics(rows);
   ASSERT_EQ(stats.size(), 1u);
@@ -163,13 +165,14 @@ TEST(LotSummary, ManifestEntriesWithoutResultsAreFailedRows) {
   }
   std::vector<io::SummaryRow> rows{row("U1", "/imu/gyro_x", 1)};
   rows[0].source_file = (dir / "rec" / "u1.h5").string();  // analyzed
-  io::SummaryRow failed{"u3", "", "", 0, "failed: not HDF5", (dir / "rec" / "u3.h5").string()};
+  io::SummaryRow failed{
+      "u3", "", "", 0, io::ChannelStatus::failed("not HDF5"), (dir / "rec" / "u3.h5").string()};
   rows.push_back(failed);  // already reported by this run: not listed twice
   const auto missing = cli::manifest_failures(dir / "rec" / "manifest.txt", rows);
   ASSERT_EQ(missing.size(), 1u);  // u2, once although listed twice
   EXPECT_EQ(missing[0].device_id, "u2");
   EXPECT_EQ(missing[0].channel, "");
-  EXPECT_EQ(missing[0].status, "failed: no results file");
+  EXPECT_EQ(io::to_string(missing[0].status), "failed: no results file");
   EXPECT_EQ(missing[0].source_file, fs::absolute(dir / "rec" / "u2.h5").string());
   EXPECT_THROW(cli::manifest_failures(dir / "absent.txt", rows), std::runtime_error);
 }
@@ -213,7 +216,7 @@ TEST(LotSummary, WriteLotWritesSpecColumnsStatisticsAndOverview) {
   EXPECT_EQ(back[3].spec_detail.rfind("N 18.5±", 0), 0u) << back[3].spec_detail;
   EXPECT_EQ(back[4].spec_status, "undecided");
   EXPECT_EQ(back[5].outlier, 1);
-  EXPECT_EQ(back[6].status, "failed: no results file");
+  EXPECT_EQ(io::to_string(back[6].status), "failed: no results file");
   EXPECT_EQ(back[6].spec_status, "no data");
   const auto stats = io::read_lot_statistics(dir / "lot_summary.h5");
   ASSERT_EQ(stats.size(), 1u);
@@ -286,7 +289,7 @@ TEST(LotSummary, EndToEndThroughTheBinary) {
   auto rows = io::read_lot_summary(dir / "out" / "lot_summary.h5");
   ASSERT_EQ(rows.size(), 12u);
   for (const auto& r : rows) {
-    EXPECT_EQ(r.status, "ok");
+    EXPECT_EQ(io::to_string(r.status), "ok");
     EXPECT_EQ(r.spec_status, r.channel.ends_with("gyro_x") ? "pass" : "fail")
         << r.channel << " " << r.spec_detail;
   }
@@ -309,7 +312,7 @@ TEST(LotSummary, EndToEndThroughTheBinary) {
   rows = io::read_lot_summary(dir / "out" / "lot_summary.h5");
   ASSERT_EQ(rows.size(), 13u) << out;
   EXPECT_EQ(rows.back().device_id, "never_recorded");
-  EXPECT_EQ(rows.back().status, "failed: no results file");
+  EXPECT_EQ(io::to_string(rows.back().status), "failed: no results file");
   const std::string summary_after = test::file_bytes(dir / "out" / "lot_summary.csv");
   EXPECT_EQ(summary_after.substr(0, summary_before.size()), summary_before);
 

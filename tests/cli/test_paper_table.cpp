@@ -40,7 +40,7 @@ TEST(PaperTable, FitRecoversTheTableOnEveryChannel) {
       if (c.path == "/imu/" + ch.name) got = &c;
     ASSERT_NE(got, nullptr) << ch.name;
     ASSERT_TRUE(got->fit.has_value()) << ch.name;
-    ASSERT_EQ(got->fit->status, "ok") << ch.name;
+    ASSERT_EQ(io::to_string(got->fit->status), "ok") << ch.name;
     const auto& terms = got->fit->terms;
     ASSERT_EQ(terms.size(), 5u);
     const auto& n = terms[static_cast<std::size_t>(Term::N)];
@@ -80,7 +80,7 @@ TEST(PaperTable, FitRecoversTheTableOnEveryChannel) {
     // bar; it is within a fraction of a percent), and the two fits agree term by term within
     // their uncertainties, which the lot summary reports as fits_agree.
     ASSERT_TRUE(got->psd_fit.has_value()) << ch.name;
-    ASSERT_EQ(got->psd_fit->status, "ok") << ch.name;
+    ASSERT_EQ(io::to_string(got->psd_fit->status), "ok") << ch.name;
     ASSERT_EQ(got->psd_fit->terms.size(), 5u);
     const auto& pn = got->psd_fit->terms[static_cast<std::size_t>(Term::N)];
     EXPECT_TRUE(pn.detected) << ch.name;

@@ -151,8 +151,9 @@ TEST_F(Report, SplitsIntoLinkedUnitPages) {
 
 // A diagnose output as io/diagnosis.hpp writes it: /<channel>/diagnosis with the curves as
 // variances, the Monte Carlo bands, per-iteration effects, gaps and parameters, and the gaps as
-// attributes. The `malformed` variant uses the alternative names the reader accepts, an
-// effects attribute instead of a dataset and a curve of the wrong length.
+// attributes. The `malformed` variant has datasets the schema does not know (alternative names
+// such as avar_mc_lo, which are not read: no alias guessing), an effects attribute instead of a
+// dataset, only the per-iteration gaps after, and a curve of the wrong length.
 void write_diagnosis(const fs::path& path, const std::string& device, bool malformed) {
   test::H5Fixture f(path);
   f.group("/imu/gyro_x/diagnosis");
@@ -178,7 +179,7 @@ void write_diagnosis(const fs::path& path, const std::string& device, bool malfo
   f.dataset(g + (malformed ? "avar_mc_hi" : "mc_after_hi"), hi, H5T_IEEE_F64LE);
   f.dataset(g + "edf", edf, H5T_IEEE_F64LE);
   if (malformed) {
-    f.dataset(g + "gap", {4.2, 1.9, 1.05}, H5T_IEEE_F64LE);
+    f.dataset(g + "gap_iteration_after", {4.2, 1.9, 1.05}, H5T_IEEE_F64LE);
     f.attr(g, "effects_named", std::string("[\"sinusoid\", \"markov\"]"));
     f.string_dataset(g + "edf_text", {"not", "numbers"});
   } else {
@@ -206,7 +207,8 @@ TEST_F(Report, ShowsADiagnosisWhenThereIsOne) {
   EXPECT_NE(s.find("Monte Carlo band"), std::string::npos);
   EXPECT_NE(s.find("&quot;amplitude&quot;: 0.006"), std::string::npos);  // escaped JSON
   EXPECT_NE(s.find("<td>-120</td>"), std::string::npos);                 // delta IC
-  // The malformed one: effects from the attribute, the short curve left out with a note.
+  // The malformed one: the short curve left out with a note, the gap after from the last
+  // iteration.
   EXPECT_NE(s.find("id=\"u-unit_0003-_imu_gyro_x-diag\""), std::string::npos);
   EXPECT_NE(s.find("a curve has 3 values for 20 taus; not drawn"), std::string::npos);
   EXPECT_NE(s.find("Gap before: -, after: 1.05"), std::string::npos);  // last iteration's

@@ -164,7 +164,7 @@ TEST(SimulateAnalyze, SlowlySettlingFitConverges) {
   const auto rec = io::read_results(dir / "out" / "unit_0001.allan.h5");
   ASSERT_EQ(rec.channels.size(), 1u);
   ASSERT_TRUE(rec.channels[0].fit.has_value());
-  EXPECT_EQ(rec.channels[0].fit->status, "ok");
+  EXPECT_EQ(io::to_string(rec.channels[0].fit->status), "ok");
 }
 
 TEST(SimulateAnalyze, BadModelsAreUsageErrorsNamingTheKey) {

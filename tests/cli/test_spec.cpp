@@ -21,7 +21,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // A gyro row (deg/s channel) with N and B in their primary datasheet units.
 io::SummaryRow gyro_row(double n, double n_sigma, double b, double b_sigma) {
-  io::SummaryRow r{"SN1", "/imu/gyro_x", "deg/s", 1000, "ok", "/data/sn1.h5"};
+  io::SummaryRow r{"SN1", "/imu/gyro_x", "deg/s", 1000, io::ChannelStatus::ok(), "/data/sn1.h5"};
   r.value[3] = n;
   r.sigma[3] = n_sigma;
   r.unit[3] = "deg/h/sqrt(Hz)";
@@ -123,9 +123,11 @@ TEST(Spec, JudgesRowsWithLimitsInEitherDatasheetForm) {
   accel.channel = "/imu/accel_x";
   EXPECT_EQ(spec::judge(sp, accel).status, "no spec");
   auto failed = gyro_row(17, 0.02, 4.5, 0.1);
-  failed.status = "failed: too short";
+  failed.status = io::ChannelStatus::failed("too short");
   EXPECT_EQ(spec::judge(sp, failed).status, "no data");
-  EXPECT_EQ(spec::judge(sp, io::SummaryRow{"SN9", "", "", 0, "failed: unreadable", "x.h5"}).status,
+  EXPECT_EQ(spec::judge(sp, io::SummaryRow{"SN9", "", "", 0,
+                                           io::ChannelStatus::failed("unreadable"), "x.h5"})
+                .status,
             "no data");
   // A limited term without an estimate cannot pass.
   auto no_b = gyro_row(17.0, 0.02, kNaN, kNaN);

@@ -32,7 +32,7 @@ io::RecordingResult sample_result() {
   ch.stats.emplace_back("oadev", s);
   io::FitRecord fit;
   fit.method = "test";
-  fit.status = "ok";
+  fit.status = kernels::FitStatus::Ok;
   fit.rank = 5;
   fit.chi2_dof = 0.97;
   fit.terms.push_back({"N", 0.005, 1e-5, 0.0051, true, "deg/s*s^0.5", 18.0, 0.036, 18.4,
@@ -56,7 +56,7 @@ io::RecordingResult sample_result() {
   r.channels.push_back(ch);
   io::ChannelResult bad;
   bad.path = "/imu/temp";
-  bad.status = "failed: too short";
+  bad.status = io::ChannelStatus::failed("too short");
   r.channels.push_back(bad);
   return r;
 }
@@ -82,7 +82,7 @@ TEST(Results, RoundTrip) {
   ASSERT_TRUE(ch.fit.has_value());
   const auto& fit = *ch.fit;
   const auto& want = *r.channels[0].fit;
-  EXPECT_EQ(fit.status, "ok");
+  EXPECT_EQ(io::to_string(fit.status), "ok");
   EXPECT_EQ(fit.rank, 5);
   EXPECT_EQ(fit.chi2_dof, want.chi2_dof);
   ASSERT_EQ(fit.terms.size(), 2u);
@@ -136,7 +136,8 @@ TEST(Results, UnwritableDestinationThrowsAndLeavesNothing) {
 TEST(Results, LotSummaryRoundTripAndCsv) {
   const auto dir = test::fresh_dir("summary_rt");
   std::vector<io::SummaryRow> rows = io::summary_rows(sample_result());
-  rows.push_back({"broken", "", "", 0, "failed: not an HDF5 file, \"really\"", "/x/broken.h5"});
+  rows.push_back({"broken", "", "", 0, io::ChannelStatus::failed("not an HDF5 file, \"really\""),
+                  "/x/broken.h5"});
   rows[0].fits_agree = 0;
   rows[0].fits_max_abs_z = 4.5;
   io::write_lot_summary(dir, rows);

@@ -41,7 +41,7 @@ void expect_same_rows(const io::SummaryRow& a, const io::SummaryRow& b) {
 io::FitRecord fit_of(double n_ds) {
   io::FitRecord fit;
   fit.method = "test";
-  fit.status = "ok";
+  fit.status = kernels::FitStatus::Ok;
   fit.rank = 5;
   fit.chi2_dof = 1.1;
   fit.terms.push_back({"B", 1e-3, 1e-5, 0.0, true, "deg/s", 3.6, 0.036, 0.0, "deg/h", 0.0, ""});
@@ -110,7 +110,7 @@ io::RecordingResult lot_unit() {
   r.channels.push_back(b);
   io::ChannelResult bad;
   bad.path = "/imu/temp";
-  bad.status = "failed: too short";
+  bad.status = io::ChannelStatus::failed("too short");
   r.channels.push_back(bad);
   return r;
 }
@@ -254,7 +254,7 @@ TEST(SummaryIo, ReadsLotSummaryWrittenBeforeTheNewColumns) {
   EXPECT_EQ(rows[0].value[3], 18.0);
   EXPECT_EQ(rows[0].unit[3], "deg/h/sqrt(Hz)");
   EXPECT_EQ(rows[0].chi2_dof, 0.9);
-  EXPECT_EQ(rows[1].status, "failed: unreadable");
+  EXPECT_EQ(io::to_string(rows[1].status), "failed: unreadable");
   for (const auto& r : rows) {
     EXPECT_TRUE(std::isnan(r.value[0]));  // R was never a column of this file
     EXPECT_EQ(r.unit[0], "");

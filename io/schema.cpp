@@ -1,0 +1,242 @@
+// The tables of io/schema.hpp. Notes give units and meaning as docs/formats.md "Results file
+// layout" and "Lot summary" define them; the order of each table is the order of writing.
+#include "io/schema.hpp"
+
+#include <cmath>
+
+namespace allanlot::io::schema {
+
+namespace {
+constexpr Kind D = Kind::Dataset;
+constexpr Kind A = Kind::Attribute;
+}  // namespace
+
+std::span<const Field<RecordingResult>> root_fields() {
+  using R = RecordingResult;
+  static const Field<R> t[] = {
+      {"device_id", A, &R::device_id, "as found in the input", nullptr, Need::Required, true},
+      {"source_file", A, &R::source_file, "the input recording", nullptr, Need::Required, true},
+      {"tool_version", A, &R::tool_version, "allanlot version", nullptr, Need::Required, true},
+      {"created_utc", A, &R::created_utc, "ISO 8601", nullptr, Need::Required, true},
+      {"command_line", A, &R::command_line, "as run", nullptr, Need::Required, true},
+  };
+  return t;
+}
+
+std::span<const Field<ChannelResult>> channel_fields() {
+  using C = ChannelResult;
+  static const Field<C> t[] = {
+      {"units", A, &C::units, "the channel's rate units", nullptr, Need::Required, true},
+      {"sample_rate_hz", A, &C::sample_rate_hz, "Hz", nullptr, Need::Required, true},
+      {"n_samples", A, &C::n_samples, "samples analysed", nullptr, Need::Required, true},
+      {"n_gaps", A, &C::n_gaps, "gaps in the samples", nullptr, Need::Required, true},
+      {"data_type", A, &C::data_type, "rate or phase", nullptr, Need::Required, true},
+      {"status", A, &C::status, "ok or failed: <reason>", nullptr, Need::Required, true},
+      {"notes", A, &C::notes, "what was not computed and why",
+       [](const C& c) { return !c.notes.empty(); }, Need::IfPresent, true},
+  };
+  return t;
+}
+
+std::span<const Field<kernels::StatResult>> stat_fields() {
+  using S = kernels::StatResult;
+  const auto ci = [](const S& s) { return s.confidence > 0.0; };
+  static const Field<S> t[] = {
+      {"m", D, &S::m, "averaging factor"},
+      {"tau", D, &S::tau_s, "s"},
+      {"dev", D, &S::dev, "deviation, channel units"},
+      {"n", D, &S::n, "terms in the estimator's sum"},
+      {"edf", D, &S::edf, "equivalent degrees of freedom", ci},
+      {"dev_lo", D, &S::dev_lo, "confidence interval, lower bound", ci},
+      {"dev_hi", D, &S::dev_hi, "confidence interval, upper bound", ci},
+      {"alpha", D, &S::alpha, "identified power-law exponent (i32)", ci},
+      {"confidence", A, &S::confidence, "the intervals' confidence level", ci},
+  };
+  return t;
+}
+
+std::span<const Column<TermRecord>> term_columns() {
+  using T = TermRecord;
+  static const Column<T> t[] = {
+      {"term", &T::term, "R, K, B, N or Q", Need::Required, true},
+      {"value", &T::value, "channel units and seconds"},
+      {"sigma", &T::sigma, "standard uncertainty of value"},
+      {"upper", &T::upper, "one-sided 95 % upper bound"},
+      {"detected", &T::detected, "u8: 1 significantly non-zero", Need::Required, true},
+      {"unit", &T::unit, "unit of value"},
+      {"value_datasheet", &T::value_datasheet, "datasheet units", Need::Required, true},
+      {"sigma_datasheet", &T::sigma_datasheet, "datasheet units", Need::Required, true},
+      // Files of early pre-releases lack it; the lot summary then shows no upper bound.
+      {"upper_datasheet", &T::upper_datasheet, "datasheet units", Need::IfPresent, true},
+      {"unit_datasheet", &T::unit_datasheet, "e.g. deg/h/sqrt(Hz)", Need::Required, true},
+      {"value_datasheet_alt", &T::value_datasheet_alt, "secondary datasheet form"},
+      {"unit_datasheet_alt", &T::unit_datasheet_alt, "its unit; empty when none"},
+  };
+  return t;
+}
+
+std::span<const Field<FitRecord>> fit_fields() {
+  using F = FitRecord;
+  // fit/ carries the model on the oadev taus, psd_fit/ on the PSD frequencies and the
+  // comparison with fit/ (agree >= 0).
+  const auto on_taus = [](const F& f) { return !f.tau.empty() || f.f.empty(); };
+  const auto on_freqs = [](const F& f) { return !f.f.empty(); };
+  const auto compared = [](const F& f) { return f.agree >= 0; };
+  static const Field<F> t[] = {
+      {"tau", D, &F::tau, "s", on_taus},
+      {"adev_model", D, &F::adev_model, "the fitted model's deviation", on_taus},
+      {"f", D, &F::f, "Hz, log-binned", on_freqs},
+      {"psd_model", D, &F::psd_model, "u^2/Hz, expected Welch value", on_freqs},
+      {"z_vs_fit", D, &F::z_vs_fit, "z per term against fit/", compared},
+      {"agrees_with_fit", A, &F::agree, "i64: 1 agree, 0 not", compared, Need::IfPresent, true},
+      {"max_abs_z", A, &F::max_abs_z, "largest |z|", compared, Need::IfPresent, true},
+      {"worst_term", A, &F::worst_term, "where it is reached", compared},
+      {"method", A, &F::method, "how it was fitted"},
+      {"status", A, &F::status, "ok, no data, rank deficient, no convergence", nullptr,
+       Need::IfPresent, true},
+      {"rank", A, &F::rank, "i64: independent regressors"},
+      {"chi2_dof", A, &F::chi2_dof, "reduced chi-square", nullptr, Need::IfPresent, true},
+  };
+  return t;
+}
+
+std::span<const Column<ReadoutRecord>> readout_columns() {
+  using X = ReadoutRecord;
+  static const Column<X> t[] = {
+      {"name", &X::name, "N_1s, bias_instability, K_3s"},
+      {"valid", &X::valid, "u8"},
+      {"value", &X::value, "channel units"},
+      {"sigma", &X::sigma, "channel units"},
+      {"tau", &X::tau_s, "s"},
+      {"model", &X::model, "the fit's value there"},
+      {"value_datasheet", &X::value_datasheet, "datasheet units"},
+      {"sigma_datasheet", &X::sigma_datasheet, "datasheet units"},
+      {"unit_datasheet", &X::unit_datasheet, "e.g. deg/h"},
+  };
+  return t;
+}
+
+std::span<const Field<PsdRecord>> psd_fields() {
+  using P = PsdRecord;
+  static const Field<P> t[] = {
+      {"f", D, &P::f, "Hz, log-binned"},
+      {"psd", D, &P::psd, "u^2/Hz, one-sided"},
+      {"edf", D, &P::edf, "chi-square dof of each value"},
+      {"n_avg", D, &P::n_avg, "Welch bins averaged"},
+      {"method", A, &P::method, "e.g. welch hann 50% overlap"},
+      {"convention", A, &P::convention, "one-sided"},
+  };
+  return t;
+}
+
+std::span<const Field<CrosscheckRecord>> crosscheck_fields() {
+  using X = CrosscheckRecord;
+  static const Field<X> t[] = {
+      {"tau", D, &X::tau, "s"},
+      {"avar_time", D, &X::avar_time, "overlapping Allan variance"},
+      {"avar_psd", D, &X::avar_psd, "eq. (2) on the measured PSD"},
+      {"ratio", D, &X::ratio, "avar_psd / avar_time"},
+      {"valid", D, &X::valid, "u8: 1 where eq. (2) is trustworthy"},
+      {"max_abs_log10_ratio", A, &X::max_abs_log10_ratio, "over the valid taus", nullptr,
+       Need::IfPresent, true},
+      {"valid_tau_range", A, &X::valid_tau_range, "{min, max} of the valid taus, s"},
+      {"worst_tau", A, &X::worst_tau, "s, where |log10 ratio| peaks", nullptr, Need::IfPresent,
+       true},
+  };
+  return t;
+}
+
+std::span<const Field<DiagnosisRecord>> diagnosis_fields() {
+  using G = DiagnosisRecord;
+  // docs/diagnose.md "Output". Every dataset is read when present: the report shows whatever
+  // part of a diagnosis a file holds.
+  constexpr Need opt = Need::IfPresent;
+  static const Field<G> t[] = {
+      {"m", D, &G::m, "averaging factor, per tau", nullptr, opt},
+      {"tau", D, &G::tau, "s", nullptr, opt},
+      {"avar_measured", D, &G::avar_measured, "Allan variance", nullptr, opt},
+      {"edf", D, &G::edf, "equivalent degrees of freedom", nullptr, opt},
+      {"avar_model_before", D, &G::avar_model_before, "Allan variance", nullptr, opt},
+      {"avar_model_after", D, &G::avar_model_after, "Allan variance", nullptr, opt},
+      {"mc_before_lo", D, &G::mc_before_lo, "Monte Carlo 5 %, avar", nullptr, opt},
+      {"mc_before_hi", D, &G::mc_before_hi, "Monte Carlo 95 %, avar", nullptr, opt},
+      {"mc_after_lo", D, &G::mc_after_lo, "Monte Carlo 5 %, avar", nullptr, opt},
+      {"mc_after_hi", D, &G::mc_after_hi, "Monte Carlo 95 %, avar", nullptr, opt},
+      {"z_before", D, &G::z_before, "per tau", nullptr, opt},
+      {"z_after", D, &G::z_after, "per tau", nullptr, opt},
+      {"significant_before", D, &G::significant_before, "u8 per tau", nullptr, opt},
+      {"significant_after", D, &G::significant_after, "u8 per tau", nullptr, opt},
+      {"effect", D, &G::effect, "per iteration: the effect added", nullptr, opt},
+      {"parameters", D, &G::parameters_json, "per iteration: JSON", nullptr, opt},
+      {"gap_iteration_before", D, &G::gap_before, "per iteration", nullptr, opt},
+      {"gap_iteration_after", D, &G::gap_after, "per iteration", nullptr, opt},
+      {"delta_ic", D, &G::delta_ic, "per iteration", nullptr, opt},
+  };
+  return t;
+}
+
+namespace {
+
+std::string detected_csv(const SummaryRow& r, std::size_t i) {
+  return std::isnan(r.value[i]) ? "" : r.detected[i] ? "1" : "0";
+}
+
+std::string agree_csv(const SummaryRow& r, std::size_t) {
+  return r.fits_agree < 0 ? "" : std::to_string(r.fits_agree);
+}
+
+}  // namespace
+
+std::span<const RowColumn<SummaryRow>> summary_columns() {
+  using S = SummaryRow;
+  // Columns added after the first release go last, so that readers by position keep working.
+  static const RowColumn<S> t[] = {
+      {"device_id", &S::device_id, "as found in the input"},
+      {"channel", &S::channel, "channel path; empty for a failed input"},
+      {"units", &S::units, "the channel's units"},
+      {"n_samples", &S::n_samples, "samples analysed"},
+      {"status", &S::status, "ok or failed: <reason>"},
+      {"source_file", &S::source_file, "the input recording"},
+      {"", &S::value, "fitted term, datasheet units; NaN without a fit", 1},
+      {"_sigma", &S::sigma, "its standard uncertainty", 1},
+      {"_unit", &S::unit, "its datasheet unit", 1},
+      {"_detected", &S::detected, "u8: 1 detected; empty in the CSV without a value", 1,
+       detected_csv},
+      {"chi2_dof", &S::chi2_dof, "the fit's reduced chi-square"},
+      {"max_abs_log10_ratio", &S::max_abs_log10_ratio, "the eq. (2) cross-check"},
+      {"crosscheck_worst_tau", &S::crosscheck_worst_tau, "s"},
+      {"fits_agree", &S::fits_agree, "i8: 1 agree, 0 not, -1 (CSV empty) not compared", 0,
+       agree_csv},
+      {"fits_max_abs_z", &S::fits_max_abs_z, "largest |z| of the comparison"},
+      {"_upper", &S::upper, "one-sided 95 % upper bound, datasheet units", 2},
+      {"spec_status", &S::spec_status, "pass, fail, undecided, no spec, no data; empty"},
+      {"spec_detail", &S::spec_detail, "the terms that decided it"},
+      {"outlier", &S::outlier, "u8: 1 a term is a lot outlier"},
+      {"outlier_terms", &S::outlier_terms, "which, with their modified z-scores"},
+      {"_spec_status", &S::spec_term_status, "pass, fail, undecided; empty", 3},
+  };
+  return t;
+}
+
+std::span<const RowColumn<StatisticsRow>> statistics_columns() {
+  using S = StatisticsRow;
+  static const RowColumn<S> t[] = {
+      {"channel", &S::channel, "channel path"},
+      {"term", &S::term, "R, K, B, N or Q"},
+      {"unit", &S::unit, "datasheet unit of every value in the row"},
+      {"n", &S::n, "units with a value"},
+      {"n_detected", &S::n_detected, "of those, units where the term is detected"},
+      {"n_outliers", &S::n_outliers, "units flagged as outliers on this term"},
+      {"median", &S::median, ""},
+      {"spread", &S::spread, "1.4826 * MAD"},
+      {"p5", &S::p5, ""},
+      {"p25", &S::p25, ""},
+      {"p75", &S::p75, ""},
+      {"p95", &S::p95, ""},
+      {"min", &S::min, ""},
+      {"max", &S::max, ""},
+  };
+  return t;
+}
+
+}  // namespace allanlot::io::schema
