@@ -4,6 +4,7 @@
 #include "io/error.hpp"
 #include "io/hdf5_handle.hpp"
 #include "io/schema_h5.hpp"
+#include "io/seal.hpp"
 
 #include <algorithm>
 
@@ -82,6 +83,7 @@ void write_diagnosis(const std::filesystem::path& out, const std::filesystem::pa
   {
     Handle f;
     if (existing) {
+      require_intact(out);
       // Copy, then edit the copy: the original stays intact until the rename.
       std::filesystem::copy_file(out, atomic.temp_path(), ec);
       if (ec) throw Error(file, "", "cannot copy to a temporary file: " + ec.message());
@@ -106,6 +108,8 @@ void write_diagnosis(const std::filesystem::path& out, const std::filesystem::pa
     }
     if (f.close() < 0) throw Error(file, "", "H5Fclose failed while flushing (disk full?)");
   }
+  // A sealed results file edited by HDF5 keeps its user block: the seal is written anew.
+  if (existing) reseal_file(atomic.temp_path());
   atomic.commit();
 }
 
@@ -125,6 +129,7 @@ herr_t collect_diagnosis(hid_t, const char* name, const H5O_info_t* info, void* 
 std::vector<DiagnosisRecord> read_diagnoses(const std::filesystem::path& path) {
   h5::quiet_library();
   const std::string file = path.string();
+  require_intact(path);
   if (H5Fis_hdf5(file.c_str()) <= 0) throw Error(file, "", "not an HDF5 file");
   Handle f =
       check(H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, file, "", "H5Fopen");

@@ -1,5 +1,7 @@
 #include "io/fingerprint.hpp"
 
+#include "io/seal.hpp"
+
 #include "io/hdf5_handle.hpp"
 
 #include <hdf5.h>
@@ -28,6 +30,9 @@ std::uint64_t mix(std::uint64_t h, std::uint64_t w) {
 std::optional<ResultsStamp> read_results_stamp(const std::filesystem::path& results) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(results, ec)) return std::nullopt;
+  // Only a file that is byte for byte what allanlot wrote is trusted: a damaged or edited one,
+  // or one of an earlier version without a seal, is redone (io/seal.hpp).
+  if (check_seal(results).state != SealState::Intact) return std::nullopt;
   h5::quiet_library();
   const std::string file = results.string();
   const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);

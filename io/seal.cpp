@@ -64,6 +64,20 @@ SealCheck check_seal(const std::filesystem::path& path) {
   return {SealState::Damaged, "its content changed after it was written (seal mismatch)"};
 }
 
+void reseal_file(const std::filesystem::path& path) {
+  std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+  std::vector<char> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  if (!f.eof() && !f) throw Error(path.string(), "", "cannot read to seal it");
+  if (bytes.size() < kSealBytes || std::memcmp(bytes.data(), kMagic, sizeof kMagic - 1) != 0)
+    return;
+  const auto block = seal_block({bytes.data() + kSealBytes, bytes.size() - kSealBytes});
+  f.clear();
+  f.seekp(0);
+  f.write(block.data(), block.size());
+  f.flush();
+  if (!f) throw Error(path.string(), "", "cannot write its seal");
+}
+
 bool require_intact(const std::filesystem::path& path) {
   const SealCheck c = check_seal(path);
   if (c.state == SealState::Damaged) throw Error(path.string(), "", "damaged: " + c.reason);

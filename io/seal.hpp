@@ -42,6 +42,10 @@ struct SealCheck {
   std::string reason;  // for Damaged: what disagrees
 };
 
+/// Writes the seal of a sealed file anew after HDF5 edited it in place (diagnose -o into a
+/// results file); an unsealed file is left as it is. Throws io::Error on a read or write error.
+void reseal_file(const std::filesystem::path& path);
+
 /// Reads `path` and checks its seal.
 SealCheck check_seal(const std::filesystem::path& path);
 

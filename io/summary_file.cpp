@@ -6,6 +6,7 @@
 #include "io/hdf5_handle.hpp"
 #include "io/results.hpp"
 #include "io/schema_h5.hpp"
+#include "io/seal.hpp"
 
 #include <algorithm>
 #include <array>
@@ -319,6 +320,7 @@ std::vector<Row> read_compound(hid_t f, const char* name,
 
 Handle open_summary_file(const std::string& file) {
   h5::quiet_library();
+  require_intact(file);
   Handle f =
       check(H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, file, "", "H5Fopen");
   Handle root = check(H5Gopen2(f.get(), "/", H5P_DEFAULT), H5Gclose, file, "/", "H5Gopen2");
