@@ -1,7 +1,7 @@
 // Results files (docs/formats.md "Results file layout") and the lot summary ("Lot summary").
 #pragma once
 
-#include "kernels/stats.hpp"
+#include "kernels/allan/stats.hpp"
 
 #include <array>
 #include <cstdint>
