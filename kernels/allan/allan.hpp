@@ -21,7 +21,8 @@
 #define ALLANLOT_KERNELS_FAMILY_HEADER 1
 
 #include "kernels/allan/phase.hpp"
-#include "kernels/allan/stats.hpp"
+#include "kernels/allan/stat_result.hpp"
+#include "kernels/allan/sum_cache.hpp"
 
 #include <cstdint>
 #include <span>

@@ -4,7 +4,7 @@
 
 #include "kernels/allan/allan.hpp"
 #include "kernels/allan/phase.hpp"
-#include "kernels/allan/stats.hpp"
+#include "kernels/allan/stat_result.hpp"
 
 #include <cstdint>
 #include <span>

@@ -3,15 +3,13 @@
 #pragma once
 
 #include "kernels/allan/phase.hpp"
+#include "kernels/allan/stat_result.hpp"
+#include "kernels/allan/sum_cache.hpp"
 
 #include <cstdint>
-#include <map>
-#include <mutex>
 #include <optional>
 #include <span>
 #include <string_view>
-#include <utility>
-#include <vector>
 
 namespace allanlot::kernels {
 
@@ -24,23 +22,6 @@ enum class Stat {
   Hdev,   // Hadamard deviation, SP1065 eq. (17)
   Ohdev,  // overlapping Hadamard deviation, SP1065 eq. (18)
   Totdev  // total deviation (doubly reflected TOTVAR), SP1065 eq. (25)
-};
-
-/// One row per averaging factor, like allantools' (taus, devs, errs, ns).
-/// Rows whose estimator has no term (every term touches a gap) are left out.
-struct StatResult {
-  std::vector<std::int64_t> m;  // averaging factor
-  std::vector<double> tau_s;    // tau = m * tau0
-  std::vector<double> dev;      // the deviation, in the channel's rate units
-  std::vector<std::int64_t> n;  // number of terms in the estimator's sum
-  // Confidence intervals and noise identification (kernels/uncertainty/confidence.hpp); empty until
-  // computed, then one entry per row.
-  std::vector<double> edf;     // equivalent degrees of freedom
-  std::vector<double> dev_lo;  // lower bound of the confidence interval
-  std::vector<double> dev_hi;  // upper bound
-  std::vector<int> alpha;      // identified power-law exponent of the rate PSD (S_y ~ f^alpha)
-  double confidence = 0.0;     // the intervals' confidence level (0 = not computed)
-  std::size_t size() const { return m.size(); }
 };
 
 /// "oadev" etc.
@@ -58,22 +39,6 @@ std::span<const Stat> all_stats();
 /// OHDEV, (N-1)/2 for TOTDEV (Riley's stop ratios 5, 4, 2), so that every estimate keeps a
 /// reasonable number of terms. 0 when N < 2.
 std::int64_t max_m(Stat s, std::int64_t n_points);
-
-/// Sums shared between the statistics of one phase record. OADEV's sums of squared second
-/// differences at m are exactly TOTDEV's inner sums at m (SP1065 eq. (25): the centres away
-/// from the reflected ends are OADEV's terms), formed in the same order, so the statistic
-/// computed second reuses them instead of sweeping the record again (a third of TOTDEV's cost
-/// on the default grid). Thread-safe; valid for one PhaseData only (one cache per record).
-class SumCache {
-public:
-  /// The (sum, count) of the second-difference terms at m, when stored.
-  std::optional<std::pair<double, std::int64_t>> second(std::int64_t m) const;
-  void store_second(std::int64_t m, double sum, std::int64_t n);
-
-private:
-  mutable std::mutex mutex_;
-  std::map<std::int64_t, std::pair<double, std::int64_t>> second_;
-};
 
 /// Computes statistic `s` at every m of `m_list` with m <= max_m(s, N); larger m give no row.
 /// Throws std::invalid_argument for any m < 1, for gapped data with TOTDEV, and for the

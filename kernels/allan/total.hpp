@@ -4,7 +4,8 @@
 
 #include "kernels/allan/allan.hpp"
 #include "kernels/allan/phase.hpp"
-#include "kernels/allan/stats.hpp"
+#include "kernels/allan/stat_result.hpp"
+#include "kernels/allan/sum_cache.hpp"
 
 #include <cstdint>
 #include <span>
