@@ -3,6 +3,7 @@
 #include "kernels/uncertainty/chi2.hpp"
 #include "kernels/uncertainty/confidence.hpp"
 #include "kernels/model/fit.hpp"
+#include "kernels/model/least_squares.hpp"
 #include "kernels/common/parallel.hpp"
 #include "kernels/allan/phase.hpp"
 #include "kernels/spectral/psd.hpp"
@@ -11,7 +12,6 @@
 #include "kernels/allan/tau_grid.hpp"
 
 #include <Eigen/Core>
-#include <Eigen/QR>
 
 #include <algorithm>
 #include <array>
@@ -24,30 +24,6 @@ namespace allanlot::kernels {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-// psi(x) and psi'(x) for x > 0: the recurrences psi(x) = psi(x+1) - 1/x and
-// psi'(x) = psi'(x+1) + 1/x^2 up to x >= 6, then the asymptotic series (Abramowitz & Stegun
-// 6.3.18 and 6.4.12), whose truncation error there is below 1e-12.
-double digamma(double x) {
-  double r = 0.0;
-  while (x < 6.0) {
-    r -= 1.0 / x;
-    x += 1.0;
-  }
-  const double f = 1.0 / (x * x);
-  return r + std::log(x) - 0.5 / x -
-         f * (1.0 / 12 - f * (1.0 / 120 - f * (1.0 / 252 - f * (1.0 / 240 - f / 132))));
-}
-
-double trigamma(double x) {
-  double r = 0.0;
-  while (x < 6.0) {
-    r += 1.0 / (x * x);
-    x += 1.0;
-  }
-  const double f = 1.0 / (x * x);
-  return r + 1.0 / x + 0.5 * f + f / x * (1.0 / 6 - f * (1.0 / 30 - f * (1.0 / 42 - f / 30)));
-}
 
 // The measured curve on the comparison grid with the exact moments of its logarithm:
 // for edf * avar_hat / avar ~ chi2_nu, E ln(avar_hat / avar) = psi(nu/2) - ln(nu/2) (about
@@ -67,7 +43,7 @@ struct Curve {
 enum class Kind { Term, Sinusoid, Markov };
 struct Component {
   Kind kind = Kind::Term;
-  units::Term term = units::Term::N;
+  Term term = Term::N;
   double nl = 0.0;     // frequency_hz (sinusoid) or tau_c_s (markov)
   double phase = 0.0;  // sinusoid phase (no effect on avar; kept for the model file)
   double coef = 0.0;
@@ -110,11 +86,10 @@ std::vector<double> basis_of(const Component& c, const Curve& cv, const Bases& b
 Bases make_bases(const Curve& cv, double rate_hz) {
   Bases b;
   b.rate_hz = rate_hz;
-  for (const units::Term t : units::all_terms()) {
+  for (const Term t : all_terms()) {
     ChannelSpec s;
     s.rate_hz = rate_hz;
-    double* coef[] = {&s.terms.R, &s.terms.K, &s.terms.B, &s.terms.N, &s.terms.Q};
-    *coef[static_cast<int>(t)] = 1.0;
+    coefficient(s.terms, t) = 1.0;
     auto& g = b.term[static_cast<std::size_t>(t)];
     g.resize(cv.size());
     for (std::size_t i = 0; i < cv.size(); ++i)
@@ -125,12 +100,11 @@ Bases make_bases(const Curve& cv, double rate_hz) {
 
 std::vector<Component> components_of(const ChannelSpec& s) {
   std::vector<Component> out;
-  const double coef[] = {s.terms.R, s.terms.K, s.terms.B, s.terms.N, s.terms.Q};
-  for (const units::Term t : units::all_terms())
-    if (coef[static_cast<int>(t)] > 0.0) {
+  for (const Term t : all_terms())
+    if (coefficient(s.terms, t) > 0.0) {
       Component c;
       c.term = t;
-      c.coef = coef[static_cast<int>(t)];
+      c.coef = coefficient(s.terms, t);
       c.given = true;
       out.push_back(c);
     }
@@ -160,8 +134,7 @@ ChannelSpec spec_of(const std::vector<Component>& comps, const ChannelSpec& like
   s.offset = like.offset;
   for (const Component& c : comps) {
     if (c.kind == Kind::Term) {
-      double* coef[] = {&s.terms.R, &s.terms.K, &s.terms.B, &s.terms.N, &s.terms.Q};
-      *coef[static_cast<int>(c.term)] = c.coef;
+      coefficient(s.terms, c.term) = c.coef;
     } else if (c.kind == Kind::Sinusoid) {
       s.sinusoids.push_back({c.coef, c.nl, c.phase});
     } else {
@@ -171,55 +144,11 @@ ChannelSpec spec_of(const std::vector<Component>& comps, const ChannelSpec& like
   return s;
 }
 
-// Non-negative least squares min ||A x - b||, x >= 0 (Lawson & Hanson, "Solving Least Squares
-// Problems", 1974, ch. 23, algorithm NNLS). At most a handful of columns here.
-Eigen::VectorXd nnls(const Eigen::MatrixXd& a, const Eigen::VectorXd& b) {
-  const Eigen::Index n = a.cols();
-  Eigen::VectorXd x = Eigen::VectorXd::Zero(n);
-  std::vector<bool> passive(static_cast<std::size_t>(n), false);
-  const double tol = 1e-12 * a.norm() * std::max(1.0, b.norm());
-  for (int outer = 0; outer < 3 * static_cast<int>(n) + 3; ++outer) {
-    const Eigen::VectorXd w = a.transpose() * (b - a * x);
-    Eigen::Index t = -1;
-    double best = tol;
-    for (Eigen::Index j = 0; j < n; ++j)
-      if (!passive[static_cast<std::size_t>(j)] && w(j) > best) {
-        best = w(j);
-        t = j;
-      }
-    if (t < 0) break;
-    passive[static_cast<std::size_t>(t)] = true;
-    for (int inner = 0; inner <= n; ++inner) {
-      std::vector<Eigen::Index> cols;
-      for (Eigen::Index j = 0; j < n; ++j)
-        if (passive[static_cast<std::size_t>(j)]) cols.push_back(j);
-      Eigen::MatrixXd sub(a.rows(), static_cast<Eigen::Index>(cols.size()));
-      for (std::size_t k = 0; k < cols.size(); ++k)
-        sub.col(static_cast<Eigen::Index>(k)) = a.col(cols[k]);
-      const Eigen::VectorXd zs = sub.colPivHouseholderQr().solve(b);
-      Eigen::VectorXd z = Eigen::VectorXd::Zero(n);
-      bool all_positive = true;
-      for (std::size_t k = 0; k < cols.size(); ++k) {
-        z(cols[k]) = zs(static_cast<Eigen::Index>(k));
-        all_positive = all_positive && zs(static_cast<Eigen::Index>(k)) > 0.0;
-      }
-      if (all_positive) {
-        x = z;
-        break;
-      }
-      double alpha = 1.0;
-      for (const Eigen::Index j : cols)
-        if (z(j) <= 0.0) alpha = std::min(alpha, x(j) / (x(j) - z(j)));
-      x += alpha * (z - x);
-      for (const Eigen::Index j : cols)
-        if (x(j) <= 1e-300) {
-          x(j) = 0.0;
-          passive[static_cast<std::size_t>(j)] = false;
-        }
-    }
-  }
-  return x;
-}
+// Diagnose's choices for the one NNLS (kernels/model/least_squares.hpp): a tolerance of
+// 1e-12 |A| max(1, |b|), at most 3 k + 3 additions and k + 1 steps each for k columns, a
+// coefficient at or below 1e-300 leaves the active set. Its results were validated with these
+// (docs/diagnose.md's studies), so they stay.
+constexpr detail::NnlsOptions kComponentNnls{1e-12, 1.0, 3, 3, 1, 1, 1e-300, false, false};
 
 // A fitted set of components.
 struct Fit {
@@ -280,7 +209,7 @@ Fit fit_components(std::vector<Component> comps, const Curve& cv, const Bases& b
         if (!(scale(j) > 0.0)) scale(j) = 1.0;
         a.col(j) /= scale(j);
       }
-      theta = nnls(a, rhs).cwiseQuotient(scale);
+      theta = detail::nnls(a, rhs, kComponentNnls).cwiseQuotient(scale);
       double change = 0.0;
       for (std::size_t i = 0; i < p; ++i) {
         double v = fixed[i];
@@ -352,8 +281,8 @@ void fill_sigmas(Fit& f, const Curve& cv, const Bases& b, double n_eff,
   }
 }
 
-std::string term_key(units::Term t) {
-  return std::string(units::term_name(t));
+std::string term_key(Term t) {
+  return std::string(term_name(t));
 }
 
 // The parameters of one component under the model file's keys.
@@ -411,11 +340,12 @@ std::vector<double> model_curve(const ChannelSpec& s, const Curve& cv, const Bas
   std::vector<double> v(cv.size());
   ChannelSpec effects = s;
   effects.terms = {};
-  const double coef[] = {s.terms.R, s.terms.K, s.terms.B, s.terms.N, s.terms.Q};
   for (std::size_t i = 0; i < cv.size(); ++i) {
     v[i] = model_avar(effects, cv.tau[i]);
-    for (int t = 0; t < kNumTerms; ++t)
-      v[i] += coef[t] * coef[t] * b.term[static_cast<std::size_t>(t)][i];
+    for (const Term t : all_terms()) {
+      const double c = coefficient(s.terms, t);
+      v[i] += c * c * b.term[static_cast<std::size_t>(t)][i];
+    }
     if (!(v[i] > 0.0) || !std::isfinite(v[i]))
       throw std::invalid_argument("diagnose: the model's Allan variance is " +
                                   std::to_string(v[i]) + " at tau = " + std::to_string(cv.tau[i]) +
@@ -694,18 +624,18 @@ std::optional<Effect> parse_effect(std::string_view name) {
   return std::nullopt;
 }
 
-std::optional<units::Term> effect_term(Effect e) {
+std::optional<Term> effect_term(Effect e) {
   switch (e) {
   case Effect::Quantization:
-    return units::Term::Q;
+    return Term::Q;
   case Effect::White:
-    return units::Term::N;
+    return Term::N;
   case Effect::Flicker:
-    return units::Term::B;
+    return Term::B;
   case Effect::RandomWalk:
-    return units::Term::K;
+    return Term::K;
   case Effect::Ramp:
-    return units::Term::R;
+    return Term::R;
   default:
     return std::nullopt;
   }

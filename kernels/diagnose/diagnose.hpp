@@ -73,7 +73,7 @@
 #pragma once
 
 #include "kernels/simulate/simulate.hpp"
-#include "kernels/model/units.hpp"
+#include "kernels/model/terms.hpp"
 
 #include <cstdint>
 #include <optional>
@@ -93,7 +93,7 @@ std::string_view effect_name(Effect e);
 /// Inverse of effect_name; nullopt for anything else.
 std::optional<Effect> parse_effect(std::string_view name);
 /// The eq. (3) term an effect adds (Q, N, B, K, R); nullopt for sinusoid and markov.
-std::optional<units::Term> effect_term(Effect e);
+std::optional<Term> effect_term(Effect e);
 
 struct DiagnoseOptions {
   int taus_per_decade = 8;         // log tau grid of the comparison (kernels/allan/tau_grid.hpp log:K)

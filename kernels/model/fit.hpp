@@ -47,8 +47,9 @@
 // fit used here). chi2_dof = chi2 / expectation, about 1 when the model explains the curve.
 #pragma once
 
-#include "kernels/allan/stats.hpp"
-#include "kernels/model/units.hpp"
+#include "kernels/allan/stat_result.hpp"
+#include "kernels/model/least_squares.hpp"
+#include "kernels/model/terms.hpp"
 
 #include <Eigen/Core>
 #include <Eigen/QR>
@@ -60,12 +61,6 @@
 #include <vector>
 
 namespace allanlot::kernels {
-
-using units::Term;
-
-/// Number of terms of eq. (3); arrays of per-term values are indexed by static_cast<int>(Term)
-/// in the order R, K, B, N, Q.
-inline constexpr int kNumTerms = 5;
 
 /// The five regressors g_j(tau) of eq. (3) at tau_s, in the order R, K, B, N, Q:
 /// tau^2/2, tau/3, 2 ln2/pi, 1/tau, 3/tau^2.
@@ -160,27 +155,6 @@ struct FitOptions {
   double rank_threshold = 1e-10;      // ColPivHouseholderQR threshold on the scaled design
 };
 
-/// One term of eq. (3) as fitted.
-struct TermFit {
-  // Coefficient, >= 0, in the unit of docs/formats.md "Units and conventions" (u/s, u/s^0.5,
-  // u, u*s^0.5, u*s).
-  double value = 0.0;
-  // 1-sigma of value: sigma_theta / (2 value) (first-order propagation) when detected;
-  // otherwise sqrt(theta + sigma_theta) - sqrt(theta), finite also at value = 0.
-  double sigma = 0.0;
-  bool detected = false;  // theta > detection_sigmas * sigma_theta (one-sided Wald test)
-  // One-sided upper bound on value at FitOptions::upper_confidence:
-  // sqrt(max(theta_free, 0) + z sigma_theta), z the normal quantile (1.645 at 95 %). Clipping
-  // theta_free at zero makes the bound conservative when the data pull the term negative.
-  double upper = 0.0;
-  double theta = 0.0;        // value^2, the fitted (constrained) parameter, u^2 * s^k
-  double theta_sigma = 0.0;  // 1-sigma of theta (sandwich; see the file comment)
-  // theta with this term allowed to go negative (the other terms as in the fit): equal to
-  // theta when the term is free, <= 0 when the constraint holds it at zero.
-  double theta_free = 0.0;
-  bool at_bound = false;  // held at zero by the non-negativity constraint
-};
-
 /// A conventional read-out of the curve (IEEE Std 952-1997 annex C), with the same read-out
 /// applied to the fitted model curve for comparison.
 struct Readout {
@@ -271,19 +245,24 @@ public:
   const FitOptions& options() const { return options_; }
 
 private:
+  // The steps of fit(FitInput).
+  void check_input(const FitInput& in);  // fills m_
+  double load(const FitInput& in);       // fills x_, y_, edf_; the smallest positive y
+  void goodness_of_fit(const Eigen::VectorXd& r, FitResult& res) const;
+  void readouts(const FitInput& in, const std::array<double, kNumTerms>& th,
+                const Eigen::VectorXd& model, FitResult& res) const;
+
   FitOptions options_;
   OavarCovariance cov_model_;
   std::vector<std::int64_t> m_;
-  Eigen::MatrixXd x_;                                      // P x 5 design
-  Eigen::VectorXd y_;                                      // avar
-  Eigen::VectorXd edf_;                                    // edf
-  Eigen::VectorXd sw_;                                     // square roots of the row weights
-  Eigen::MatrixXd sigma_;                                  // model covariance of y
-  Eigen::MatrixXd xs_;                                     // weighted, column-scaled design
-  Eigen::MatrixXd masked_;                                 // xs_ with the columns of a subproblem
-  Eigen::VectorXd bs_;                                     // weighted avar
-  Eigen::Matrix<double, kNumTerms, Eigen::Dynamic> amat_;  // estimator matrix A (sandwich)
-  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr_;
+  Eigen::MatrixXd x_;              // P x 5 design
+  Eigen::VectorXd y_;              // avar
+  Eigen::VectorXd edf_;            // edf
+  Eigen::MatrixXd sigma_;          // model covariance of y
+  detail::WeightedDesign design_;  // weighted, column-scaled design and weighted avar
+  Eigen::MatrixXd masked_;         // design_.xs with the columns of a subproblem
+  detail::Estimator amat_;         // estimator matrix A on the free terms (sandwich)
+  detail::Qr qr_;
 };
 
 }  // namespace allanlot::kernels

@@ -2,7 +2,7 @@
 #include "kernels/model/psd_fit.hpp"
 
 #include "kernels/model/least_squares.hpp"
-#include "kernels/simulate/simulate.hpp"
+#include "kernels/spectral/fft.hpp"
 
 #include <fftw3.h>
 
@@ -12,8 +12,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <memory>
-#include <mutex>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -34,10 +32,6 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // and (1/16 / 3/8)^2 (Percival & Walden 1993, sec. 6.6); 0 beyond.
 constexpr double kR1 = 4.0 / 9.0;
 constexpr double kR2 = 1.0 / 36.0;
-
-struct FftwFree {
-  void operator()(void* p) const { fftw_free(p); }
-};
 
 // sum_{t=0}^{M-1} cos(a + b t) = sin(M b / 2) / sin(b / 2) cos(a + (M - 1) b / 2) (Dirichlet),
 // for sin(b / 2) != 0.
@@ -79,35 +73,24 @@ double flicker_rate_cov(std::int64_t d) {
          (2.0 * kPi);
 }
 
-// Runs a length-L real-to-complex FFT of `in` into `out` (L/2 + 1 bins). The plan is made under
-// the project's FFTW planner mutex with FFTW_ESTIMATE (deterministic, see psd.hpp).
+// Runs a length-L real-to-complex FFT of `in` into `out` (L/2 + 1 bins) with fft::Plan
+// (FFTW_ESTIMATE, deterministic, see kernels/spectral/fft.hpp).
 class RealFft {
 public:
-  explicit RealFft(std::int64_t L) {
-    in_.reset(static_cast<double*>(fftw_malloc(sizeof(double) * static_cast<std::size_t>(L))));
-    out_.reset(static_cast<fftw_complex*>(
-        fftw_malloc(sizeof(fftw_complex) * static_cast<std::size_t>(L / 2 + 1))));
-    if (!in_ || !out_) throw std::bad_alloc();
-    std::lock_guard<std::mutex> lock(detail::fftw_planner_mutex());
-    plan_ = fftw_plan_dft_r2c_1d(static_cast<int>(L), in_.get(), out_.get(), FFTW_ESTIMATE);
-    if (!plan_) throw std::runtime_error("welch_term_psd: FFTW planning failed");
-  }
-  ~RealFft() {
-    std::lock_guard<std::mutex> lock(detail::fftw_planner_mutex());
-    fftw_destroy_plan(plan_);
-  }
-  RealFft(const RealFft&) = delete;
-  RealFft& operator=(const RealFft&) = delete;
+  explicit RealFft(std::int64_t L)
+      : in_(fft::alloc<double>(static_cast<std::size_t>(L))),
+        out_(fft::alloc<fftw_complex>(static_cast<std::size_t>(L / 2 + 1))),
+        plan_(fft::Plan::r2c(static_cast<int>(L), in_.get(), out_.get(), "welch_term_psd")) {}
   double* in() { return in_.get(); }
   const fftw_complex* run() {
-    fftw_execute(plan_);
+    plan_.execute();
     return out_.get();
   }
 
 private:
-  std::unique_ptr<double[], FftwFree> in_;
-  std::unique_ptr<fftw_complex[], FftwFree> out_;
-  fftw_plan plan_ = nullptr;
+  fft::Buffer<double> in_;
+  fft::Buffer<fftw_complex> out_;
+  fft::Plan plan_;
 };
 
 void check_options(const PsdFitOptions& o) {
@@ -193,6 +176,89 @@ const std::array<std::vector<double>, kNumTerms>& WelchTermCache::get(std::int64
   return terms_;
 }
 
+namespace {
+
+// The binned PSD and the binned regressors on the rows where every one of them is usable.
+struct BinnedDesign {
+  BinnedPsd yb;
+  std::vector<std::size_t> rows;  // indices into yb
+  Eigen::MatrixXd x;              // rows x 5: each term's expected binned value per unit theta
+  Eigen::VectorXd y, edf;         // binned PSD and its edf
+  std::vector<std::int64_t> n_avg;
+  double y_min_pos = std::numeric_limits<double>::infinity();
+};
+
+// Bins the PSD and each term's expected value identically; bins below first_bin are NaN in
+// the regressors (and masked here), so rows that include them drop out. Returns false when
+// fewer rows remain than the fit needs (NoData).
+bool bin_design(const PsdResult& psd, const std::array<std::vector<double>, kNumTerms>& regs,
+                const PsdFitOptions& opt, BinnedDesign& d) {
+  const std::int64_t L = psd.segment_length;
+  d.yb = log_bin(psd, opt.bins_per_decade, opt.n_linear);
+  std::array<BinnedPsd, kNumTerms> xb;
+  for (std::size_t j = 0; j < regs.size(); ++j) {
+    PsdResult pj = psd;
+    pj.psd = regs[j];
+    for (std::int64_t k = 0; k < opt.first_bin && k < L / 2 + 1; ++k)
+      pj.psd[static_cast<std::size_t>(k)] = kNaN;
+    xb[j] = log_bin(pj, opt.bins_per_decade, opt.n_linear);
+  }
+  const BinnedPsd& yb = d.yb;
+  for (std::size_t i = 0; i < yb.size(); ++i) {
+    bool ok = std::isfinite(yb.psd[i]) && yb.psd[i] >= 0 && yb.edf[i] > 0;
+    for (const auto& x : xb)
+      ok = ok && std::isfinite(x.psd[i]);
+    if (ok) d.rows.push_back(i);
+  }
+  const auto p = static_cast<Eigen::Index>(d.rows.size());
+  if (p < kNumTerms + 1) return false;
+
+  d.x.resize(p, kNumTerms);
+  d.y.resize(p);
+  d.edf.resize(p);
+  d.n_avg.resize(d.rows.size());
+  for (Eigen::Index i = 0; i < p; ++i) {
+    const std::size_t r = d.rows[static_cast<std::size_t>(i)];
+    for (int j = 0; j < kNumTerms; ++j)
+      d.x(i, j) = xb[static_cast<std::size_t>(j)].psd[r];
+    d.y(i) = yb.psd[r];
+    d.edf(i) = yb.edf[r];
+    d.n_avg[static_cast<std::size_t>(i)] = yb.n_avg[r];
+    if (d.y(i) > 0) d.y_min_pos = std::min(d.y_min_pos, d.y(i));
+  }
+  // Every column is an expected power, >= 0; the lag sums of K and B can round to tiny
+  // negative values where their spectra are 1e-16 of the sum's terms, clipped here.
+  d.x = d.x.cwiseMax(0.0);
+  return true;
+}
+
+// Covariance of the binned values under the fitted model: var = 2 model^2 / edf on the
+// diagonal; neighbouring rows share the correlation of their adjacent Welch bins (see the
+// header), cov(y_b, y_b+1) = sum over the boundary pairs (d = 1 once, d = 2 up to twice) of
+// r_d sqrt(var P_k var P_k') / (n_b n_b+1), var P_k = 2 model^2 / nu_k with nu_k the Welch
+// bins' edf (taken at the boundary as the rows' values).
+Eigen::MatrixXd binned_covariance(const BinnedDesign& d, const Eigen::VectorXd& model,
+                                  const PsdResult& psd) {
+  const auto p = static_cast<Eigen::Index>(d.rows.size());
+  Eigen::MatrixXd sigma = Eigen::MatrixXd::Zero(p, p);
+  for (Eigen::Index i = 0; i < p; ++i)
+    sigma(i, i) = 2.0 * model(i) * model(i) / d.edf(i);
+  for (Eigen::Index i = 0; i + 1 < p; ++i) {
+    const std::size_t r0 = d.rows[static_cast<std::size_t>(i)];
+    const std::size_t r1 = d.rows[static_cast<std::size_t>(i + 1)];
+    if (r1 != r0 + 1) continue;
+    const auto na = static_cast<double>(d.n_avg[static_cast<std::size_t>(i)]);
+    const auto nb2 = static_cast<double>(d.n_avg[static_cast<std::size_t>(i + 1)]);
+    // nu: the edf of one Welch bin, the same for every bin between DC and Nyquist.
+    const double nu = psd.edf[2];
+    const double rr = kR1 + (na > 1 ? kR2 : 0.0) + (nb2 > 1 ? kR2 : 0.0);
+    sigma(i, i + 1) = sigma(i + 1, i) = rr * 2.0 * model(i) * model(i + 1) / (nu * na * nb2);
+  }
+  return sigma;
+}
+
+}  // namespace
+
 PsdFitResult psd_fit(const PsdResult& psd, const PsdFitOptions& opt, WelchTermCache* terms) {
   check_options(opt);
   const std::int64_t L = psd.segment_length;
@@ -202,176 +268,59 @@ PsdFitResult psd_fit(const PsdResult& psd, const PsdFitOptions& opt, WelchTermCa
   PsdFitResult res;
   WelchTermCache local;
   const auto& regs = (terms ? *terms : local).get(L, psd.rate_hz);
+  BinnedDesign d;
+  if (!bin_design(psd, regs, opt, d)) return res;  // NoData
+  if (!std::isfinite(d.y_min_pos)) return res;     // NoData: an all-zero PSD
+  const Eigen::MatrixXd& x = d.x;
+  const Eigen::VectorXd& y = d.y;
 
-  // Bin the PSD and each term's expected value identically; bins below first_bin are NaN in
-  // the regressors (and masked here), so rows that include them drop out.
-  const BinnedPsd yb = log_bin(psd, opt.bins_per_decade, opt.n_linear);
-  std::array<BinnedPsd, kNumTerms> xb;
-  for (std::size_t j = 0; j < regs.size(); ++j) {
-    PsdResult pj = psd;
-    pj.psd = regs[j];
-    for (std::int64_t k = 0; k < opt.first_bin && k < L / 2 + 1; ++k)
-      pj.psd[static_cast<std::size_t>(k)] = kNaN;
-    xb[j] = log_bin(pj, opt.bins_per_decade, opt.n_linear);
-  }
-  std::vector<std::size_t> rows;
-  for (std::size_t i = 0; i < yb.size(); ++i) {
-    bool ok = std::isfinite(yb.psd[i]) && yb.psd[i] >= 0 && yb.edf[i] > 0;
-    for (const auto& x : xb)
-      ok = ok && std::isfinite(x.psd[i]);
-    if (ok) rows.push_back(i);
-  }
-  const auto p = static_cast<Eigen::Index>(rows.size());
-  if (p < kNumTerms + 1) return res;  // NoData
-
-  Eigen::MatrixXd x(p, kNumTerms);
-  Eigen::VectorXd y(p), edf(p);
-  std::vector<std::int64_t> n_avg(rows.size());
-  double y_min_pos = std::numeric_limits<double>::infinity();
-  for (Eigen::Index i = 0; i < p; ++i) {
-    const std::size_t r = rows[static_cast<std::size_t>(i)];
-    for (int j = 0; j < kNumTerms; ++j)
-      x(i, j) = xb[static_cast<std::size_t>(j)].psd[r];
-    y(i) = yb.psd[r];
-    edf(i) = yb.edf[r];
-    n_avg[static_cast<std::size_t>(i)] = yb.n_avg[r];
-    if (y(i) > 0) y_min_pos = std::min(y_min_pos, y(i));
-  }
-  if (!std::isfinite(y_min_pos)) return res;  // NoData: an all-zero PSD
-  // Every column is an expected power, >= 0; the lag sums of K and B can round to tiny
-  // negative values where their spectra are 1e-16 of the sum's terms, clipped here.
-  x = x.cwiseMax(0.0);
-
-  Eigen::VectorXd model = y.cwiseMax(y_min_pos);
-  Eigen::VectorXd sw(p);
-  Eigen::MatrixXd xs(p, kNumTerms);
-  Eigen::Matrix<double, kNumTerms, 1> col_scale;
-  Eigen::VectorXd bs(p);
-  const auto build = [&]() {
-    for (Eigen::Index i = 0; i < p; ++i)
-      sw(i) = std::sqrt(0.5 * edf(i)) / model(i);
-    xs = sw.asDiagonal() * x;
-    for (int j = 0; j < kNumTerms; ++j) {
-      const double nrm = xs.col(j).norm();
-      col_scale(j) = nrm > 0 ? 1.0 / nrm : 1.0;
-      xs.col(j) *= col_scale(j);
-    }
-    bs = sw.cwiseProduct(y);
-  };
-  build();
-  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(p, kNumTerms);
-  qr.setThreshold(opt.rank_threshold);
-  qr.compute(xs);
-  res.rank = static_cast<int>(qr.rank());
+  // Iteratively reweighted NNLS (least_squares.hpp); the model is kept above 1e-300 so that
+  // the next weights stay finite.
+  Eigen::VectorXd model = y.cwiseMax(d.y_min_pos);
+  detail::WeightedDesign design;
+  Eigen::MatrixXd masked;
+  detail::Qr qr(x.rows(), kNumTerms);
+  const detail::Reweighting reweighting{opt.rank_threshold, opt.max_iterations, opt.tolerance,
+                                        1e-300};
+  const detail::ReweightedNnls solved =
+      detail::reweighted_nnls(x, y, d.edf, model, reweighting, design, masked, qr);
+  res.rank = solved.rank;
   if (res.rank < kNumTerms) {
     res.status = FitStatus::RankDeficient;
     return res;
   }
-  Eigen::MatrixXd masked;
-  Eigen::Matrix<double, kNumTerms, 1> theta = Eigen::Matrix<double, kNumTerms, 1>::Zero();
-  bool converged = false;
-  for (int it = 1; it <= opt.max_iterations; ++it) {
-    res.iterations = it;
-    theta = col_scale.cwiseProduct(detail::nnls(xs, bs, masked, qr));
-    const Eigen::VectorXd next = x * theta;
-    double change = 0;
-    for (Eigen::Index i = 0; i < p; ++i)
-      change = std::max(change, std::abs(next(i) / model(i) - 1.0));
-    model = next.cwiseMax(1e-300);
-    if (change <= opt.tolerance) {
-      converged = true;
-      break;
-    }
-    build();
-  }
-  build();
+  res.iterations = solved.iterations;
+  const detail::Theta& theta = solved.theta;
 
-  // Covariance of the binned values under the fitted model: var = 2 model^2 / edf on the
-  // diagonal; neighbouring rows share the correlation of their adjacent Welch bins (see the
-  // header), cov(y_b, y_b+1) = sum over the boundary pairs (d = 1 once, d = 2 up to twice) of
-  // r_d sqrt(var P_k var P_k') / (n_b n_b+1), var P_k = 2 model^2 / nu_k with nu_k the Welch
-  // bins' edf (taken at the boundary as the rows' values).
-  Eigen::MatrixXd sigma = Eigen::MatrixXd::Zero(p, p);
-  for (Eigen::Index i = 0; i < p; ++i)
-    sigma(i, i) = 2.0 * model(i) * model(i) / edf(i);
-  for (Eigen::Index i = 0; i + 1 < p; ++i) {
-    const std::size_t r0 = rows[static_cast<std::size_t>(i)];
-    const std::size_t r1 = rows[static_cast<std::size_t>(i + 1)];
-    if (r1 != r0 + 1) continue;
-    const auto na = static_cast<double>(n_avg[static_cast<std::size_t>(i)]);
-    const auto nb2 = static_cast<double>(n_avg[static_cast<std::size_t>(i + 1)]);
-    // nu: the edf of one Welch bin, the same for every bin between DC and Nyquist.
-    const double nu = psd.edf[2];
-    const double rr = kR1 + (na > 1 ? kR2 : 0.0) + (nb2 > 1 ? kR2 : 0.0);
-    sigma(i, i + 1) = sigma(i + 1, i) = rr * 2.0 * model(i) * model(i + 1) / (nu * na * nb2);
-  }
-
+  const Eigen::MatrixXd sigma = binned_covariance(d, model, psd);
   // Sandwich covariance of the weighted estimator on a set of free columns.
-  const auto sandwich = [&](const std::array<bool, kNumTerms>& use,
-                            Eigen::Matrix<double, kNumTerms, kNumTerms>& cov,
-                            Eigen::Matrix<double, kNumTerms, Eigen::Dynamic>& amat) {
-    masked = xs;
-    for (int j = 0; j < kNumTerms; ++j)
-      if (!use[static_cast<std::size_t>(j)]) masked.col(j).setZero();
-    qr.compute(masked);
-    amat.setZero(kNumTerms, p);
-    Eigen::VectorXd e = Eigen::VectorXd::Zero(p);
-    for (Eigen::Index i = 0; i < p; ++i) {
-      e(i) = sw(i);
-      const Eigen::Matrix<double, kNumTerms, 1> col = qr.solve(e);
-      e(i) = 0;
-      for (int j = 0; j < kNumTerms; ++j)
-        amat(j, i) = use[static_cast<std::size_t>(j)] ? col(j) * col_scale(j) : 0.0;
-    }
+  const auto sandwich = [&](const detail::Estimator& amat, detail::TermCov& cov) {
     cov = amat * sigma * amat.transpose();
   };
-  std::array<bool, kNumTerms> free{};
-  int n_free = 0;
-  for (int j = 0; j < kNumTerms; ++j) {
-    free[static_cast<std::size_t>(j)] = theta(j) > 0;
-    n_free += theta(j) > 0 ? 1 : 0;
-  }
-  Eigen::Matrix<double, kNumTerms, Eigen::Dynamic> amat;
-  sandwich(free, res.theta_cov, amat);
-  const double z_up = detail::normal_quantile(opt.upper_confidence);
-  for (int j = 0; j < kNumTerms; ++j) {
-    TermFit& t = res.terms[static_cast<std::size_t>(j)];
-    t.theta = theta(j);
-    t.at_bound = !free[static_cast<std::size_t>(j)];
-    if (!t.at_bound) {
-      t.theta_free = theta(j);
-      t.theta_sigma = std::sqrt(std::max(res.theta_cov(j, j), 0.0));
-    } else {
-      std::array<bool, kNumTerms> use = free;
-      use[static_cast<std::size_t>(j)] = true;
-      Eigen::Matrix<double, kNumTerms, kNumTerms> cov;
-      Eigen::Matrix<double, kNumTerms, Eigen::Dynamic> a_j;
-      sandwich(use, cov, a_j);
-      t.theta_free = a_j.row(j).dot(y);
-      t.theta_sigma = std::sqrt(std::max(cov(j, j), 0.0));
-    }
-    detail::finish_term(t, opt.detection_sigmas, z_up);
-  }
+  detail::Estimator a_free;
+  const int n_free =
+      detail::fit_terms(theta, y, design, opt.detection_sigmas, opt.upper_confidence, sandwich,
+                        masked, qr, res.terms, res.theta_cov, a_free);
 
   const Eigen::VectorXd r = y - x * theta;
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(sigma);
   res.chi2 = r.dot(ldlt.solve(r));
-  res.dof = static_cast<int>(p) - n_free;
+  res.dof = static_cast<int>(x.rows()) - n_free;
   res.chi2_dof = res.dof > 0 ? res.chi2 / res.dof : 0.0;
 
-  const auto pu = static_cast<std::size_t>(p);
+  const std::size_t pu = d.rows.size();
   res.f_hz.resize(pu);
   res.psd.resize(pu);
   res.edf.resize(pu);
   res.psd_model.resize(pu);
   const Eigen::VectorXd fitted = x * theta;
   for (std::size_t i = 0; i < pu; ++i) {
-    res.f_hz[i] = yb.f_hz[rows[i]];
+    res.f_hz[i] = d.yb.f_hz[d.rows[i]];
     res.psd[i] = y(static_cast<Eigen::Index>(i));
-    res.edf[i] = edf(static_cast<Eigen::Index>(i));
+    res.edf[i] = d.edf(static_cast<Eigen::Index>(i));
     res.psd_model[i] = fitted(static_cast<Eigen::Index>(i));
   }
-  res.status = converged ? FitStatus::Ok : FitStatus::NoConvergence;
+  res.status = solved.converged ? FitStatus::Ok : FitStatus::NoConvergence;
   return res;
 }
 

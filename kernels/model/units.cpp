@@ -16,8 +16,6 @@ constexpr double kStandardG = 9.80665;  // m/s^2 per g (CGPM 1901)
 constexpr double kMgPerMs2 = 1000.0 / kStandardG;
 constexpr double kUradPerDeg = std::numbers::pi / 180.0 * 1e6;
 
-constexpr std::array<Term, 5> kTerms = {Term::R, Term::K, Term::B, Term::N, Term::Q};
-
 // A datasheet form: multiply the coefficient in the family's base unit (deg/s or m/s^2, times
 // the term's power of seconds) by `factor` to get it in `unit`.
 struct Form {
@@ -81,32 +79,6 @@ TermForms forms(Family f, Term t) {
 
 }  // namespace
 
-std::string_view term_name(Term t) {
-  switch (t) {
-  case Term::R:
-    return "R";
-  case Term::K:
-    return "K";
-  case Term::B:
-    return "B";
-  case Term::N:
-    return "N";
-  case Term::Q:
-    return "Q";
-  }
-  throw std::logic_error("units: bad term");
-}
-
-std::optional<Term> parse_term(std::string_view name) {
-  for (Term t : kTerms)
-    if (term_name(t) == name) return t;
-  return std::nullopt;
-}
-
-std::span<const Term> all_terms() {
-  return kTerms;
-}
-
 Family family_of(std::string_view u) {
   if (u == "deg/s" || u == "deg/h" || u == "rad/s") return Family::Gyro;
   if (u == "m/s^2" || u == "g" || u == "mg") return Family::Accelerometer;
@@ -116,34 +88,18 @@ Family family_of(std::string_view u) {
 
 std::string channel_unit(Term t, std::string_view channel_units) {
   if (family_of(channel_units) == Family::Clock) {
-    // The rate of a time error in s (or a fractional frequency) is dimensionless.
-    switch (t) {
-    case Term::R:
-      return "1/s";
-    case Term::K:
-      return "1/s^0.5";
-    case Term::B:
-      return "1";
-    case Term::N:
-      return "s^0.5";
-    case Term::Q:
-      return "s";
-    }
+    // The rate of a time error in s (or a fractional frequency) is dimensionless: the
+    // seconds alone, "1" standing for the unit they divide or that has none.
+    const std::string_view sfx = seconds_suffix(t);
+    if (sfx.empty()) return "1";
+    if (sfx.front() == '*') return std::string(sfx.substr(1));
+    std::string unit = "1";
+    unit.append(sfx);
+    return unit;
   }
-  const std::string u(channel_units);
-  switch (t) {
-  case Term::R:
-    return u + "/s";
-  case Term::K:
-    return u + "/s^0.5";
-  case Term::B:
-    return u;
-  case Term::N:
-    return u + "*s^0.5";
-  case Term::Q:
-    return u + "*s";
-  }
-  throw std::logic_error("units: bad term");
+  std::string unit(channel_units);
+  unit.append(seconds_suffix(t));
+  return unit;
 }
 
 Datasheet to_datasheet(Term t, double value, std::string_view channel_units) {

@@ -29,23 +29,20 @@
 // unit string keep their own units, composed as in docs/formats.md.
 #pragma once
 
+#include "kernels/model/terms.hpp"
+
 #include <optional>
-#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
 
 namespace allanlot::kernels::units {
 
-/// The five coefficients of the paper's eq. (3).
-enum class Term { R, K, B, N, Q };
-
-/// "R", "K", "B", "N", "Q".
-std::string_view term_name(Term t);
-/// Inverse of term_name; nullopt for anything else.
-std::optional<Term> parse_term(std::string_view name);
-/// R, K, B, N, Q: the order results are written in.
-std::span<const Term> all_terms();
+// The terms and their names are kernels/model/terms.hpp's; units:: spells them too.
+using kernels::all_terms;
+using kernels::parse_term;
+using kernels::Term;
+using kernels::term_name;
 
 /// What kind of sensor a channel unit string denotes.
 enum class Family {

@@ -3,6 +3,7 @@
 
 #include "kernels/common/parallel.hpp"
 #include "kernels/simulate/rng.hpp"
+#include "kernels/spectral/fft.hpp"
 
 #include <fftw3.h>
 
@@ -11,17 +12,11 @@
 #include <cstring>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
 namespace allanlot::kernels {
-
-namespace detail {
-std::mutex& fftw_planner_mutex() {
-  static std::mutex m;
-  return m;
-}
-}  // namespace detail
 
 namespace {
 
@@ -92,10 +87,6 @@ std::size_t fft_size_at_least(std::size_t n) {
     if (r == 1) return p;
   }
 }
-
-struct FftwFree {
-  void operator()(void* p) const { fftw_free(p); }
-};
 
 // Per-interval constants of one Gauss-Markov effect (exact discretization of the OU process
 // over one sample interval h; see run()).
@@ -184,17 +175,10 @@ struct SimulationPlan::Impl {
   std::size_t n = 0;
   // Overlap-save geometry: filter length M = n, FFT size P >= M + L - 1, L outputs per block.
   std::size_t M = 0, P = 0, L = 0, n_bins = 0;
-  std::unique_ptr<double[], FftwFree> work;            // 2 n_bins doubles, in-place r2c/c2r
-  std::unique_ptr<fftw_complex[], FftwFree> spectrum;  // DFT of the zero-padded filter
-  fftw_plan forward = nullptr;
-  fftw_plan inverse = nullptr;
+  fft::Buffer<double> work;              // 2 n_bins doubles, in-place r2c/c2r
+  fft::Buffer<fftw_complex> spectrum;    // DFT of the zero-padded filter
+  std::optional<fft::Plan> forward, inverse;
   std::size_t block_hint = 0;
-
-  ~Impl() {
-    std::lock_guard<std::mutex> lock(detail::fftw_planner_mutex());
-    if (forward) fftw_destroy_plan(forward);
-    if (inverse) fftw_destroy_plan(inverse);
-  }
 
   // Plans and computes the filter spectrum on first use, so that channels without flicker
   // cost no memory.
@@ -208,25 +192,17 @@ struct SimulationPlan::Impl {
                                   " exceeds FFTW's int sizes; n_samples is too large");
     L = P - M + 1;
     n_bins = P / 2 + 1;
-    work.reset(static_cast<double*>(fftw_malloc(sizeof(double) * 2 * n_bins)));
-    std::unique_ptr<fftw_complex[], FftwFree> spec(
-        static_cast<fftw_complex*>(fftw_malloc(sizeof(fftw_complex) * n_bins)));
-    if (!work || !spec) throw std::bad_alloc();
-    {
-      // FFTW_ESTIMATE: the plan is chosen by heuristics, not by timing, so the same size
-      // always gets the same algorithm and the same rounding (FFTW_MEASURE could differ
-      // between runs and break byte reproducibility). fftw_malloc'ed buffers are always
-      // SIMD-aligned, so the plan's alignment assumptions hold for every run.
-      std::lock_guard<std::mutex> lock(detail::fftw_planner_mutex());
-      auto* c = reinterpret_cast<fftw_complex*>(work.get());
-      forward = fftw_plan_dft_r2c_1d(static_cast<int>(P), work.get(), c, FFTW_ESTIMATE);
-      inverse = fftw_plan_dft_c2r_1d(static_cast<int>(P), c, work.get(), FFTW_ESTIMATE);
-    }
-    if (!forward || !inverse) throw std::runtime_error("simulate: FFTW planning failed");
+    work = fft::alloc<double>(2 * n_bins);
+    fft::Buffer<fftw_complex> spec = fft::alloc<fftw_complex>(n_bins);
+    // fft::Plan (FFTW_ESTIMATE on fft::alloc'ed buffers): the same size always gets the same
+    // algorithm and the same rounding, which byte reproducibility needs.
+    auto* c = reinterpret_cast<fftw_complex*>(work.get());
+    forward.emplace(fft::Plan::r2c(static_cast<int>(P), work.get(), c, "simulate"));
+    inverse.emplace(fft::Plan::c2r(static_cast<int>(P), c, work.get(), "simulate"));
     const auto h = kasdin_flicker_filter(M);
     std::copy(h.begin(), h.end(), work.get());
     std::fill(work.get() + M, work.get() + 2 * n_bins, 0.0);
-    fftw_execute(forward);
+    forward->execute();
     std::memcpy(spec.get(), work.get(), sizeof(fftw_complex) * n_bins);
     spectrum = std::move(spec);
   }
@@ -268,7 +244,7 @@ struct SimulationPlan::Impl {
       }
       ec.rethrow();
       std::fill(buf + P, buf + 2 * n_bins, 0.0);
-      fftw_execute(forward);
+      forward->execute();
       const auto bins = static_cast<std::int64_t>(n_bins);
       const fftw_complex* H = spectrum.get();
 #pragma omp parallel for num_threads(nt) schedule(static)
@@ -278,7 +254,7 @@ struct SimulationPlan::Impl {
         c[i][0] = re * scale;
         c[i][1] = im * scale;
       }
-      fftw_execute(inverse);
+      inverse->execute();
       const std::size_t k0 = b * L;
       const std::size_t k1 = std::min(n, k0 + L);
       std::copy(buf + (M - 1), buf + (M - 1) + (k1 - k0), out.begin() + static_cast<long>(k0));

@@ -27,24 +27,15 @@
 // thread count, with or without OpenMP.
 #pragma once
 
+#include "kernels/model/terms.hpp"
+
 #include <cstddef>
 #include <cstdint>
 #include <memory>
-#include <mutex>
 #include <span>
 #include <vector>
 
 namespace allanlot::kernels {
-
-/// The five coefficients of eq. (3), in the channel's units u and seconds; all >= 0.
-struct NoiseTerms {
-  double R = 0;  // rate ramp [u/s]: y(t) = R t, avar = R^2 tau^2 / 2
-  double K = 0;  // rate random walk [u/s^0.5]: avar = K^2 tau / 3
-  double B = 0;  // flicker (bias instability) [u]: avar = B^2 2 ln2 / pi
-  double N = 0;  // white rate noise [u*s^0.5] (ARW, VRW): avar = N^2 / tau
-  double Q = 0;  // quantization [u*s]: avar = 3 Q^2 / tau^2
-  friend bool operator==(const NoiseTerms&, const NoiseTerms&) = default;
-};
 
 /// A sinusoidal rate error A sin(2 pi f t + phase) (e.g. a vibration or a thermal cycle).
 struct Sinusoid {
@@ -155,11 +146,5 @@ double flicker_avar_factor(std::int64_t m);
 /// sinusoids are deterministic (no density; a sinusoid is a line of power A^2/2 at its
 /// frequency) and contribute nothing here; the offset neither.
 double model_psd_one_sided(const ChannelSpec& spec, double f_hz);
-
-namespace detail {
-/// The one mutex that serializes FFTW planning and plan destruction (FFTW's planner is not
-/// thread-safe); every kernel that plans FFTW transforms must take it.
-std::mutex& fftw_planner_mutex();
-}  // namespace detail
 
 }  // namespace allanlot::kernels

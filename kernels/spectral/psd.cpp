@@ -2,7 +2,7 @@
 #include "kernels/spectral/psd.hpp"
 
 #include "kernels/common/parallel.hpp"
-#include "kernels/simulate/simulate.hpp"
+#include "kernels/spectral/fft.hpp"
 
 #include <fftw3.h>
 
@@ -10,7 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <mutex>
+#include <optional>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -23,17 +23,6 @@ namespace {
 constexpr std::int64_t kBatch = 4;
 constexpr std::int64_t kMinSegment = 16;
 constexpr std::int64_t kMaxSegment = std::int64_t{1} << 30;
-
-struct FftwFree {
-  void operator()(void* p) const { fftw_free(p); }
-};
-
-template <class T>
-std::unique_ptr<T[], FftwFree> fftw_alloc(std::size_t count) {
-  auto* p = static_cast<T*>(fftw_malloc(sizeof(T) * count));
-  if (!p) throw std::bad_alloc();
-  return std::unique_ptr<T[], FftwFree>(p);
-}
 
 std::string num(double v) {
   char buf[32];
@@ -76,14 +65,7 @@ struct PsdPlan::Impl {
   std::vector<double> window;
   double sum_w2 = 0;  // sum_t w_t^2, the window power of the normalization
   double rho = 0;     // overlap correlation of the window at the 50 % hop (edf)
-  fftw_plan plan = nullptr;
-
-  ~Impl() {
-    if (plan) {
-      std::lock_guard<std::mutex> lock(detail::fftw_planner_mutex());
-      fftw_destroy_plan(plan);
-    }
-  }
+  std::optional<fft::Plan> plan;
 };
 
 PsdPlan::PsdPlan(std::int64_t segment_length) : impl_(std::make_unique<Impl>()) {
@@ -110,20 +92,13 @@ PsdPlan::PsdPlan(std::int64_t segment_length) : impl_(std::make_unique<Impl>()) 
   // (Percival & Walden eq. (292b)); 1/6 for Hann at 50 % overlap (Harris 1978, Table 1).
   d.rho = s11 / d.sum_w2;
 
-  auto in = fftw_alloc<double>(Ls * kBatch);
-  auto out = fftw_alloc<fftw_complex>(static_cast<std::size_t>(d.n_bins * kBatch));
-  {
-    // FFTW_ESTIMATE: the algorithm is chosen by heuristics, not timing, so every run (and
-    // every plan of this length) rounds the same way; the buffers are fftw_malloc'ed, so the
-    // plan's SIMD alignment holds for the per-thread buffers of welch(), allocated the same
-    // way.
-    std::lock_guard<std::mutex> lock(detail::fftw_planner_mutex());
-    const int n = static_cast<int>(d.L);
-    d.plan =
-        fftw_plan_many_dft_r2c(1, &n, static_cast<int>(kBatch), in.get(), nullptr, 1, n, out.get(),
-                               nullptr, 1, static_cast<int>(d.n_bins), FFTW_ESTIMATE);
-  }
-  if (!d.plan) throw std::runtime_error("PsdPlan: FFTW planning failed");
+  // fft::Plan plans with FFTW_ESTIMATE, so every run (and every plan of this length) rounds the
+  // same way; the per-thread buffers of welch() come from fft::alloc like these, so the plan's
+  // SIMD alignment holds for them.
+  auto in = fft::alloc<double>(Ls * kBatch);
+  auto out = fft::alloc<fftw_complex>(static_cast<std::size_t>(d.n_bins * kBatch));
+  d.plan.emplace(fft::Plan::r2c_batch(static_cast<int>(d.L), static_cast<int>(kBatch), in.get(),
+                                      out.get(), "PsdPlan"));
 }
 
 PsdPlan::~PsdPlan() = default;
@@ -172,12 +147,12 @@ PsdResult PsdPlan::welch(std::span<const double> rate, double rate_hz, int nthre
   const std::int64_t per_round = std::max<std::int64_t>(1, std::min<std::int64_t>(nt, n_batches));
   std::vector<double> acc(static_cast<std::size_t>(nb), 0.0);
   std::vector<double> rows(static_cast<std::size_t>(per_round * kBatch * nb));
-  std::vector<std::unique_ptr<double[], FftwFree>> in(static_cast<std::size_t>(per_round));
-  std::vector<std::unique_ptr<fftw_complex[], FftwFree>> out(static_cast<std::size_t>(per_round));
+  std::vector<fft::Buffer<double>> in(static_cast<std::size_t>(per_round));
+  std::vector<fft::Buffer<fftw_complex>> out(static_cast<std::size_t>(per_round));
   for (std::int64_t t = 0; t < per_round; ++t) {
-    in[static_cast<std::size_t>(t)] = fftw_alloc<double>(static_cast<std::size_t>(d.L * kBatch));
+    in[static_cast<std::size_t>(t)] = fft::alloc<double>(static_cast<std::size_t>(d.L * kBatch));
     out[static_cast<std::size_t>(t)] =
-        fftw_alloc<fftw_complex>(static_cast<std::size_t>(nb * kBatch));
+        fft::alloc<fftw_complex>(static_cast<std::size_t>(nb * kBatch));
   }
   for (std::int64_t r0 = 0; r0 < n_batches; r0 += per_round) {
     const std::int64_t r1 = std::min(n_batches, r0 + per_round);
@@ -201,7 +176,7 @@ PsdResult PsdPlan::welch(std::span<const double> rate, double rate_hz, int nthre
         for (std::int64_t t = 0; t < d.L; ++t)
           seg[t] = (y[t] - mean) * d.window[static_cast<std::size_t>(t)];
       }
-      fftw_execute_dft_r2c(d.plan, buf_in, buf_out);
+      d.plan->execute_r2c(buf_in, buf_out);
       for (std::int64_t s = s0; s < s1; ++s) {
         const fftw_complex* X = buf_out + (s - s0) * nb;
         double* row = rows.data() + (s - r0 * kBatch) * nb;

@@ -171,4 +171,28 @@ double chi2_quantile(double p, double dof) {
   return x;
 }
 
+// psi(x) and psi'(x) for x > 0 (chi2.hpp): the recurrences psi(x) = psi(x+1) - 1/x and
+// psi'(x) = psi'(x+1) + 1/x^2 up to x >= 6, then the asymptotic series (Abramowitz & Stegun
+// 6.3.18 and 6.4.12), whose truncation error there is below 1e-12.
+double digamma(double x) {
+  double r = 0.0;
+  while (x < 6.0) {
+    r -= 1.0 / x;
+    x += 1.0;
+  }
+  const double f = 1.0 / (x * x);
+  return r + std::log(x) - 0.5 / x -
+         f * (1.0 / 12 - f * (1.0 / 120 - f * (1.0 / 252 - f * (1.0 / 240 - f / 132))));
+}
+
+double trigamma(double x) {
+  double r = 0.0;
+  while (x < 6.0) {
+    r += 1.0 / (x * x);
+    x += 1.0;
+  }
+  const double f = 1.0 / (x * x);
+  return r + 1.0 / x + 0.5 * f + f / x * (1.0 / 6 - f * (1.0 / 30 - f * (1.0 / 42 - f / 30)));
+}
+
 }  // namespace allanlot::kernels

@@ -1,6 +1,7 @@
 // Chi-square distribution for non-integer degrees of freedom: the regularized incomplete gamma
 // function and its inverse, which turn an equivalent number of degrees of freedom (edf) into
-// confidence bounds (NIST SP1065 sec. 5.3.3, eq. (43)-(45)).
+// confidence bounds (NIST SP1065 sec. 5.3.3, eq. (43)-(45)); and the digamma and trigamma
+// functions, the exact mean and variance of the logarithm of a chi-square variate.
 #pragma once
 
 namespace allanlot::kernels {
@@ -26,5 +27,14 @@ double chi2_cdf(double x, double dof);
 /// Relative accuracy of the tail probability about 1e-13 (1e-14 * dof for very large dof).
 /// Throws std::invalid_argument for p outside (0, 1) or dof <= 0.
 double chi2_quantile(double p, double dof);
+
+/// Digamma psi(x) = d ln Gamma(x) / dx for x > 0. With nu degrees of freedom,
+/// E ln(chi2_nu / nu) = psi(nu/2) - ln(nu/2) (Bartlett & Kendall 1946, JRSS Suppl. 8). Absolute
+/// accuracy about 1e-12.
+double digamma(double x);
+
+/// Trigamma psi'(x) for x > 0: var ln(chi2_nu / nu) = psi'(nu/2) (same source). Absolute
+/// accuracy about 1e-12.
+double trigamma(double x);
 
 }  // namespace allanlot::kernels

@@ -14,6 +14,7 @@
 #include "kernels/allan/phase.hpp"
 #include "kernels/simulate/rng.hpp"
 #include "kernels/simulate/simulate.hpp"
+#include "kernels/spectral/fft.hpp"
 
 #include <fftw3.h>
 #include <gtest/gtest.h>
