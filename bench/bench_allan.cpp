@@ -32,12 +32,12 @@
 // (bench/run-all runs it with the other programs and writes the ratios to
 // bench/results/summary.md; --benchmark_filter=Naive etc. selects cases).
 #include "kernels/allan/allan.hpp"
-#include "kernels/uncertainty/confidence.hpp"
-#include "kernels/uncertainty/noise_id.hpp"
 #include "kernels/allan/phase.hpp"
 #include "kernels/allan/simd.hpp"
 #include "kernels/allan/stats.hpp"
 #include "kernels/allan/tau_grid.hpp"
+#include "kernels/uncertainty/confidence.hpp"
+#include "kernels/uncertainty/noise_id.hpp"
 
 #include <benchmark/benchmark.h>
 

@@ -6,13 +6,13 @@
 // anything else that escapes (another exception, a crash, a sanitizer report) is a finding, and
 // so is a deviation that is negative, or NaN where no input sample was.
 #include "kernels/allan/allan.hpp"
-#include "kernels/uncertainty/confidence.hpp"
-#include "kernels/model/fit.hpp"
 #include "kernels/allan/phase.hpp"
-#include "kernels/spectral/psd.hpp"
-#include "kernels/model/psd_fit.hpp"
 #include "kernels/allan/stats.hpp"
 #include "kernels/allan/tau_grid.hpp"
+#include "kernels/model/fit.hpp"
+#include "kernels/model/psd_fit.hpp"
+#include "kernels/spectral/psd.hpp"
+#include "kernels/uncertainty/confidence.hpp"
 
 #include <fuzzer/FuzzedDataProvider.h>
 

@@ -6,10 +6,10 @@
 #include "io/recording.hpp"
 #include "io/results.hpp"
 #include "kernels/allan/allan.hpp"
-#include "kernels/uncertainty/confidence.hpp"
-#include "kernels/common/parallel.hpp"
 #include "kernels/allan/phase.hpp"
+#include "kernels/common/parallel.hpp"
 #include "kernels/spectral/psd.hpp"
+#include "kernels/uncertainty/confidence.hpp"
 
 #include <allanlot/version.hpp>
 

@@ -3,10 +3,10 @@
 #pragma once
 
 #include "io/results.hpp"
-#include "kernels/model/fit.hpp"
 #include "kernels/allan/phase.hpp"
-#include "kernels/spectral/psd.hpp"
 #include "kernels/allan/stats.hpp"
+#include "kernels/model/fit.hpp"
+#include "kernels/spectral/psd.hpp"
 
 #include <array>
 

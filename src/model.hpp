@@ -33,9 +33,9 @@ public:
 
 /// One channel of a unit.
 struct Channel {
-  std::string name;                           // [A-Za-z0-9_]+, the dataset name
-  std::string units = "deg/s";                // units string (docs/formats.md, kernels/model/units.hpp)
-  kernels::NoiseTerms terms;                  // channel units and seconds
+  std::string name;             // [A-Za-z0-9_]+, the dataset name
+  std::string units = "deg/s";  // units string (docs/formats.md, kernels/model/units.hpp)
+  kernels::NoiseTerms terms;    // channel units and seconds
   std::vector<kernels::Sinusoid> sinusoids;   // effects of type "sinusoid", in file order
   std::vector<kernels::GaussMarkov> markovs;  // effects of type "markov", in file order
   double offset = 0;                          // constant [units]

@@ -5,8 +5,8 @@
 #include "io/report_data.hpp"
 #include "io/results.hpp"
 #include "kernels/model/fit.hpp"
-#include "kernels/simulate/simulate.hpp"
 #include "kernels/model/units.hpp"
+#include "kernels/simulate/simulate.hpp"
 #include "src/svg.hpp"
 
 #include <allanlot/version.hpp>

@@ -6,10 +6,10 @@
 //
 //   z_i = ln(avar_hat_i / avar_model_i) / sqrt(2 / edf_i),   gap = sqrt(mean_i z_i^2),
 //
-// edf_i the Greenhall & Riley EDF of the estimate (kernels/uncertainty/confidence.hpp; Greenhall & Riley,
-// "Uncertainty of stability variances based on finite differences", PTTI 2003), since
-// edf * avar_hat / avar is chi-square with edf degrees of freedom (SP1065 sec. 5.3.3) and
-// var(ln chi2_nu / nu) ~ 2 / nu. A correct model gives gap ~ 1.
+// edf_i the Greenhall & Riley EDF of the estimate (kernels/uncertainty/confidence.hpp; Greenhall &
+// Riley, "Uncertainty of stability variances based on finite differences", PTTI 2003), since edf *
+// avar_hat / avar is chi-square with edf degrees of freedom (SP1065 sec. 5.3.3) and var(ln chi2_nu
+// / nu) ~ 2 / nu. A correct model gives gap ~ 1.
 //
 // Correlation of neighbouring taus. Overlapping estimates at neighbouring taus share most of
 // their data (correlation 0.9 and more at 16 taus per decade, kernels/model/fit.hpp), so a noise
@@ -72,8 +72,8 @@
 // null distribution of the gap, from which "within statistical noise" is judged.
 #pragma once
 
-#include "kernels/simulate/simulate.hpp"
 #include "kernels/model/terms.hpp"
+#include "kernels/simulate/simulate.hpp"
 
 #include <cstdint>
 #include <optional>
@@ -96,11 +96,11 @@ std::optional<Effect> parse_effect(std::string_view name);
 std::optional<Term> effect_term(Effect e);
 
 struct DiagnoseOptions {
-  int taus_per_decade = 8;         // log tau grid of the comparison (kernels/allan/tau_grid.hpp log:K)
-  int mc_replicas = 30;            // Monte Carlo replicas per model (0 = no band)
-  std::uint64_t mc_seed = 7;       // seed of the replicas; replica r is Philox stream r
-  double band_alpha = 0.05;        // probability that a complete model shows any band
-  double select_alpha = 0.05;      // probability that a round adds an effect to a complete model
+  int taus_per_decade = 8;     // log tau grid of the comparison (kernels/allan/tau_grid.hpp log:K)
+  int mc_replicas = 30;        // Monte Carlo replicas per model (0 = no band)
+  std::uint64_t mc_seed = 7;   // seed of the replicas; replica r is Philox stream r
+  double band_alpha = 0.05;    // probability that a complete model shows any band
+  double select_alpha = 0.05;  // probability that a round adds an effect to a complete model
   double line_false_alarm = 1e-4;  // probability of a spurious PSD line in the whole record
   int max_effects = 4;             // at most this many effects are added
   int nthreads = 0;                // 0 = OpenMP default; results do not depend on it

@@ -1,7 +1,7 @@
 #include "kernels/model/fit.hpp"
 
-#include "kernels/uncertainty/confidence.hpp"
 #include "kernels/model/least_squares.hpp"
+#include "kernels/uncertainty/confidence.hpp"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -343,7 +343,6 @@ void Eq3Fit::readouts(const FitInput& in, const std::array<double, kNumTerms>& t
     ro.model = std::sqrt(3.0 * model_k);
     ro.valid = res.terms[kK].detected;
   }
-
 }
 
 }  // namespace allanlot::kernels

@@ -69,7 +69,9 @@ Vector active_set(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, const Nnls
   const double tol = o.relative_tolerance * a.norm() * b_norm;
   const int max_outer = o.outer_per_column * static_cast<int>(n) + o.outer_extra;
   const int max_inner = o.inner_per_column * static_cast<int>(n) + o.inner_extra;
-  const auto leaves = [&](double v) { return o.drop_nan ? !(v > o.drop_level) : v <= o.drop_level; };
+  const auto leaves = [&](double v) {
+    return o.drop_nan ? !(v > o.drop_level) : v <= o.drop_level;
+  };
   for (int outer = 0; outer < max_outer; ++outer) {
     const Vector grad = a.transpose() * (b - a * x);
     Eigen::Index j_best = -1;

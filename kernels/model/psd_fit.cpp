@@ -298,9 +298,8 @@ PsdFitResult psd_fit(const PsdResult& psd, const PsdFitOptions& opt, WelchTermCa
     cov = amat * sigma * amat.transpose();
   };
   detail::Estimator a_free;
-  const int n_free =
-      detail::fit_terms(theta, y, design, opt.detection_sigmas, opt.upper_confidence, sandwich,
-                        masked, qr, res.terms, res.theta_cov, a_free);
+  const int n_free = detail::fit_terms(theta, y, design, opt.detection_sigmas, opt.upper_confidence,
+                                       sandwich, masked, qr, res.terms, res.theta_cov, a_free);
 
   const Eigen::VectorXd r = y - x * theta;
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(sigma);

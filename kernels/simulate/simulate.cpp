@@ -175,8 +175,8 @@ struct SimulationPlan::Impl {
   std::size_t n = 0;
   // Overlap-save geometry: filter length M = n, FFT size P >= M + L - 1, L outputs per block.
   std::size_t M = 0, P = 0, L = 0, n_bins = 0;
-  fft::Buffer<double> work;              // 2 n_bins doubles, in-place r2c/c2r
-  fft::Buffer<fftw_complex> spectrum;    // DFT of the zero-padded filter
+  fft::Buffer<double> work;            // 2 n_bins doubles, in-place r2c/c2r
+  fft::Buffer<fftw_complex> spectrum;  // DFT of the zero-padded filter
   std::optional<fft::Plan> forward, inverse;
   std::size_t block_hint = 0;
 
@@ -277,6 +277,61 @@ SimulationPlan::~SimulationPlan() = default;
 std::size_t SimulationPlan::size() const {
   return impl_->n;
 }
+
+namespace {
+
+// Passes 2 and 3 of SimulationPlan::run: the random walk's and the Gauss-Markov effects' block
+// start states, combined in block order from each block's local end state (`walk_end`,
+// `markov_end`), and their contributions added to every block of `out`.
+void add_block_starts(const NoiseTerms& t, const std::vector<MarkovStep>& steps,
+                      const std::vector<std::uint32_t>& markov_comp,
+                      const std::vector<double>& walk_end, const std::vector<double>& markov_end,
+                      std::uint64_t seed, std::uint64_t stream, std::span<double> out,
+                      [[maybe_unused]] int nt) {
+  const std::size_t n = out.size();
+  const std::size_t n_markov = steps.size();
+  const std::size_t n_blocks = (n + kBlock - 1) / kBlock;
+  const auto blocks = static_cast<std::int64_t>(n_blocks);
+  // Pass 2 (sequential, in block order): the true state at each block's start.
+  std::vector<double> walk_start(walk_end.size());
+  for (std::size_t b = 1; b < walk_end.size(); ++b)
+    walk_start[b] = walk_start[b - 1] + walk_end[b - 1];
+  std::vector<double> markov_start(n_blocks * n_markov);
+  for (std::size_t e = 0; e < n_markov; ++e) {
+    // Stationary start: m(0) ~ N(0, sigma^2), from pair 0 of the effect's sequence.
+    double m = steps[e].sigma * rng::normal_pair(seed, stream, markov_comp[e], 0).first;
+    for (std::size_t b = 0; b < n_blocks; ++b) {
+      markov_start[b * n_markov + e] = m;
+      const std::size_t len = std::min(kBlock, n - b * kBlock);
+      m = std::pow(steps[e].phi, static_cast<double>(len)) * m + markov_end[b * n_markov + e];
+    }
+  }
+  // Pass 3 (parallel over blocks): add the start states' contributions, which the recursions
+  // propagate linearly: K W_start to every sample, and phi^i m_start into the state at sample i.
+#pragma omp parallel for num_threads(nt) schedule(static)
+  for (std::int64_t b = 0; b < blocks; ++b) {
+    const std::size_t k0 = static_cast<std::size_t>(b) * kBlock;
+    const std::size_t len = std::min(kBlock, n - k0);
+    double* y = out.data() + k0;
+    if (t.K > 0) {
+      const double add = t.K * walk_start[static_cast<std::size_t>(b)];
+      for (std::size_t i = 0; i < len; ++i)
+        y[i] += add;
+    }
+    for (std::size_t e = 0; e < n_markov; ++e) {
+      const auto& st = steps[e];
+      double carry = markov_start[static_cast<std::size_t>(b) * n_markov + e];
+      for (std::size_t i = 0; i < len && carry != 0; ++i) {
+        y[i] += st.mean_i * carry * st.inv_h;
+        carry *= st.phi;
+        // Stop once the carry is far below any sample's resolution (and before denormals).
+        if (std::abs(carry) < 1e-300) carry = 0;
+      }
+    }
+  }
+}
+
+}  // namespace
 
 void SimulationPlan::run(const ChannelSpec& spec, std::uint64_t seed, std::uint64_t stream,
                          std::span<double> out, int nthreads) {
@@ -387,43 +442,7 @@ void SimulationPlan::run(const ChannelSpec& spec, std::uint64_t seed, std::uint6
   ec.rethrow();
   if (t.K == 0 && n_markov == 0) return;
 
-  // Pass 2 (sequential, in block order): the true state at each block's start.
-  std::vector<double> walk_start(walk_end.size());
-  for (std::size_t b = 1; b < walk_end.size(); ++b)
-    walk_start[b] = walk_start[b - 1] + walk_end[b - 1];
-  std::vector<double> markov_start(n_blocks * n_markov);
-  for (std::size_t e = 0; e < n_markov; ++e) {
-    // Stationary start: m(0) ~ N(0, sigma^2), from pair 0 of the effect's sequence.
-    double m = steps[e].sigma * rng::normal_pair(seed, stream, markov_comp[e], 0).first;
-    for (std::size_t b = 0; b < n_blocks; ++b) {
-      markov_start[b * n_markov + e] = m;
-      const std::size_t len = std::min(kBlock, n - b * kBlock);
-      m = std::pow(steps[e].phi, static_cast<double>(len)) * m + markov_end[b * n_markov + e];
-    }
-  }
-  // Pass 3 (parallel over blocks): add the start states' contributions, which the recursions
-  // propagate linearly: K W_start to every sample, and phi^i m_start into the state at sample i.
-#pragma omp parallel for num_threads(nt) schedule(static)
-  for (std::int64_t b = 0; b < blocks; ++b) {
-    const std::size_t k0 = static_cast<std::size_t>(b) * kBlock;
-    const std::size_t len = std::min(kBlock, n - k0);
-    double* y = out.data() + k0;
-    if (t.K > 0) {
-      const double add = t.K * walk_start[static_cast<std::size_t>(b)];
-      for (std::size_t i = 0; i < len; ++i)
-        y[i] += add;
-    }
-    for (std::size_t e = 0; e < n_markov; ++e) {
-      const auto& st = steps[e];
-      double carry = markov_start[static_cast<std::size_t>(b) * n_markov + e];
-      for (std::size_t i = 0; i < len && carry != 0; ++i) {
-        y[i] += st.mean_i * carry * st.inv_h;
-        carry *= st.phi;
-        // Stop once the carry is far below any sample's resolution (and before denormals).
-        if (std::abs(carry) < 1e-300) carry = 0;
-      }
-    }
-  }
+  add_block_starts(t, steps, markov_comp, walk_end, markov_end, seed, stream, out, nt);
 }
 
 void simulate_channel(const ChannelSpec& spec, std::uint64_t seed, std::uint64_t stream,

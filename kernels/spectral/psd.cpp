@@ -10,8 +10,8 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <optional>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -332,10 +332,9 @@ double low_integral(double A, double a, double fl, double tau, double rate_hz) {
   return total + acc * h / 3;
 }
 
-}  // namespace
-
-AvarPsdResult avar_from_psd(const PsdResult& p, std::span<const double> tau_s,
-                            const AvarPsdOptions& opt, int nthreads) {
+// The preconditions of avar_from_psd (std::invalid_argument naming the option or tau).
+void check_avar_inputs(const PsdResult& p, std::span<const double> tau_s,
+                       const AvarPsdOptions& opt) {
   check_rate(p.rate_hz, "avar_from_psd");
   const auto nb = static_cast<std::int64_t>(p.size());
   if (p.psd.size() != p.f_hz.size() || p.edf.size() != p.f_hz.size() ||
@@ -360,36 +359,48 @@ AvarPsdResult avar_from_psd(const PsdResult& p, std::span<const double> tau_s,
       throw std::invalid_argument("avar_from_psd: tau_s[" + std::to_string(i) +
                                   "] must be finite and >= 1/rate_hz = " + num(tau0) + ", got " +
                                   num(tau_s[i]));
+}
 
+// Power law A f^a through the lowest fit_decades of the band: least squares on
+// ln psd_k + 1/edf_k (E ln(chi2_nu / nu) = -1/nu + O(nu^-2) is the log bias of an average).
+// Fills low_exponent, low_coefficient and low_fit_ok of r.
+void fit_low_power_law(const PsdResult& p, const AvarPsdOptions& opt, AvarPsdResult& r) {
+  const auto nb = static_cast<std::int64_t>(p.size());
+  const auto kb = static_cast<std::size_t>(opt.first_bin);
+  const auto k_hi = std::min<std::int64_t>(
+      nb - 2, static_cast<std::int64_t>(std::floor(static_cast<double>(opt.first_bin) *
+                                                   std::pow(10.0, opt.fit_decades))));
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  std::int64_t cnt = 0;
+  bool positive = true;
+  for (auto k = static_cast<std::int64_t>(kb); k <= k_hi; ++k) {
+    const double v = p.psd[static_cast<std::size_t>(k)];
+    if (!(v > 0)) positive = false;
+    if (!positive) break;
+    const double x = std::log(p.f_hz[static_cast<std::size_t>(k)]);
+    const double y = std::log(v) + 1.0 / p.edf[static_cast<std::size_t>(k)];
+    sx += x, sy += y, sxx += x * x, sxy += x * y, ++cnt;
+  }
+  const double cn = static_cast<double>(cnt);
+  const double det = cn * sxx - sx * sx;
+  if (positive && cnt >= 3 && det > 0) {
+    r.low_exponent = (cn * sxy - sx * sy) / det;
+    r.low_coefficient = std::exp((sy - r.low_exponent * sx) / cn);
+    r.low_fit_ok = r.low_exponent > -3 + 1e-6;
+  }
+}
+
+}  // namespace
+
+AvarPsdResult avar_from_psd(const PsdResult& p, std::span<const double> tau_s,
+                            const AvarPsdOptions& opt, int nthreads) {
+  check_avar_inputs(p, tau_s, opt);
+  const auto nb = static_cast<std::int64_t>(p.size());
   AvarPsdResult r;
   const auto kb = static_cast<std::size_t>(opt.first_bin);
   r.f_low_hz = (static_cast<double>(opt.first_bin) - 0.5) * p.df_hz;
 
-  // Power law A f^a through the lowest fit_decades of the band: least squares on
-  // ln psd_k + 1/edf_k (E ln(chi2_nu / nu) = -1/nu + O(nu^-2) is the log bias of an average).
-  {
-    const auto k_hi = std::min<std::int64_t>(
-        nb - 2, static_cast<std::int64_t>(std::floor(static_cast<double>(opt.first_bin) *
-                                                     std::pow(10.0, opt.fit_decades))));
-    double sx = 0, sy = 0, sxx = 0, sxy = 0;
-    std::int64_t cnt = 0;
-    bool positive = true;
-    for (auto k = static_cast<std::int64_t>(kb); k <= k_hi; ++k) {
-      const double v = p.psd[static_cast<std::size_t>(k)];
-      if (!(v > 0)) positive = false;
-      if (!positive) break;
-      const double x = std::log(p.f_hz[static_cast<std::size_t>(k)]);
-      const double y = std::log(v) + 1.0 / p.edf[static_cast<std::size_t>(k)];
-      sx += x, sy += y, sxx += x * x, sxy += x * y, ++cnt;
-    }
-    const double cn = static_cast<double>(cnt);
-    const double det = cn * sxx - sx * sx;
-    if (positive && cnt >= 3 && det > 0) {
-      r.low_exponent = (cn * sxy - sx * sy) / det;
-      r.low_coefficient = std::exp((sy - r.low_exponent * sx) / cn);
-      r.low_fit_ok = r.low_exponent > -3 + 1e-6;
-    }
-  }
+  fit_low_power_law(p, opt, r);
 
   const std::size_t nt_tau = tau_s.size();
   r.tau_s.assign(tau_s.begin(), tau_s.end());

@@ -53,9 +53,9 @@ std::int64_t welch_segment_length(std::int64_t n_samples, std::int64_t min_segme
 
 /// Owns the FFTW plan and the window for Welch PSDs with one segment length, so that every
 /// channel of a unit (and every unit of a lot) with that length reuses them. Non-copyable; the
-/// plan is made and destroyed under detail::fftw_planner_mutex() (kernels/spectral/fft.hpp). welch() is const and may be
-/// called from several threads at once (it executes the plan on its own buffers with FFTW's
-/// new-array interface, which is thread-safe).
+/// plan is made and destroyed under detail::fftw_planner_mutex() (kernels/spectral/fft.hpp).
+/// welch() is const and may be called from several threads at once (it executes the plan on its own
+/// buffers with FFTW's new-array interface, which is thread-safe).
 class PsdPlan {
 public:
   /// Plan for segments of `segment_length` samples: even, >= 16 and < 2^30 (std::invalid_argument

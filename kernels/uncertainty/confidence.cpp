@@ -1,8 +1,8 @@
 #include "kernels/uncertainty/confidence.hpp"
 
+#include "kernels/common/parallel.hpp"
 #include "kernels/uncertainty/chi2.hpp"
 #include "kernels/uncertainty/noise_id.hpp"
-#include "kernels/common/parallel.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,12 +1,13 @@
 // Confidence intervals of the Allan-family deviations, as Stable32 1.60 computes them: noise
-// identification per tau (kernels/uncertainty/noise_id.hpp), the equivalent degrees of freedom of the
-// statistic for that noise (kernels/uncertainty/edf.hpp) and chi-square bounds (kernels/uncertainty/chi2.hpp).
+// identification per tau (kernels/uncertainty/noise_id.hpp), the equivalent degrees of freedom of
+// the statistic for that noise (kernels/uncertainty/edf.hpp) and chi-square bounds
+// (kernels/uncertainty/chi2.hpp).
 #pragma once
 
-#include "kernels/uncertainty/edf.hpp"
-#include "kernels/uncertainty/noise_id.hpp"
 #include "kernels/allan/phase.hpp"
 #include "kernels/allan/stats.hpp"
+#include "kernels/uncertainty/edf.hpp"
+#include "kernels/uncertainty/noise_id.hpp"
 
 #include <cstdint>
 

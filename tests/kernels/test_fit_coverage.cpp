@@ -21,12 +21,12 @@
 // (X^T W X)^-1 that treats the taus as independent, is far below the band (about 0.3 for B):
 // this is what the correlated covariance fixes, and it shows the test can fail.
 #include "kernels/allan/allan.hpp"
+#include "kernels/allan/phase.hpp"
+#include "kernels/allan/tau_grid.hpp"
+#include "kernels/model/fit.hpp"
+#include "kernels/simulate/simulate.hpp"
 #include "kernels/uncertainty/chi2.hpp"
 #include "kernels/uncertainty/confidence.hpp"
-#include "kernels/model/fit.hpp"
-#include "kernels/allan/phase.hpp"
-#include "kernels/simulate/simulate.hpp"
-#include "kernels/allan/tau_grid.hpp"
 
 #include <Eigen/Dense>
 #include <gtest/gtest.h>

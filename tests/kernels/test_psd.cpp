@@ -7,10 +7,10 @@
 // P(|z| > 3) = 0.27 %), and each such test also shows that a 10 % error in a coefficient
 // is detected.
 #include "kernels/allan/allan.hpp"
-#include "kernels/uncertainty/chi2.hpp"
 #include "kernels/allan/phase.hpp"
-#include "kernels/spectral/psd.hpp"
 #include "kernels/simulate/simulate.hpp"
+#include "kernels/spectral/psd.hpp"
+#include "kernels/uncertainty/chi2.hpp"
 
 #include <gtest/gtest.h>
 

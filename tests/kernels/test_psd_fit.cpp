@@ -8,14 +8,14 @@
 //    expected value, with a tolerance from the chi-square edf of the pooled bins;
 //  - recovery of the paper's coefficients (N within 10 % is the bar; the tolerance
 //    used is 3 sigma of the fit's own uncertainty, far tighter) and agreement with the Allan fit.
-#include "kernels/uncertainty/confidence.hpp"
-#include "kernels/model/fit.hpp"
 #include "kernels/allan/phase.hpp"
-#include "kernels/spectral/psd.hpp"
-#include "kernels/model/psd_fit.hpp"
-#include "kernels/simulate/simulate.hpp"
 #include "kernels/allan/stats.hpp"
 #include "kernels/allan/tau_grid.hpp"
+#include "kernels/model/fit.hpp"
+#include "kernels/model/psd_fit.hpp"
+#include "kernels/simulate/simulate.hpp"
+#include "kernels/spectral/psd.hpp"
+#include "kernels/uncertainty/confidence.hpp"
 
 #include <gtest/gtest.h>
 
