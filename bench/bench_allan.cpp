@@ -31,13 +31,13 @@
 // Run: build/bench/bench_allan --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
 // (bench/run-all runs it with the other programs and writes the ratios to
 // bench/results/summary.md; --benchmark_filter=Naive etc. selects cases).
-#include "kernels/allan.hpp"
-#include "kernels/confidence.hpp"
-#include "kernels/noise_id.hpp"
-#include "kernels/phase.hpp"
-#include "kernels/simd.hpp"
-#include "kernels/stats.hpp"
-#include "kernels/tau_grid.hpp"
+#include "kernels/allan/allan.hpp"
+#include "kernels/allan/phase.hpp"
+#include "kernels/allan/simd.hpp"
+#include "kernels/allan/stats.hpp"
+#include "kernels/allan/tau_grid.hpp"
+#include "kernels/uncertainty/confidence.hpp"
+#include "kernels/uncertainty/noise_id.hpp"
 
 #include <benchmark/benchmark.h>
 
@@ -106,7 +106,7 @@ void BM_Statistic(benchmark::State& state) {
   tau_counters(state, rows);
 }
 
-// The same statistic on each SIMD level (kernels/simd.hpp), 1 thread: the step from the
+// The same statistic on each SIMD level (kernels/allan/simd.hpp), 1 thread: the step from the
 // baseline SSE2 loops to AVX2 and AVX-512 (same bits on every level). A level this CPU lacks
 // is reported as skipped.
 void BM_StatisticSimd(benchmark::State& state) {

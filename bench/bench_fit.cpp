@@ -7,10 +7,10 @@
 //  - BM_CovarianceBasis: the basis alone, by number of taus per decade.
 // The curve is the paper's gyro X model with a deterministic ripple, so that the fit iterates
 // as on data; simulating and computing the OADEV are outside the timed loop (bench_allan).
-#include "kernels/edf.hpp"
-#include "kernels/fit.hpp"
-#include "kernels/stats.hpp"
-#include "kernels/tau_grid.hpp"
+#include "kernels/allan/stats.hpp"
+#include "kernels/allan/tau_grid.hpp"
+#include "kernels/model/fit.hpp"
+#include "kernels/uncertainty/edf.hpp"
 
 #include <benchmark/benchmark.h>
 

@@ -11,11 +11,11 @@
 // channels of that length are served). The thread count is the "threads" argument.
 // Run: build/bench/bench_psd --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
 // (or through bench/run-all).
-#include "kernels/psd.hpp"
-#include "kernels/psd_fit.hpp"
-#include "kernels/simulate.hpp"
-#include "kernels/stats.hpp"
-#include "kernels/tau_grid.hpp"
+#include "kernels/allan/stats.hpp"
+#include "kernels/allan/tau_grid.hpp"
+#include "kernels/model/psd_fit.hpp"
+#include "kernels/simulate/simulate.hpp"
+#include "kernels/spectral/psd.hpp"
 
 #include <benchmark/benchmark.h>
 

@@ -6,7 +6,7 @@
 // Arguments: n (samples a channel) and threads; samples/s counts every channel's samples.
 // Run: build/bench/bench_simulate --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
 // (or through bench/run-all).
-#include "kernels/simulate.hpp"
+#include "kernels/simulate/simulate.hpp"
 
 #include <benchmark/benchmark.h>
 

@@ -5,14 +5,14 @@
 // Documented preconditions throw std::invalid_argument (docs/development.md "Errors");
 // anything else that escapes (another exception, a crash, a sanitizer report) is a finding, and
 // so is a deviation that is negative, or NaN where no input sample was.
-#include "kernels/allan.hpp"
-#include "kernels/confidence.hpp"
-#include "kernels/fit.hpp"
-#include "kernels/phase.hpp"
-#include "kernels/psd.hpp"
-#include "kernels/psd_fit.hpp"
-#include "kernels/stats.hpp"
-#include "kernels/tau_grid.hpp"
+#include "kernels/allan/allan.hpp"
+#include "kernels/allan/phase.hpp"
+#include "kernels/allan/stats.hpp"
+#include "kernels/allan/tau_grid.hpp"
+#include "kernels/model/fit.hpp"
+#include "kernels/model/psd_fit.hpp"
+#include "kernels/spectral/psd.hpp"
+#include "kernels/uncertainty/confidence.hpp"
 
 #include <fuzzer/FuzzedDataProvider.h>
 

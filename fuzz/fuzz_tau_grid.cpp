@@ -1,9 +1,9 @@
-// libFuzzer target: the --taus and --stats parsers (kernels/tau_grid.hpp, kernels/stats.hpp).
-// Text must parse or throw std::invalid_argument; a parsed grid must give averaging factors
-// that are strictly increasing and within [1, m_max] for any m_max, and print back to a text
-// that parses to the same factors.
-#include "kernels/stats.hpp"
-#include "kernels/tau_grid.hpp"
+// libFuzzer target: the --taus and --stats parsers (kernels/allan/tau_grid.hpp,
+// kernels/allan/stats.hpp). Text must parse or throw std::invalid_argument; a parsed grid must give
+// averaging factors that are strictly increasing and within [1, m_max] for any m_max, and print
+// back to a text that parses to the same factors.
+#include "kernels/allan/stats.hpp"
+#include "kernels/allan/tau_grid.hpp"
 
 #include <fuzzer/FuzzedDataProvider.h>
 

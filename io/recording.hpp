@@ -3,7 +3,7 @@
 // layout.
 #pragma once
 
-#include "kernels/phase.hpp"
+#include "kernels/allan/phase.hpp"
 
 #include <cstdint>
 #include <memory>

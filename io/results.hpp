@@ -5,8 +5,8 @@
 
 #include "io/diagnosis.hpp"
 #include "io/status.hpp"
-#include "kernels/fit.hpp"
-#include "kernels/stats.hpp"
+#include "kernels/allan/stats.hpp"
+#include "kernels/model/fit.hpp"
 
 #include <array>
 #include <cstdint>

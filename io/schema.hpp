@@ -10,8 +10,8 @@
 #include "io/diagnosis.hpp"
 #include "io/results.hpp"
 #include "io/status.hpp"
-#include "kernels/fit.hpp"
-#include "kernels/stats.hpp"
+#include "kernels/allan/stats.hpp"
+#include "kernels/model/fit.hpp"
 
 #include <array>
 #include <cstdint>

@@ -4,7 +4,7 @@
 // the dataset of an unknown spelling.
 #pragma once
 
-#include "kernels/fit.hpp"
+#include "kernels/model/fit.hpp"
 
 #include <iosfwd>
 #include <string>

@@ -5,11 +5,11 @@
 #include "io/fingerprint.hpp"
 #include "io/recording.hpp"
 #include "io/results.hpp"
-#include "kernels/allan.hpp"
-#include "kernels/confidence.hpp"
-#include "kernels/parallel.hpp"
-#include "kernels/phase.hpp"
-#include "kernels/psd.hpp"
+#include "kernels/allan/allan.hpp"
+#include "kernels/allan/phase.hpp"
+#include "kernels/common/parallel.hpp"
+#include "kernels/spectral/psd.hpp"
+#include "kernels/uncertainty/confidence.hpp"
 
 #include <allanlot/version.hpp>
 

@@ -1,8 +1,8 @@
 // `allanlot analyze` (docs/cli.md "Command: analyze"): the batch driver over recordings.
 #pragma once
 
-#include "kernels/stats.hpp"
-#include "kernels/tau_grid.hpp"
+#include "kernels/allan/stats.hpp"
+#include "kernels/allan/tau_grid.hpp"
 
 #include <cstdint>
 #include <filesystem>

@@ -1,8 +1,8 @@
 #include "src/channel_fit.hpp"
 
-#include "kernels/fit.hpp"
-#include "kernels/psd_fit.hpp"
-#include "kernels/units.hpp"
+#include "kernels/model/fit.hpp"
+#include "kernels/model/psd_fit.hpp"
+#include "kernels/model/units.hpp"
 
 #include <algorithm>
 #include <cmath>

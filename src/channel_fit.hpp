@@ -3,10 +3,10 @@
 #pragma once
 
 #include "io/results.hpp"
-#include "kernels/fit.hpp"
-#include "kernels/phase.hpp"
-#include "kernels/psd.hpp"
-#include "kernels/stats.hpp"
+#include "kernels/allan/phase.hpp"
+#include "kernels/allan/stats.hpp"
+#include "kernels/model/fit.hpp"
+#include "kernels/spectral/psd.hpp"
 
 #include <array>
 

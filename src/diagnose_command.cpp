@@ -4,7 +4,7 @@
 #include "io/diagnosis.hpp"
 #include "io/error.hpp"
 #include "io/recording.hpp"
-#include "kernels/diagnose.hpp"
+#include "kernels/diagnose/diagnose.hpp"
 #include "src/model.hpp"
 
 #include <CLI/CLI.hpp>

@@ -1,5 +1,6 @@
 // `allanlot diagnose` (docs/diagnose.md): where a noise model disagrees with a
-// measured channel, which effect is missing, and the corrected model (kernels/diagnose.hpp).
+// measured channel, which effect is missing, and the corrected model
+// (kernels/diagnose/diagnose.hpp).
 #pragma once
 
 #include "src/cli.hpp"

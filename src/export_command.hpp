@@ -5,7 +5,7 @@
 // line by line; `csv` is one tidy table (one row per tau) for spreadsheets and pandas.
 #pragma once
 
-#include "kernels/stats.hpp"
+#include "kernels/allan/stats.hpp"
 #include "src/cli.hpp"
 
 #include <filesystem>

@@ -1,8 +1,8 @@
 // Model file parsing and writing; the rules are listed in model.hpp.
 #include "src/model.hpp"
 
-#include "kernels/rng.hpp"
-#include "kernels/units.hpp"
+#include "kernels/model/units.hpp"
+#include "kernels/simulate/rng.hpp"
 
 #include <nlohmann/json.hpp>
 

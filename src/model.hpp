@@ -15,7 +15,7 @@
 //   "model.json: channels.gyro_x.terms.X: unknown key".
 #pragma once
 
-#include "kernels/simulate.hpp"
+#include "kernels/simulate/simulate.hpp"
 
 #include <cstdint>
 #include <stdexcept>
@@ -33,9 +33,9 @@ public:
 
 /// One channel of a unit.
 struct Channel {
-  std::string name;                           // [A-Za-z0-9_]+, the dataset name
-  std::string units = "deg/s";                // units string (docs/formats.md, kernels/units.hpp)
-  kernels::NoiseTerms terms;                  // channel units and seconds
+  std::string name;             // [A-Za-z0-9_]+, the dataset name
+  std::string units = "deg/s";  // units string (docs/formats.md, kernels/model/units.hpp)
+  kernels::NoiseTerms terms;    // channel units and seconds
   std::vector<kernels::Sinusoid> sinusoids;   // effects of type "sinusoid", in file order
   std::vector<kernels::GaussMarkov> markovs;  // effects of type "markov", in file order
   double offset = 0;                          // constant [units]
@@ -71,7 +71,7 @@ void validate(const UnitModel& m, const std::string& source);
 
 /// A six-channel IMU at 1 kHz with the paper's Table (Lestev et al., JSC GIROOPTIKA unit):
 /// gyro_x/y/z in deg/s and accel_x/y/z in m/s^2 (accel_z carries 1 g = 9.80665 m/s^2), the
-/// Table's datasheet values converted with kernels/units.hpp, and a lot spread of 10% on N,
+/// Table's datasheet values converted with kernels/model/units.hpp, and a lot spread of 10% on N,
 /// 20% on B, 30% on K and R (typical unit-to-unit variation of MEMS noise coefficients).
 UnitModel default_demo_model();
 

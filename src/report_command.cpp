@@ -4,9 +4,9 @@
 #include "io/error.hpp"
 #include "io/report_data.hpp"
 #include "io/results.hpp"
-#include "kernels/fit.hpp"
-#include "kernels/simulate.hpp"
-#include "kernels/units.hpp"
+#include "kernels/model/fit.hpp"
+#include "kernels/model/units.hpp"
+#include "kernels/simulate/simulate.hpp"
 #include "src/svg.hpp"
 
 #include <allanlot/version.hpp>

@@ -3,7 +3,7 @@
 #include "io/atomic_file.hpp"
 #include "io/error.hpp"
 #include "io/recording.hpp"
-#include "kernels/simulate.hpp"
+#include "kernels/simulate/simulate.hpp"
 #include "src/model.hpp"
 
 #include <cmath>

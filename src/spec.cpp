@@ -1,7 +1,7 @@
 // Spec file parsing and the pass/fail decisions; the rules are listed in spec.hpp.
 #include "src/spec.hpp"
 
-#include "kernels/chi2.hpp"
+#include "kernels/uncertainty/chi2.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -59,8 +59,9 @@ private:
   std::string source_;
 };
 
-// The channel units whose datasheet forms a spec may use (kernels/units.hpp and docs/formats.md
-// "Input recordings"). A unit string outside these is not knowable before the data are seen.
+// The channel units whose datasheet forms a spec may use (kernels/model/units.hpp and
+// docs/formats.md "Input recordings"). A unit string outside these is not knowable before the data
+// are seen.
 constexpr std::string_view kKnownChannelUnits[] = {"deg/s", "deg/h", "rad/s", "m/s^2",
                                                    "g",     "mg",    "s",     "1"};
 

@@ -14,14 +14,14 @@
 // Channel keys are fnmatch(3) globs on the channel's path or on its name (as analyze
 // --channels); the first key in file order that matches a channel is its rule. Each term (R, K,
 // B, N, Q) has "max" and/or "min" (finite, >= 0, min <= max) and a "unit": a datasheet unit of
-// the term (kernels/units.hpp, primary or secondary form, e.g. N of a gyro in deg/h/sqrt(Hz) or
-// deg/sqrt(h)) or the coefficient's unit in the channel's own units (deg/s*s^0.5). Any other
+// the term (kernels/model/units.hpp, primary or secondary form, e.g. N of a gyro in deg/h/sqrt(Hz)
+// or deg/sqrt(h)) or the coefficient's unit in the channel's own units (deg/s*s^0.5). Any other
 // key, a wrong JSON type, a duplicate key or an impossible value is a spec::Error naming the
 // file and the key path, e.g. "spec.json: channels.gyro_*.N.max: must be >= 0, got -1".
 #pragma once
 
 #include "io/results.hpp"
-#include "kernels/units.hpp"
+#include "kernels/model/units.hpp"
 
 #include <array>
 #include <filesystem>

@@ -2,9 +2,9 @@
 // statuses, bad inputs, thread invariance, inputs never modified.
 #include "io/recording.hpp"
 #include "io/results.hpp"
-#include "kernels/allan.hpp"
-#include "kernels/stats.hpp"
-#include "kernels/tau_grid.hpp"
+#include "kernels/allan/allan.hpp"
+#include "kernels/allan/stats.hpp"
+#include "kernels/allan/tau_grid.hpp"
 #include "support/h5_fixture.hpp"
 
 #include <gtest/gtest.h>

@@ -2,7 +2,7 @@
 // planted outlier, manifest entries without results, the files write_lot leaves behind, and the
 // whole path through the binary (simulate a lot, analyze --spec, summarize --spec --manifest).
 #include "io/results.hpp"
-#include "kernels/chi2.hpp"
+#include "kernels/uncertainty/chi2.hpp"
 #include "src/lot_summary.hpp"
 #include "support/h5_fixture.hpp"
 

@@ -1,7 +1,7 @@
 // The model file: the example of docs/formats.md parses, every rule is enforced with the key
 // path in the message, to_json round-trips, the demo unit carries the paper's Table, lot draws are
 // deterministic and have the promised spread.
-#include "kernels/units.hpp"
+#include "kernels/model/units.hpp"
 #include "src/model.hpp"
 
 #include <gtest/gtest.h>

@@ -2,7 +2,7 @@
 // channels at the Table's coefficients, 90 minutes at 1 kHz, accelerometer Z with 1 g) is
 // simulated, analysed by the real binary, and the eq. (3) fit must recover the Table.
 #include "io/results.hpp"
-#include "kernels/units.hpp"
+#include "kernels/model/units.hpp"
 #include "src/model.hpp"
 #include "support/h5_fixture.hpp"
 

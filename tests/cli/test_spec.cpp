@@ -1,5 +1,5 @@
 // The spec file: strict parsing (every message names the file and the key path), unit
-// conversion through kernels/units.hpp, and the pass / fail / undecided decisions at their
+// conversion through kernels/model/units.hpp, and the pass / fail / undecided decisions at their
 // boundaries.
 #include "src/spec.hpp"
 #include "support/h5_fixture.hpp"

@@ -1,13 +1,13 @@
 // ADEV, OADEV, MDEV, TDEV, HDEV, OHDEV and TOTDEV against Stable32 (every table in
 // tests/data/stable32), NIST SP1065's NBS14 values, the naive long-double reference
 // (with and without gaps); properties, thread invariance and dumb inputs.
-#include "kernels/allan.hpp"
-#include "kernels/hadamard.hpp"
-#include "kernels/phase.hpp"
-#include "kernels/simd.hpp"
-#include "kernels/stats.hpp"
-#include "kernels/tau_grid.hpp"
-#include "kernels/total.hpp"
+#include "kernels/allan/allan.hpp"
+#include "kernels/allan/hadamard.hpp"
+#include "kernels/allan/phase.hpp"
+#include "kernels/allan/simd.hpp"
+#include "kernels/allan/stats.hpp"
+#include "kernels/allan/tau_grid.hpp"
+#include "kernels/allan/total.hpp"
 #include "reference/naive_allan.hpp"
 #include "reference/stable32.hpp"
 
@@ -411,7 +411,7 @@ std::vector<double> white_rate(std::size_t n, unsigned seed, double offset, doub
   return y;
 }
 
-// The AVX2 and AVX-512 sums (kernels/sweep_simd.cpp) must round exactly like the baseline
+// The AVX2 and AVX-512 sums (kernels/allan/sweep_simd.cpp) must round exactly like the baseline
 // SSE2 loops: same sixteen lanes, same tree, no fused multiply-add. Every level this CPU has
 // is compared bit for bit on every statistic (200001 samples: blocks with tails of every
 // length occur across the m).
@@ -438,7 +438,7 @@ TEST(AllanFamilyProperties, BitIdenticalOnEverySimdLevel) {
   kernels::set_simd_level(before);
 }
 
-// The documented order of the sums (kernels/detail/sweep.hpp): blocks of 1024 terms, sixteen
+// The documented order of the sums (kernels/allan/detail/sweep.hpp): blocks of 1024 terms, sixteen
 // interleaved lanes per block, the lanes reduced by the fixed tree, blocks added in order.
 // Rebuilt here in plain scalar code for OADEV at a few m; the kernel's sum must be the same
 // double, on whichever SIMD level and thread count it runs.

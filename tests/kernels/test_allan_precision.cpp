@@ -7,11 +7,11 @@
 // need sums of windows of x, a second-level prefix sum that grows to ~1e4 times x. The
 // kernels remove the mean rate before integrating (long double, phase.cpp) and form MDEV's
 // window sums in exact fixed point (allan.hpp, detail::WindowSums).
-#include "kernels/allan.hpp"
-#include "kernels/hadamard.hpp"
-#include "kernels/phase.hpp"
-#include "kernels/stats.hpp"
-#include "kernels/total.hpp"
+#include "kernels/allan/allan.hpp"
+#include "kernels/allan/hadamard.hpp"
+#include "kernels/allan/phase.hpp"
+#include "kernels/allan/stats.hpp"
+#include "kernels/allan/total.hpp"
 #include "reference/naive_allan.hpp"
 
 #include <gtest/gtest.h>

@@ -1,7 +1,7 @@
 // Chi-square distribution (regularized incomplete gamma and its inverse) and the edf
 // algorithms: known values, closed forms and consistency between their branches.
-#include "kernels/chi2.hpp"
-#include "kernels/edf.hpp"
+#include "kernels/uncertainty/chi2.hpp"
+#include "kernels/uncertainty/edf.hpp"
 
 #include <gtest/gtest.h>
 

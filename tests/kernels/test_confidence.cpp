@@ -1,10 +1,10 @@
 // Confidence intervals and noise identification against Stable32 1.60 (every table of
 // tests/data/stable32 that prints Alpha or Min/Max Sigma), thread invariance, gaps and
 // dumb inputs.
-#include "kernels/confidence.hpp"
-#include "kernels/noise_id.hpp"
-#include "kernels/phase.hpp"
-#include "kernels/stats.hpp"
+#include "kernels/allan/phase.hpp"
+#include "kernels/allan/stats.hpp"
+#include "kernels/uncertainty/confidence.hpp"
+#include "kernels/uncertainty/noise_id.hpp"
 #include "reference/stable32.hpp"
 
 #include <gtest/gtest.h>

@@ -2,9 +2,9 @@
 // over many seeds the fraction of intervals that contain the true deviation must match the
 // stated confidence, and on one long record the deviations must follow their theoretical
 // slopes within the reported intervals.
-#include "kernels/confidence.hpp"
-#include "kernels/phase.hpp"
-#include "kernels/stats.hpp"
+#include "kernels/allan/phase.hpp"
+#include "kernels/allan/stats.hpp"
+#include "kernels/uncertainty/confidence.hpp"
 
 #include <fftw3.h>
 #include <gtest/gtest.h>

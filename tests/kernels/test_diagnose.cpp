@@ -2,8 +2,8 @@
 // nothing, a wrong coefficient is reported as wrong rather than as a missing effect, and the
 // result does not depend on the thread count. The rates over many seeds are in
 // test_diagnose_study.cpp (disabled by default); here one or two seeds per case keep CTest fast.
-#include "kernels/chi2.hpp"
 #include "kernels/test_diagnose_support.hpp"
+#include "kernels/uncertainty/chi2.hpp"
 
 #include <gtest/gtest.h>
 
@@ -30,8 +30,8 @@ const kernels::Parameter* find_param(const kernels::Diagnosis& d, Effect e, cons
 }
 
 // Bound on the gap of a model that explains the data: gap^2 = mean z^2 is about a chi-square
-// with n_eff degrees of freedom over n_eff (Satterthwaite; see kernels/diagnose.hpp), so its
-// 99.9 % quantile bounds the gap for all but one seed in a thousand.
+// with n_eff degrees of freedom over n_eff (Satterthwaite; see kernels/diagnose/diagnose.hpp), so
+// its 99.9 % quantile bounds the gap for all but one seed in a thousand.
 double gap_bound(const kernels::Diagnosis& d) {
   return std::sqrt(kernels::chi2_quantile(0.999, d.n_eff) / d.n_eff);
 }

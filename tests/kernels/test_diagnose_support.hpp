@@ -3,8 +3,8 @@
 // the curve, the measurement simulated from the truth and diagnosed against the given model.
 #pragma once
 
-#include "kernels/diagnose.hpp"
-#include "kernels/simulate.hpp"
+#include "kernels/diagnose/diagnose.hpp"
+#include "kernels/simulate/simulate.hpp"
 
 #include <cstdint>
 #include <string>

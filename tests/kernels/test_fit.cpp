@@ -1,14 +1,14 @@
-// Tests of the eq. (3) fit (kernels/fit.hpp): the covariance model of the overlapping Allan
+// Tests of the eq. (3) fit (kernels/model/fit.hpp): the covariance model of the overlapping Allan
 // estimates against direct sums and against Greenhall & Riley's edf, exact recovery of
 // noise-free curves, agreement of QR with COD and SVD, rank and data statuses, preconditions,
 // reuse of the plan, thread invariance, and a paper-level simulated gyro.
-#include "kernels/allan.hpp"
-#include "kernels/confidence.hpp"
-#include "kernels/edf.hpp"
-#include "kernels/fit.hpp"
-#include "kernels/phase.hpp"
-#include "kernels/simulate.hpp"
-#include "kernels/tau_grid.hpp"
+#include "kernels/allan/allan.hpp"
+#include "kernels/allan/phase.hpp"
+#include "kernels/allan/tau_grid.hpp"
+#include "kernels/model/fit.hpp"
+#include "kernels/simulate/simulate.hpp"
+#include "kernels/uncertainty/confidence.hpp"
+#include "kernels/uncertainty/edf.hpp"
 
 #include <Eigen/QR>
 #include <Eigen/SVD>
@@ -173,11 +173,11 @@ TEST(OavarCovariance, WhiteAndRandomWalkFromExplicitPhaseCovariance) {
 
 TEST(OavarCovariance, DiagonalAgreesWithGreenhallEdf) {
   // var(avar_hat) = 2 avar^2 / edf: the model's diagonal against Greenhall & Riley's edf
-  // algorithm (kernels/edf.hpp, another implementation of the same theory, exact sums for small
-  // m and fitted asymptotes beyond). Their asymptotes are quoted to a few 1e-3; 2 % allows for
-  // that. Only m >= 64: below, Greenhall's continuous-time model of the phase differs from
-  // sampled data by O(1/m) (at m = 1 for white rate noise it gives edf ~ 0.78 N where the exact
-  // discrete value, which the explicit-covariance test above confirms and SP1065 Table 5
+  // algorithm (kernels/uncertainty/edf.hpp, another implementation of the same theory, exact sums
+  // for small m and fitted asymptotes beyond). Their asymptotes are quoted to a few 1e-3; 2 %
+  // allows for that. Only m >= 64: below, Greenhall's continuous-time model of the phase differs
+  // from sampled data by O(1/m) (at m = 1 for white rate noise it gives edf ~ 0.78 N where the
+  // exact discrete value, which the explicit-covariance test above confirms and SP1065 Table 5
   // reproduces, is 2 N / 3).
   const std::int64_t n_samples = 1000000;
   const double tau0 = 1e-3;

@@ -20,13 +20,13 @@
 // band is about [0.50, 0.85]. The same count with the naive weighted-least-squares sigma,
 // (X^T W X)^-1 that treats the taus as independent, is far below the band (about 0.3 for B):
 // this is what the correlated covariance fixes, and it shows the test can fail.
-#include "kernels/allan.hpp"
-#include "kernels/chi2.hpp"
-#include "kernels/confidence.hpp"
-#include "kernels/fit.hpp"
-#include "kernels/phase.hpp"
-#include "kernels/simulate.hpp"
-#include "kernels/tau_grid.hpp"
+#include "kernels/allan/allan.hpp"
+#include "kernels/allan/phase.hpp"
+#include "kernels/allan/tau_grid.hpp"
+#include "kernels/model/fit.hpp"
+#include "kernels/simulate/simulate.hpp"
+#include "kernels/uncertainty/chi2.hpp"
+#include "kernels/uncertainty/confidence.hpp"
 
 #include <Eigen/Dense>
 #include <gtest/gtest.h>

@@ -1,9 +1,9 @@
 // OADEV against Stable32, NIST SP1065's NBS14 values and the naive long-double reference;
 // thread invariance, gaps and prefix-sum precision.
-#include "kernels/allan.hpp"
-#include "kernels/phase.hpp"
-#include "kernels/stats.hpp"
-#include "kernels/tau_grid.hpp"
+#include "kernels/allan/allan.hpp"
+#include "kernels/allan/phase.hpp"
+#include "kernels/allan/stats.hpp"
+#include "kernels/allan/tau_grid.hpp"
 #include "reference/naive_allan.hpp"
 #include "reference/stable32.hpp"
 

@@ -1,4 +1,4 @@
-// Welch PSD, log binning and eq. (2) on the measured PSD (kernels/psd.hpp).
+// Welch PSD, log binning and eq. (2) on the measured PSD (kernels/spectral/psd.hpp).
 //
 // Statistical checks compare a Welch value of edf nu with its expectation through
 // z = (ln(P / P_model) + 1/nu) / sqrt(2 / nu) (ln of a chi-square average: mean -1/nu, sd
@@ -6,11 +6,11 @@
 // Allan variance; kMaxGap = 3 fails a correct estimator rarely (even if every z were equal,
 // P(|z| > 3) = 0.27 %), and each such test also shows that a 10 % error in a coefficient
 // is detected.
-#include "kernels/allan.hpp"
-#include "kernels/chi2.hpp"
-#include "kernels/phase.hpp"
-#include "kernels/psd.hpp"
-#include "kernels/simulate.hpp"
+#include "kernels/allan/allan.hpp"
+#include "kernels/allan/phase.hpp"
+#include "kernels/simulate/simulate.hpp"
+#include "kernels/spectral/psd.hpp"
+#include "kernels/uncertainty/chi2.hpp"
 
 #include <gtest/gtest.h>
 

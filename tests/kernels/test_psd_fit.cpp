@@ -1,4 +1,4 @@
-// The PSD-domain eq. (3) fit (kernels/psd_fit.hpp) and its comparison with the Allan fit.
+// The PSD-domain eq. (3) fit (kernels/model/psd_fit.hpp) and its comparison with the Allan fit.
 //
 // Three kinds of check, as for every estimator here:
 //  - exactness of the expected Welch value of each term: against its closed-form PSD where
@@ -8,14 +8,14 @@
 //    expected value, with a tolerance from the chi-square edf of the pooled bins;
 //  - recovery of the paper's coefficients (N within 10 % is the bar; the tolerance
 //    used is 3 sigma of the fit's own uncertainty, far tighter) and agreement with the Allan fit.
-#include "kernels/confidence.hpp"
-#include "kernels/fit.hpp"
-#include "kernels/phase.hpp"
-#include "kernels/psd.hpp"
-#include "kernels/psd_fit.hpp"
-#include "kernels/simulate.hpp"
-#include "kernels/stats.hpp"
-#include "kernels/tau_grid.hpp"
+#include "kernels/allan/phase.hpp"
+#include "kernels/allan/stats.hpp"
+#include "kernels/allan/tau_grid.hpp"
+#include "kernels/model/fit.hpp"
+#include "kernels/model/psd_fit.hpp"
+#include "kernels/simulate/simulate.hpp"
+#include "kernels/spectral/psd.hpp"
+#include "kernels/uncertainty/confidence.hpp"
 
 #include <gtest/gtest.h>
 

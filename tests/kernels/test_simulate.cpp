@@ -10,10 +10,11 @@
 // with fewer than n_tau degrees of freedom divided by n_tau; even in the worst case (all z
 // equal, 1 dof) P(gap > 3) = P(|z| > 3) = 0.27%, so kMaxGap = 3 fails a correct generator
 // rarely, while every test also shows that a 10% error in the coefficient is detected.
-#include "kernels/allan.hpp"
-#include "kernels/phase.hpp"
-#include "kernels/rng.hpp"
-#include "kernels/simulate.hpp"
+#include "kernels/allan/allan.hpp"
+#include "kernels/allan/phase.hpp"
+#include "kernels/simulate/rng.hpp"
+#include "kernels/simulate/simulate.hpp"
+#include "kernels/spectral/fft.hpp"
 
 #include <fftw3.h>
 #include <gtest/gtest.h>

@@ -1,7 +1,7 @@
 // The Stable32 all-tau grid against every all-tau table of Stable32 1.60 in tests/data/stable32:
 // the m column must come out exactly, first to last row.
-#include "kernels/stats.hpp"
-#include "kernels/tau_grid.hpp"
+#include "kernels/allan/stats.hpp"
+#include "kernels/allan/tau_grid.hpp"
 #include "reference/stable32.hpp"
 
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
 // The units module against hand-derived values and published datasheet pairs, and round trips
 // for every unit and term.
-#include "kernels/units.hpp"
+#include "kernels/model/units.hpp"
 
 #include <gtest/gtest.h>
 

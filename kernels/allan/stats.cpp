@@ -1,0 +1,114 @@
+#include "kernels/allan/stats.hpp"
+
+#include "kernels/allan/allan.hpp"
+#include "kernels/allan/hadamard.hpp"
+#include "kernels/allan/total.hpp"
+
+#include <array>
+#include <stdexcept>
+#include <string>
+
+namespace allanlot::kernels {
+namespace {
+constexpr std::array<Stat, 7> kAll = {Stat::Adev, Stat::Oadev, Stat::Mdev,  Stat::Tdev,
+                                      Stat::Hdev, Stat::Ohdev, Stat::Totdev};
+}
+
+std::string_view stat_name(Stat s) {
+  switch (s) {
+  case Stat::Adev:
+    return "adev";
+  case Stat::Oadev:
+    return "oadev";
+  case Stat::Mdev:
+    return "mdev";
+  case Stat::Tdev:
+    return "tdev";
+  case Stat::Hdev:
+    return "hdev";
+  case Stat::Ohdev:
+    return "ohdev";
+  case Stat::Totdev:
+    return "totdev";
+  }
+  return "?";
+}
+
+std::optional<Stat> parse_stat(std::string_view name) {
+  for (const Stat s : kAll)
+    if (stat_name(s) == name) return s;
+  return std::nullopt;
+}
+
+bool supports_gaps(Stat s) {
+  return s != Stat::Totdev;
+}
+
+std::span<const Stat> all_stats() {
+  return kAll;
+}
+
+std::int64_t max_m(Stat s, std::int64_t n_points) {
+  // Stable32 1.60's largest averaging factor, read off its tables in tests/data/stable32
+  // (PHASE.DAT, N = 1001, and pink_frequency, N = 10001 phase points): the non-overlapping
+  // ADEV and HDEV stop at (M-1)/5 for M = N-1 frequency points (199 and 1999: m = 200 is on
+  // the all-tau grid but absent), the overlapping and modified statistics at (N-1)/4 (247 and
+  // 128 printed, 251 the next grid point) and TOTDEV at (N-1)/2 (499, next 506). These are
+  // Riley's stop ratios 5, 4 and 2 ("Evolution of Stable32", Table III).
+  if (n_points < 2) return 0;
+  switch (s) {
+  case Stat::Adev:
+  case Stat::Hdev:
+    return (n_points - 2) / 5;
+  case Stat::Oadev:
+  case Stat::Mdev:
+  case Stat::Tdev:
+  case Stat::Ohdev:
+    return (n_points - 1) / 4;
+  case Stat::Totdev:
+    return (n_points - 1) / 2;
+  }
+  return 0;
+}
+
+std::optional<std::pair<double, std::int64_t>> SumCache::second(std::int64_t m) const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  if (const auto it = second_.find(m); it != second_.end()) return it->second;
+  return std::nullopt;
+}
+
+void SumCache::store_second(std::int64_t m, double sum, std::int64_t n) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  second_.emplace(m, std::make_pair(sum, n));
+}
+
+StatResult compute(Stat s, const PhaseData& p, std::span<const std::int64_t> m_list, int nthreads,
+                   SumCache* cache) {
+  for (const std::int64_t m : m_list)
+    if (m < 1)
+      throw std::invalid_argument(std::string(stat_name(s)) + ": m must be >= 1, got " +
+                                  std::to_string(m));
+  const std::int64_t mmax = max_m(s, p.n_points());
+  std::vector<std::int64_t> ms;
+  for (const std::int64_t m : m_list)
+    if (m <= mmax) ms.push_back(m);
+  switch (s) {
+  case Stat::Adev:
+    return adev(p, ms, nthreads);
+  case Stat::Oadev:
+    return oadev(p, ms, nthreads, cache);
+  case Stat::Mdev:
+    return mdev(p, ms, nthreads);
+  case Stat::Tdev:
+    return tdev(p, ms, nthreads);
+  case Stat::Hdev:
+    return hdev(p, ms, nthreads);
+  case Stat::Ohdev:
+    return ohdev(p, ms, nthreads);
+  case Stat::Totdev:
+    return totdev(p, ms, nthreads, cache);
+  }
+  throw std::invalid_argument("unknown statistic");
+}
+
+}  // namespace allanlot::kernels

@@ -1,0 +1,52 @@
+// The Allan-family statistics by name: one entry point that the command line and the batch
+// driver call, and the per-statistic rules (valid m range) in one place.
+#pragma once
+
+#include "kernels/allan/phase.hpp"
+#include "kernels/allan/stat_result.hpp"
+#include "kernels/allan/sum_cache.hpp"
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string_view>
+
+namespace allanlot::kernels {
+
+/// Statistics, named as in allantools and Stable32.
+enum class Stat {
+  Adev,   // Allan deviation (non-overlapping), SP1065 eq. (7)
+  Oadev,  // overlapping Allan deviation, SP1065 eq. (11)
+  Mdev,   // modified Allan deviation, SP1065 eq. (14)
+  Tdev,   // time deviation, SP1065 eq. (16)
+  Hdev,   // Hadamard deviation, SP1065 eq. (17)
+  Ohdev,  // overlapping Hadamard deviation, SP1065 eq. (18)
+  Totdev  // total deviation (doubly reflected TOTVAR), SP1065 eq. (25)
+};
+
+/// "oadev" etc.
+std::string_view stat_name(Stat s);
+/// Inverse of stat_name; nullopt for an unknown name.
+std::optional<Stat> parse_stat(std::string_view name);
+/// False for the statistics that refuse gapped data (totdev: its reflections have no meaning
+/// across a gap; see kernels/allan/total.hpp); the others leave out the terms that touch a gap.
+bool supports_gaps(Stat s);
+/// Every statistic this build computes, in the order results are written.
+std::span<const Stat> all_stats();
+
+/// Largest averaging factor Stable32 1.60 evaluates for `n_points` phase points N (its
+/// tables in tests/data/stable32): (N-2)/5 for ADEV and HDEV, (N-1)/4 for OADEV, MDEV, TDEV and
+/// OHDEV, (N-1)/2 for TOTDEV (Riley's stop ratios 5, 4, 2), so that every estimate keeps a
+/// reasonable number of terms. 0 when N < 2.
+std::int64_t max_m(Stat s, std::int64_t n_points);
+
+/// Computes statistic `s` at every m of `m_list` with m <= max_m(s, N); larger m give no row.
+/// Throws std::invalid_argument for any m < 1, for gapped data with TOTDEV, and for the
+/// preconditions of the statistic's own function (allan.hpp, hadamard.hpp, total.hpp).
+/// Parallel over m with `nthreads` (0 = OpenMP default); results are bit-identical for any
+/// thread count because each tau's sum is formed by one thread in a fixed order. With a
+/// cache, OADEV and TOTDEV share their second-difference sums (same bits as without).
+StatResult compute(Stat s, const PhaseData& p, std::span<const std::int64_t> m_list,
+                   int nthreads = 0, SumCache* cache = nullptr);
+
+}  // namespace allanlot::kernels

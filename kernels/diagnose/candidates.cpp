@@ -1,0 +1,401 @@
+// Diagnose's model components (docs/diagnose.md "Why"): their basis curves, their fits to the
+// measured curve, the uncertainties of their parameters and the candidates of a round.
+#include "kernels/diagnose/internal.hpp"
+
+#include "kernels/model/least_squares.hpp"
+#include "kernels/simulate/rng.hpp"
+#include "kernels/uncertainty/chi2.hpp"
+
+#include <Eigen/Core>
+#include <Eigen/QR>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+namespace allanlot::kernels::diagnose_detail {
+namespace {
+
+std::vector<double> basis_of(const Component& c, const Curve& cv, const Bases& b) {
+  if (c.kind == Kind::Term) return b.term[static_cast<std::size_t>(c.term)];
+  ChannelSpec s;
+  s.rate_hz = b.rate_hz;
+  if (c.kind == Kind::Sinusoid)
+    s.sinusoids.push_back({1.0, c.nl, 0.0});
+  else
+    s.markovs.push_back({1.0, c.nl});
+  // model_avar, not model_avar_sampled: both are exact for these components at every m, and
+  // the sampled form would evaluate flicker's quadrature factor for nothing.
+  std::vector<double> g(cv.size());
+  for (std::size_t i = 0; i < cv.size(); ++i)
+    g[i] = model_avar(s, cv.tau[i]);
+  return g;
+}
+
+// Diagnose's choices for the one NNLS (kernels/model/least_squares.hpp): a tolerance of
+// 1e-12 |A| max(1, |b|), at most 3 k + 3 additions and k + 1 steps each for k columns, a
+// coefficient at or below 1e-300 leaves the active set. These are the choices the component
+// fit has always made, kept so that its results stay bit for bit: the fits' kEq3Nnls gives the
+// same bits on the test scenarios, but not by construction wherever a tolerance or limit binds.
+constexpr detail::NnlsOptions kComponentNnls{1e-12, 1.0, 3, 3, 1, 1, 1e-300, false, false};
+
+double log_chi2(const Curve& cv, const std::vector<double>& model) {
+  double s = 0.0;
+  for (std::size_t i = 0; i < cv.size(); ++i) {
+    const double r = cv.ln_y[i] - std::log(std::max(model[i], 1e-300));
+    s += r * r / cv.var_ln[i];
+  }
+  return s;
+}
+
+std::string term_key(Term t) {
+  return std::string(term_name(t));
+}
+
+// Markov candidate: a new component, its tau_c searched with the others' coefficients as
+// `base` has them (fixed or free).
+CandidateFit markov_candidate(std::vector<Component> base, const Curve& cv, const Bases& b) {
+  Component c;
+  c.kind = Kind::Markov;
+  c.free = true;
+  c.nl_free = true;
+  base.push_back(c);
+  const std::size_t idx = base.size() - 1;
+  CandidateFit out;
+  out.fit = search_tau_c(std::move(base), idx, cv, b);
+  out.added = out.fit.comps.size() - 1;
+  return out;
+}
+
+}  // namespace
+
+double threshold(int k, double alpha) {
+  return chi2_quantile(1.0 - alpha, static_cast<double>(k));
+}
+
+Bases make_bases(const Curve& cv, double rate_hz) {
+  Bases b;
+  b.rate_hz = rate_hz;
+  for (const Term t : all_terms()) {
+    ChannelSpec s;
+    s.rate_hz = rate_hz;
+    coefficient(s.terms, t) = 1.0;
+    auto& g = b.term[static_cast<std::size_t>(t)];
+    g.resize(cv.size());
+    for (std::size_t i = 0; i < cv.size(); ++i)
+      g[i] = model_avar_sampled(s, cv.m[i]);
+  }
+  return b;
+}
+
+std::vector<Component> components_of(const ChannelSpec& s) {
+  std::vector<Component> out;
+  for (const Term t : all_terms())
+    if (coefficient(s.terms, t) > 0.0) {
+      Component c;
+      c.term = t;
+      c.coef = coefficient(s.terms, t);
+      c.given = true;
+      out.push_back(c);
+    }
+  for (const Sinusoid& q : s.sinusoids) {
+    Component c;
+    c.kind = Kind::Sinusoid;
+    c.nl = q.frequency_hz;
+    c.phase = q.phase_rad;
+    c.coef = q.amplitude;
+    c.given = true;
+    out.push_back(c);
+  }
+  for (const GaussMarkov& g : s.markovs) {
+    Component c;
+    c.kind = Kind::Markov;
+    c.nl = g.tau_c_s;
+    c.coef = g.sigma;
+    c.given = true;
+    out.push_back(c);
+  }
+  return out;
+}
+
+ChannelSpec spec_of(const std::vector<Component>& comps, const ChannelSpec& like) {
+  ChannelSpec s;
+  s.rate_hz = like.rate_hz;
+  s.offset = like.offset;
+  for (const Component& c : comps) {
+    if (c.kind == Kind::Term) {
+      coefficient(s.terms, c.term) = c.coef;
+    } else if (c.kind == Kind::Sinusoid) {
+      s.sinusoids.push_back({c.coef, c.nl, c.phase});
+    } else {
+      s.markovs.push_back({c.coef, c.nl});
+    }
+  }
+  return s;
+}
+
+// Fits the squared coefficients of the free components (the others fixed), as kernels/model/fit.hpp
+// does for eq. (3): non-negative weighted least squares on the variances with weights
+// 1 / var(avar_hat) = 1 / (var_ln avar_model^2), reweighted from the model until it settles.
+// Weights from the model rather than the estimate avoid favouring estimates that fell low. To
+// first order this minimizes the chi-square of the log residuals that the criterion uses.
+Fit fit_components(std::vector<Component> comps, const Curve& cv, const Bases& b) {
+  const std::size_t p = cv.size();
+  std::vector<std::vector<double>> g;
+  std::vector<std::size_t> free_idx;
+  std::vector<double> fixed(p, 0.0);
+  for (std::size_t c = 0; c < comps.size(); ++c) {
+    std::vector<double> gc = basis_of(comps[c], cv, b);
+    if (comps[c].free) {
+      free_idx.push_back(c);
+      g.push_back(std::move(gc));
+    } else {
+      for (std::size_t i = 0; i < p; ++i)
+        fixed[i] += comps[c].coef * comps[c].coef * gc[i];
+    }
+  }
+  std::vector<double> model(p);
+  for (std::size_t i = 0; i < p; ++i)
+    model[i] = free_idx.empty() ? fixed[i] : cv.y[i];
+  const auto k = static_cast<Eigen::Index>(free_idx.size());
+  if (k > 0) {
+    Eigen::MatrixXd a(static_cast<Eigen::Index>(p), k);
+    Eigen::VectorXd rhs(static_cast<Eigen::Index>(p));
+    Eigen::VectorXd theta = Eigen::VectorXd::Zero(k);
+    for (int it = 0; it < 60; ++it) {
+      for (std::size_t i = 0; i < p; ++i) {
+        const double sw = 1.0 / (std::sqrt(cv.var_ln[i]) * std::max(model[i], 1e-300));
+        rhs(static_cast<Eigen::Index>(i)) = sw * (cv.y[i] - fixed[i]);
+        for (Eigen::Index j = 0; j < k; ++j)
+          a(static_cast<Eigen::Index>(i), j) = sw * g[static_cast<std::size_t>(j)][i];
+      }
+      // Columns scaled to unit norm: the regressors span many decades (tau^2 against
+      // 1/tau^2), which would otherwise decide the pivoting and the NNLS tolerance.
+      Eigen::VectorXd scale(k);
+      for (Eigen::Index j = 0; j < k; ++j) {
+        scale(j) = a.col(j).norm();
+        if (!(scale(j) > 0.0)) scale(j) = 1.0;
+        a.col(j) /= scale(j);
+      }
+      theta = detail::nnls(a, rhs, kComponentNnls).cwiseQuotient(scale);
+      double change = 0.0;
+      for (std::size_t i = 0; i < p; ++i) {
+        double v = fixed[i];
+        for (Eigen::Index j = 0; j < k; ++j)
+          v += theta(j) * g[static_cast<std::size_t>(j)][i];
+        change = std::max(change, std::abs(v - model[i]) / std::max(std::abs(model[i]), 1e-300));
+        model[i] = v;
+      }
+      if (change < 1e-10) break;
+    }
+    for (Eigen::Index j = 0; j < k; ++j)
+      comps[free_idx[static_cast<std::size_t>(j)]].coef = std::sqrt(std::max(theta(j), 0.0));
+  }
+  Fit f;
+  f.comps = std::move(comps);
+  f.model = std::move(model);
+  f.chi2 = log_chi2(cv, f.model);
+  return f;
+}
+
+// Uncertainties of the free parameters of a fit, from the log-space Fisher information
+// F = J^T diag(1 / var_ln) J with J_ij = d ln avar_model_i / d p_j (p: the coefficients
+// themselves, and tau_c where it was searched), inflated by P / n_eff because the P estimates
+// carry only about n_eff independent pieces of information (see the header). Parameters held
+// at zero get NaN (their uncertainty is not a Gaussian one).
+void fill_sigmas(Fit& f, const Curve& cv, const Bases& b, double n_eff,
+                 std::vector<double>& coef_sigma, std::vector<double>& nl_sigma) {
+  const std::size_t p = cv.size();
+  coef_sigma.assign(f.comps.size(), kNaN);
+  nl_sigma.assign(f.comps.size(), kNaN);
+  std::vector<std::pair<std::size_t, bool>> params;  // (component, is nl)
+  std::vector<std::vector<double>> cols;
+  for (std::size_t c = 0; c < f.comps.size(); ++c) {
+    const Component& comp = f.comps[c];
+    if (!comp.free || !(comp.coef > 0.0)) continue;
+    const std::vector<double> g = basis_of(comp, cv, b);
+    std::vector<double> d(p);
+    for (std::size_t i = 0; i < p; ++i)
+      d[i] = 2.0 * comp.coef * g[i] / f.model[i];
+    params.emplace_back(c, false);
+    cols.push_back(std::move(d));
+    if (comp.nl_free) {
+      const double h = 1e-4;
+      Component lo = comp, hi = comp;
+      lo.nl *= 1.0 - h;
+      hi.nl *= 1.0 + h;
+      const std::vector<double> gl = basis_of(lo, cv, b), gh = basis_of(hi, cv, b);
+      std::vector<double> dn(p);
+      for (std::size_t i = 0; i < p; ++i)
+        dn[i] = comp.coef * comp.coef * (gh[i] - gl[i]) / (2.0 * h * comp.nl) / f.model[i];
+      params.emplace_back(c, true);
+      cols.push_back(std::move(dn));
+    }
+  }
+  if (params.empty()) return;
+  const auto k = static_cast<Eigen::Index>(params.size());
+  Eigen::MatrixXd j(static_cast<Eigen::Index>(p), k);
+  for (std::size_t i = 0; i < p; ++i)
+    for (Eigen::Index q = 0; q < k; ++q)
+      j(static_cast<Eigen::Index>(i), q) =
+          cols[static_cast<std::size_t>(q)][i] / std::sqrt(cv.var_ln[i]);
+  const Eigen::MatrixXd fisher = j.transpose() * j;
+  const Eigen::MatrixXd cov =
+      fisher.completeOrthogonalDecomposition().pseudoInverse() * (static_cast<double>(p) / n_eff);
+  for (Eigen::Index q = 0; q < k; ++q) {
+    const auto [c, is_nl] = params[static_cast<std::size_t>(q)];
+    const double s = std::sqrt(std::max(cov(q, q), 0.0));
+    (is_nl ? nl_sigma : coef_sigma)[c] = s;
+  }
+}
+
+// The parameters of one component under the model file's keys.
+std::vector<Parameter> parameters_of(const Component& c, double coef_sigma, double nl_sigma) {
+  if (c.kind == Kind::Term) return {{term_key(c.term), c.coef, coef_sigma}};
+  if (c.kind == Kind::Sinusoid)
+    return {{"amplitude", c.coef, c.pinned ? c.coef_sigma : coef_sigma},
+            {"frequency_hz", c.nl, std::isnan(c.nl_sigma) ? nl_sigma : c.nl_sigma}};
+  return {{"sigma", c.coef, coef_sigma}, {"tau_c_s", c.nl, nl_sigma}};
+}
+
+std::string component_label(const std::vector<Component>& comps, std::size_t idx) {
+  const Component& c = comps[idx];
+  if (c.kind == Kind::Term) return term_key(c.term);
+  int ordinal = 0;
+  for (std::size_t i = 0; i < idx; ++i)
+    ordinal += comps[i].kind == c.kind ? 1 : 0;
+  return std::string(c.kind == Kind::Sinusoid ? "sinusoid[" : "markov[") + std::to_string(ordinal) +
+         "]";
+}
+
+// model_avar_sampled of spec `s` at the curve's taus, from the cached term bases.
+std::vector<double> model_curve(const ChannelSpec& s, const Curve& cv, const Bases& b) {
+  std::vector<double> v(cv.size());
+  ChannelSpec effects = s;
+  effects.terms = {};
+  for (std::size_t i = 0; i < cv.size(); ++i) {
+    v[i] = model_avar(effects, cv.tau[i]);
+    for (const Term t : all_terms()) {
+      const double c = coefficient(s.terms, t);
+      v[i] += c * c * b.term[static_cast<std::size_t>(t)][i];
+    }
+    if (!(v[i] > 0.0) || !std::isfinite(v[i]))
+      throw std::invalid_argument("diagnose: the model's Allan variance is " +
+                                  std::to_string(v[i]) + " at tau = " + std::to_string(cv.tau[i]) +
+                                  " s; a model must predict some noise at every tau");
+  }
+  return v;
+}
+
+// tau_c of the Markov component comps[idx] by a log grid of 8 per octave over the curve's
+// taus (a hump whose peak, near 1.9 tau_c, lies inside them), then golden-section search on
+// ln tau_c between the neighbours of the best grid point; the free coefficients are fitted
+// at each tau_c.
+Fit search_tau_c(std::vector<Component> comps, std::size_t idx, const Curve& cv, const Bases& b) {
+  const auto eval = [&](double tau_c) {
+    comps[idx].nl = tau_c;
+    return fit_components(comps, cv, b);
+  };
+  const double lo = std::log(cv.tau.front() / 2.0), hi = std::log(cv.tau.back());
+  const double step = std::numbers::ln2 / 8.0;
+  const int n_grid = static_cast<int>(std::ceil((hi - lo) / step)) + 1;
+  double best_chi2 = std::numeric_limits<double>::infinity();
+  int best = 0;
+  for (int g = 0; g < n_grid; ++g) {
+    const Fit f = eval(std::exp(lo + step * g));
+    if (f.chi2 < best_chi2) {
+      best_chi2 = f.chi2;
+      best = g;
+    }
+  }
+  double a = lo + step * std::max(best - 1, 0), c = lo + step * std::min(best + 1, n_grid - 1);
+  const double gr = (std::sqrt(5.0) - 1.0) / 2.0;
+  double x1 = c - gr * (c - a), x2 = a + gr * (c - a);
+  double f1 = eval(std::exp(x1)).chi2, f2 = eval(std::exp(x2)).chi2;
+  for (int it = 0; it < 25; ++it) {
+    if (f1 < f2) {
+      c = x2;
+      x2 = x1;
+      f2 = f1;
+      x1 = c - gr * (c - a);
+      f1 = eval(std::exp(x1)).chi2;
+    } else {
+      a = x1;
+      x1 = x2;
+      f1 = f2;
+      x2 = a + gr * (c - a);
+      f2 = eval(std::exp(x2)).chi2;
+    }
+  }
+  const double x = f1 < f2 ? x1 : x2;
+  Fit grid_best = eval(std::exp(lo + step * best));
+  Fit refined = eval(std::exp(x));
+  return refined.chi2 <= grid_best.chi2 ? refined : grid_best;
+}
+
+CandidateFit evaluate_candidate(Effect e, std::vector<Component> comps, const SpectralLine& line,
+                                int n_refit, double chi2_ref, const Curve& cv, const Bases& b,
+                                const Criterion& crit) {
+  CandidateFit cf;
+  cf.info.effect = e;
+  int k = n_refit;
+  if (const auto t = effect_term(e)) {
+    const bool present = std::any_of(comps.begin(), comps.end(), [&](const auto& c) {
+      return c.kind == Kind::Term && c.term == *t;
+    });
+    if (present) {
+      cf.info.note = "already in the model";
+      return cf;
+    }
+    Component c;
+    c.term = *t;
+    c.free = true;
+    comps.push_back(c);
+    cf.fit = fit_components(std::move(comps), cv, b);
+    k += 1;
+  } else if (e == Effect::Sinusoid) {
+    if (!line.searched) {
+      cf.info.note = "no PSD witness (gaps or short record)";
+      return cf;
+    }
+    if (!line.found || line.frequency_hz > 0.5 * crit.rate_hz) {
+      cf.info.note = "the PSD shows no line (peak/background " + std::to_string(line.peak_ratio) +
+                     " < threshold " + std::to_string(line.threshold) + ")";
+      return cf;
+    }
+    Component c;
+    c.kind = Kind::Sinusoid;
+    c.nl = line.frequency_hz;
+    c.nl_sigma = line.sigma_hz;
+    c.coef = line.amplitude;
+    c.coef_sigma = line.amplitude_sigma;
+    c.pinned = true;
+    comps.push_back(c);
+    cf.fit = fit_components(std::move(comps), cv, b);
+    cf.info.note = "PSD line at " + std::to_string(line.frequency_hz) + " Hz, peak/background " +
+                   std::to_string(line.peak_ratio);
+    k += 2;
+  } else if (e == Effect::Markov) {
+    const auto n_markov = std::count_if(comps.begin(), comps.end(),
+                                        [](const auto& c) { return c.kind == Kind::Markov; });
+    if (static_cast<std::uint32_t>(n_markov) >= rng::kMaxMarkov) {
+      cf.info.note = "too many markov effects";
+      return cf;
+    }
+    cf = markov_candidate(comps, cv, b);
+    cf.info.effect = e;
+    k += 2;
+  }
+  cf.added = cf.fit.comps.size() - 1;
+  cf.info.evaluated = true;
+  cf.info.delta_ic = (chi2_ref - cf.fit.chi2) * crit.scale - threshold(k, crit.alpha_candidate);
+  std::vector<double> cs, ns;
+  fill_sigmas(cf.fit, cv, b, crit.n_eff, cs, ns);
+  cf.info.parameters = parameters_of(cf.fit.comps[cf.added], cs[cf.added], ns[cf.added]);
+  return cf;
+}
+
+}  // namespace allanlot::kernels::diagnose_detail

@@ -1,0 +1,343 @@
+#include "kernels/diagnose/diagnose.hpp"
+
+#include "kernels/allan/phase.hpp"
+#include "kernels/allan/stats.hpp"
+#include "kernels/allan/tau_grid.hpp"
+#include "kernels/common/parallel.hpp"
+#include "kernels/diagnose/internal.hpp"
+#include "kernels/uncertainty/chi2.hpp"
+#include "kernels/uncertainty/confidence.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+namespace allanlot::kernels {
+
+using namespace diagnose_detail;
+
+std::string_view effect_name(Effect e) {
+  switch (e) {
+  case Effect::Quantization:
+    return "quantization";
+  case Effect::White:
+    return "white";
+  case Effect::Flicker:
+    return "flicker";
+  case Effect::RandomWalk:
+    return "random_walk";
+  case Effect::Ramp:
+    return "ramp";
+  case Effect::Sinusoid:
+    return "sinusoid";
+  case Effect::Markov:
+    return "markov";
+  }
+  return "?";
+}
+
+std::optional<Effect> parse_effect(std::string_view name) {
+  for (const Effect e : kAllEffects)
+    if (effect_name(e) == name) return e;
+  return std::nullopt;
+}
+
+std::optional<Term> effect_term(Effect e) {
+  switch (e) {
+  case Effect::Quantization:
+    return Term::Q;
+  case Effect::White:
+    return Term::N;
+  case Effect::Flicker:
+    return Term::B;
+  case Effect::RandomWalk:
+    return Term::K;
+  case Effect::Ramp:
+    return Term::R;
+  default:
+    return std::nullopt;
+  }
+}
+
+namespace {
+
+void check_options(const DiagnoseOptions& opt) {
+  if (opt.taus_per_decade < 1 || opt.taus_per_decade > 100)
+    throw std::invalid_argument("diagnose: taus_per_decade must be in [1, 100], got " +
+                                std::to_string(opt.taus_per_decade));
+  if (!(opt.band_alpha > 0.0 && opt.band_alpha < 1.0))
+    throw std::invalid_argument("diagnose: band_alpha must be in (0, 1)");
+  if (!(opt.select_alpha > 0.0 && opt.select_alpha < 1.0))
+    throw std::invalid_argument("diagnose: select_alpha must be in (0, 1)");
+  if (opt.mc_replicas < 0) throw std::invalid_argument("diagnose: mc_replicas must be >= 0");
+}
+
+// The measurement: overlapping Allan variance on a log grid with its Greenhall-Riley edf, and
+// the unbiased logarithm of each estimate with its variance (Curve).
+Curve measure(std::span<const double> rate, double rate_hz, const DiagnoseOptions& opt,
+              int threads) {
+  const PhaseData phase = phase_from_rate(rate, rate_hz, threads);
+  const std::int64_t m_max = max_m(Stat::Oadev, phase.n_points());
+  if (m_max < 8)
+    throw std::invalid_argument("diagnose: record too short (" + std::to_string(rate.size()) +
+                                " samples); need at least 3 octaves of tau (33 samples)");
+  TauGridSpec grid;
+  grid.kind = TauGridKind::Log;
+  grid.per_decade = opt.taus_per_decade;
+  StatResult oadev = compute(Stat::Oadev, phase, make_m_list(grid, m_max), threads);
+  add_confidence(Stat::Oadev, phase, oadev, kDefaultConfidence, threads);
+  Curve cv;
+  cv.tau0 = 1.0 / rate_hz;
+  cv.n_samples = static_cast<std::int64_t>(rate.size());
+  for (std::size_t i = 0; i < oadev.size(); ++i) {
+    const double y = oadev.dev[i] * oadev.dev[i];
+    if (!(y > 0.0) || !(oadev.edf[i] > 0.0)) continue;  // ln 0: nothing to compare
+    cv.m.push_back(oadev.m[i]);
+    cv.n.push_back(oadev.n[i]);
+    cv.tau.push_back(oadev.tau_s[i]);
+    cv.y.push_back(y);
+    cv.edf.push_back(oadev.edf[i]);
+    const double half = 0.5 * oadev.edf[i];
+    cv.ln_y.push_back(std::log(y) - (digamma(half) - std::log(half)));
+    cv.var_ln.push_back(trigamma(half));
+  }
+  if (cv.size() < 4)
+    throw std::invalid_argument("diagnose: fewer than 4 taus with a non-zero Allan variance");
+  return cv;
+}
+
+// One diagnosis in progress: the measurement, the criterion and the model as it grows.
+struct Search {
+  const DiagnoseOptions& opt;
+  const ChannelSpec& spec;
+  Diagnosis& d;
+  Curve cv;
+  Bases bases;
+  Criterion crit;
+  double alpha_tau = 0.0;
+  std::optional<PsdResult> periodogram;
+  double t_record = 0.0;
+  std::vector<Component> given, current;
+  std::vector<std::size_t> added_idx;
+  bool refit_taken = false;
+
+  bool round(int& iter);
+  void finish();
+};
+
+// One round of the add-and-repeat loop (see diagnose()): false when it adds nothing and the
+// loop ends; `iter` counts the effects added.
+bool Search::round(int& iter) {
+  std::vector<Component> fixed_now = current, free_now = current;
+  for (Component& c : fixed_now)
+    c.free = false;
+  for (Component& c : free_now)
+    c.free = !c.pinned;
+  const Fit ref = fit_components(fixed_now, cv, bases);
+  const int n_free = static_cast<int>(
+      std::count_if(free_now.begin(), free_now.end(), [](const auto& c) { return c.free; }));
+  std::vector<double> known_f;
+  for (const Component& c : current)
+    if (c.kind == Kind::Sinusoid) known_f.push_back(c.nl);
+  SpectralLine line;
+  if (periodogram) line = search_line(*periodogram, t_record, known_f, opt.line_false_alarm);
+  if (iter == 0 && !refit_taken) d.line = line;
+  // Variant (b) is judged against the refit, not against the model as it stands: its effect
+  // must pay for itself beyond what re-estimating alone achieves, or any useless term would
+  // ride on the refit's improvement.
+  const Fit refit = fit_components(free_now, cv, bases);
+  std::vector<CandidateFit> cands;
+  for (const Effect e : kAllEffects) {
+    CandidateFit a = evaluate_candidate(e, fixed_now, line, 0, ref.chi2, cv, bases, crit);
+    if (n_free > 0) {
+      CandidateFit b = evaluate_candidate(e, free_now, line, 0, refit.chi2, cv, bases, crit);
+      b.info.note +=
+          (b.info.note.empty() ? "" : "; ") + std::string("with the coefficients re-estimated");
+      if (b.info.evaluated && (!a.info.evaluated || b.info.delta_ic > a.info.delta_ic))
+        a = std::move(b);
+    }
+    cands.push_back(std::move(a));
+  }
+  std::size_t best = cands.size();
+  for (std::size_t c = 0; c < cands.size(); ++c)
+    if (cands[c].info.evaluated && cands[c].info.delta_ic > 0.0 &&
+        (best == cands.size() || cands[c].info.delta_ic > cands[best].info.delta_ic))
+      best = c;
+  // The PSD witness decides between look-alikes: an unexplained significant line is direct
+  // evidence of a sinusoid, while a Gauss-Markov hump (no line) can mimic its Allan bump. So
+  // when the sinusoid candidate is significant it goes first; the others are judged again in
+  // the next round, with the line explained.
+  for (std::size_t c = 0; c < cands.size(); ++c)
+    if (cands[c].info.effect == Effect::Sinusoid && cands[c].info.evaluated &&
+        cands[c].info.delta_ic > 0.0)
+      best = c;
+  // (c): the coefficients re-estimated with nothing added, taken at most once and only when
+  // no effect is significant: incomplete before wrong, because a raised flicker floor can
+  // mimic two hidden effects at once (a greedy round cannot see that one effect now and one
+  // next round explain more); whether the given values were wrong is tested again at the end
+  // with every effect in place.
+  if (n_free > 0 && !refit_taken) {
+    const double delta =
+        (ref.chi2 - refit.chi2) * crit.scale - threshold(n_free, crit.alpha_candidate);
+    if (delta > 0.0 && best == cands.size()) {
+      refit_taken = true;
+      current = refit.comps;
+      d.notes.push_back("round " + std::to_string(iter + 1) +
+                        ": re-estimating the model's coefficients explains more than adding "
+                        "any effect (criterion +" +
+                        std::to_string(delta) + ")");
+      return true;
+    }
+  }
+  if (best == cands.size()) return false;
+  CandidateFit& w = cands[best];
+  Iteration it;
+  it.effect = w.info.effect;
+  it.parameters = w.info.parameters;
+  it.delta_ic = w.info.delta_ic;
+  const Comparison cmp_before = compare(cv, ref.model, alpha_tau);
+  const Comparison cmp_after = compare(cv, w.fit.model, alpha_tau);
+  it.gap_before = iter == 0 ? d.before.gap : cmp_before.gap;
+  it.gap_after = cmp_after.gap;
+  it.bands_before = iter == 0 ? d.before.bands : cmp_before.bands;
+  it.bands_after = cmp_after.bands;
+  std::vector<double> cs, ns;
+  fill_sigmas(w.fit, cv, bases, d.n_eff, cs, ns);
+  for (std::size_t c = 0; c < w.fit.comps.size(); ++c) {
+    const std::string label = component_label(w.fit.comps, c);
+    for (Parameter p : parameters_of(w.fit.comps[c], cs[c], ns[c])) {
+      if (w.fit.comps[c].kind != Kind::Term) p.name = label + "." + p.name;
+      it.coefficients.push_back(p);
+    }
+  }
+  it.model_after = spec_of(w.fit.comps, spec);
+  for (CandidateFit& c : cands)
+    it.candidates.push_back(c.info);
+  d.iterations.push_back(std::move(it));
+  d.effects_named.push_back(w.info.effect);
+  added_idx.push_back(w.added);
+  current = w.fit.comps;
+  ++iter;
+  return true;
+}
+
+// After the rounds: the final structure refitted, the given coefficients tested (fixed versus
+// re-estimated), and the model after with its effects' parameters.
+void Search::finish() {
+  std::vector<Component> all_free = current;
+  for (Component& c : all_free)
+    c.free = !c.pinned;
+  Fit base = fit_components(all_free, cv, bases);
+  // Each added Markov effect's tau_c was searched in the round that named it, before the
+  // effects named after it were in the model (a quantization found later, say, had been
+  // partly absorbed by the hump); it is searched again with the final structure.
+  for (const std::size_t idx : added_idx)
+    if (base.comps[idx].kind == Kind::Markov) base = search_tau_c(base.comps, idx, cv, bases);
+
+  // Were the given coefficients wrong? The final structure with the given components fixed at
+  // their given values (the added effects still fitted) against all re-estimated; the same
+  // criterion, with one parameter per given coefficient.
+  std::vector<Component> fixed = base.comps;
+  int n_given = 0;
+  for (std::size_t c = 0; c < fixed.size(); ++c)
+    if (c < given.size()) {
+      fixed[c] = given[c];
+      fixed[c].free = false;
+      ++n_given;
+    }
+  Fit fixed_fit = fit_components(fixed, cv, bases);
+  d.revision_delta_ic =
+      n_given > 0 ? (fixed_fit.chi2 - base.chi2) * crit.scale - threshold(n_given, opt.select_alpha)
+                  : 0.0;
+  d.coefficients_wrong = n_given > 0 && d.revision_delta_ic > 0.0;
+  std::vector<double> cs, ns;
+  fill_sigmas(base, cv, bases, d.n_eff, cs, ns);
+  for (std::size_t c = 0; c < given.size(); ++c) {
+    const std::string label = component_label(given, c);
+    const std::string key = given[c].kind == Kind::Term       ? label
+                            : given[c].kind == Kind::Sinusoid ? label + ".amplitude"
+                                                              : label + ".sigma";
+    d.revisions.push_back({key, given[c].coef, base.comps[c].coef, cs[c]});
+  }
+  Fit& final_fit = d.coefficients_wrong ? base : fixed_fit;
+  if (d.effects_named.empty() && !d.coefficients_wrong) {
+    d.model_after = spec;
+  } else {
+    d.model_after = spec_of(final_fit.comps, spec);
+  }
+  std::vector<double> fcs, fns;
+  fill_sigmas(final_fit, cv, bases, d.n_eff, fcs, fns);
+  for (const std::size_t idx : added_idx)
+    d.effect_parameters.push_back(parameters_of(final_fit.comps[idx], fcs[idx], fns[idx]));
+  d.after = compare(cv, model_curve(d.model_after, cv, bases), alpha_tau);
+}
+
+}  // namespace
+
+Diagnosis diagnose(std::span<const double> rate, double rate_hz, const ChannelSpec& model,
+                   const DiagnoseOptions& opt) {
+  check_options(opt);
+  const int threads = resolve_threads(opt.nthreads);
+  ChannelSpec spec = model;
+  spec.rate_hz = rate_hz;
+  validate(spec);
+
+  Diagnosis d;
+  Search search{opt, spec, d,    measure(rate, rate_hz, opt, threads), {}, {}, 0.0, {}, 0.0, {},
+                {},  {},   false};
+  const Curve& cv = search.cv;
+  d.m = cv.m;
+  d.n = cv.n;
+  d.tau_s = cv.tau;
+  d.avar_measured = cv.y;
+  d.edf = cv.edf;
+  d.n_eff = effective_taus(cv);
+  // Selection threshold for a candidate of k parameters: the chi-square quantile at
+  // select_alpha / kNumEffects (Bonferroni over the candidates of a round), so that a round adds
+  // an effect to a complete model with probability about select_alpha.
+  search.crit.alpha_candidate = opt.select_alpha / kNumEffects;
+  search.crit.n_eff = d.n_eff;
+  search.crit.rate_hz = rate_hz;
+  d.penalty = threshold(1, search.crit.alpha_candidate);
+  search.alpha_tau = opt.band_alpha / d.n_eff;
+  d.z_threshold = std::sqrt(chi2_quantile(1.0 - search.alpha_tau, 1.0));
+  search.crit.scale = d.n_eff / static_cast<double>(cv.size());
+  search.bases = make_bases(cv, rate_hz);
+
+  d.model_before = spec;
+  d.before = compare(cv, model_curve(spec, cv, search.bases), search.alpha_tau);
+
+  if (has_nan(rate))
+    d.notes.push_back("the record has gaps: no PSD witness, so no sinusoid can be named");
+  else if (rate.size() >= 256)
+    search.periodogram = full_periodogram(rate, rate_hz, threads);
+  search.t_record = static_cast<double>(rate.size() - rate.size() % 2) / rate_hz;
+
+  // The add-and-repeat loop. Each round compares, against the current model with its
+  // coefficients as they stand, (a) each candidate added with the current coefficients fixed,
+  // (b) each candidate added with them re-estimated, and (c) the coefficients re-estimated with
+  // nothing added; the threshold grows with the parameters each hypothesis frees. Re-estimating
+  // is allowed but must pay for itself: a higher flicker floor can always absorb part of a
+  // missing hump or rise, and without (a) the free refit would swallow effects it cannot
+  // actually explain.
+  search.given = components_of(spec);
+  search.current = search.given;
+  for (int iter = 0; iter < opt.max_effects;)
+    if (!search.round(iter)) break;
+  search.finish();
+
+  d.mc_before =
+      monte_carlo(d.model_before, cv, d.before.avar_model, opt.mc_replicas, opt.mc_seed, threads);
+  const bool same = d.model_after.terms == d.model_before.terms &&
+                    d.model_after.sinusoids == d.model_before.sinusoids &&
+                    d.model_after.markovs == d.model_before.markovs;
+  d.mc_after = same ? d.mc_before
+                    : monte_carlo(d.model_after, cv, d.after.avar_model, opt.mc_replicas,
+                                  opt.mc_seed, threads);
+  d.gap_within_noise = opt.mc_replicas > 0 ? d.after.gap <= d.mc_after.gap_p95 : d.after.gap <= 1.0;
+  return d;
+}
+
+}  // namespace allanlot::kernels

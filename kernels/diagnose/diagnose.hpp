@@ -1,0 +1,227 @@
+// Model-discrepancy diagnosis (docs/diagnose.md): where a noise model disagrees
+// with a measured channel, which effect is missing, and the model with that effect added.
+//
+// Where. The measured overlapping Allan variance (NIST SP1065 eq. (11)) on a log tau grid is
+// compared with the model's prediction model_avar_sampled() tau by tau:
+//
+//   z_i = ln(avar_hat_i / avar_model_i) / sqrt(2 / edf_i),   gap = sqrt(mean_i z_i^2),
+//
+// edf_i the Greenhall & Riley EDF of the estimate (kernels/uncertainty/confidence.hpp; Greenhall &
+// Riley, "Uncertainty of stability variances based on finite differences", PTTI 2003), since edf *
+// avar_hat / avar is chi-square with edf degrees of freedom (SP1065 sec. 5.3.3) and var(ln chi2_nu
+// / nu) ~ 2 / nu. A correct model gives gap ~ 1.
+//
+// Correlation of neighbouring taus. Overlapping estimates at neighbouring taus share most of
+// their data (correlation 0.9 and more at 16 taus per decade, kernels/model/fit.hpp), so a noise
+// excursion spans several taus and a sum of z^2 over P taus varies far more than a chi-square
+// with P degrees of freedom. The correlation matrix C of the estimates is computed from the
+// eq. (3) noise model fitted to the measurement (OavarCovariance, exact for Gaussian noise),
+// and the effective number of independent taus is Satterthwaite's (Box 1954, "Some theorems on
+// quadratic forms applied in the study of analysis of variance problems", Ann. Math. Stat. 25):
+//
+//   n_eff = P^2 / sum_ij C_ij^2,
+//
+// which matches the mean and variance of sum z_i^2 to a scaled chi-square with n_eff degrees of
+// freedom. It is used twice: (1) a tau is significant when its two-sided chi-square p-value is
+// below band_alpha / n_eff (Bonferroni over the independent taus), so that a complete model
+// shows any band with probability about band_alpha; the exact chi-square tail is used rather
+// than |z| because at the longest taus edf is a few units and ln chi2 is strongly skewed;
+// (2) the information criterion below scales chi-square differences by n_eff / P.
+//
+// Why. Candidates are the five terms of eq. (3) and two effects outside it:
+//   quantization (Q), white (N), flicker (B), random_walk (K), ramp (R)  -- 1 parameter each,
+//   sinusoid  (amplitude, frequency_hz): a bump at tau ~ 0.37 / f, decaying with ripples;
+//   markov    (sigma, tau_c_s): +1/2 then -1/2 ADEV slopes around tau ~ 1.9 tau_c.
+// A candidate is fitted together with the model's coefficients (non-negative least squares
+// on the variances, reweighted, as kernels/model/fit.hpp), its nonlinear parameter by a grid plus
+// golden-section search (markov tau_c) or from the PSD (sinusoid frequency). The fit quality
+// is the chi-square of the log residuals with the exact moments of ln(chi2_nu / nu): mean
+// psi(nu/2) - ln(nu/2), variance psi'(nu/2) (Bartlett & Kendall 1946, "The statistical
+// analysis of variance-heterogeneity and the logarithmic transformation", JRSS Suppl. 8), and
+// the criterion is
+//
+//   delta_ic = (chi2_reference - chi2_candidate) n_eff / P - c_k,
+//   c_k = chi-square quantile at 1 - select_alpha / 7 with k degrees of freedom,
+//
+// a penalized criterion like AIC (c_k = 2k) and BIC (c_k = k ln n) but with the penalty set by
+// the level of the test it implies: with n_eff ~ 8, BIC's ln(8) per parameter would let a
+// complete model pick up one of the seven candidates in about a fifth of records. A candidate
+// is added only when delta_ic > 0, so a model that already fits gets nothing. Each candidate
+// is tried with the model's coefficients fixed (reference: the model as it stands) and
+// re-estimated (reference: the model re-estimated with nothing added, so that the effect pays
+// for itself beyond the re-estimation).
+//
+// PSD witness. A sinusoid is a line in the spectrum, which the Allan variance smears into a
+// bump that a Gauss-Markov hump can mimic. The sinusoid candidate is therefore only evaluated
+// when the full-record periodogram shows a significant line (find_spectral_line), and its
+// frequency is taken from that line (resolution 1/T, far finer than the Allan bump's), so
+// that the frequency is estimated where it is identifiable.
+//
+// Add and repeat. The winner is added with its parameters, and the search repeated until no
+// candidate has delta_ic > 0 (or max_effects are added). Re-estimating the coefficients with
+// nothing added is a hypothesis of its own, taken only when no effect is significant
+// (incomplete before wrong: a raised flicker floor can mimic two hidden effects at once). At
+// the end the given coefficients are tested, fixed at their given values versus re-estimated
+// with every added effect in place; when re-estimating is significant the given coefficients
+// were wrong (reported with given and estimated values), otherwise the given values are kept.
+//
+// Simulation vs measurement. The model before and after is simulated mc_replicas times at the
+// measurement's length and rate (SimulationPlan; replica r is stream r of mc_seed, so the result
+// does not depend on the thread count); the per-tau quantiles of the replicas' overlapping Allan
+// variance give a Monte Carlo band, and the replicas' gaps against the analytic model give the
+// null distribution of the gap, from which "within statistical noise" is judged.
+#pragma once
+
+#include "kernels/model/terms.hpp"
+#include "kernels/simulate/simulate.hpp"
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace allanlot::kernels {
+
+/// The effect vocabulary of docs/diagnose.md.
+enum class Effect { Quantization, White, Flicker, RandomWalk, Ramp, Sinusoid, Markov };
+inline constexpr int kNumEffects = 7;
+
+/// "quantization", "white", "flicker", "random_walk", "ramp", "sinusoid", "markov".
+std::string_view effect_name(Effect e);
+/// Inverse of effect_name; nullopt for anything else.
+std::optional<Effect> parse_effect(std::string_view name);
+/// The eq. (3) term an effect adds (Q, N, B, K, R); nullopt for sinusoid and markov.
+std::optional<Term> effect_term(Effect e);
+
+struct DiagnoseOptions {
+  int taus_per_decade = 8;     // log tau grid of the comparison (kernels/allan/tau_grid.hpp log:K)
+  int mc_replicas = 30;        // Monte Carlo replicas per model (0 = no band)
+  std::uint64_t mc_seed = 7;   // seed of the replicas; replica r is Philox stream r
+  double band_alpha = 0.05;    // probability that a complete model shows any band
+  double select_alpha = 0.05;  // probability that a round adds an effect to a complete model
+  double line_false_alarm = 1e-4;  // probability of a spurious PSD line in the whole record
+  int max_effects = 4;             // at most this many effects are added
+  int nthreads = 0;                // 0 = OpenMP default; results do not depend on it
+};
+
+/// A parameter with its 1-sigma uncertainty, under the model file's own key.
+struct Parameter {
+  std::string name;  // "K", "amplitude", "frequency_hz", "sigma", "tau_c_s", ...
+  double value = 0;
+  double sigma = 0;  // NaN when not estimable (e.g. held at zero)
+};
+
+/// A run of consecutive significant taus with the same sign of disagreement.
+struct Band {
+  std::size_t first = 0, last = 0;  // indices into the tau grid
+  double tau_lo_s = 0, tau_hi_s = 0;
+  int sign = 0;          // +1: measurement above the model, -1: below
+  double max_abs_z = 0;  // largest |z| inside
+};
+
+/// The measurement against one model, tau by tau.
+struct Comparison {
+  std::vector<double> avar_model;         // model_avar_sampled at each m [u^2]
+  std::vector<double> z;                  // docs/diagnose.md's z
+  std::vector<double> p_value;            // two-sided chi-square p-value of each tau
+  std::vector<std::uint8_t> significant;  // p_value < band_alpha / n_eff
+  double gap = 0;                         // sqrt(mean z^2)
+  std::vector<Band> bands;
+};
+
+/// Monte Carlo replicas of one model at the measurement's length and rate.
+struct McBand {
+  int replicas = 0;
+  std::vector<double> avar_lo, avar_median, avar_hi;  // per-tau 5 %, 50 %, 95 % quantiles
+  std::vector<double> gaps;  // each replica's gap against the analytic model (measured edf)
+  double gap_median = 0, gap_p95 = 0;
+};
+
+/// The strongest line of the full-record periodogram (the PSD witness).
+struct SpectralLine {
+  bool searched = false;       // false when the record has gaps or is too short
+  bool found = false;          // peak / background above the threshold
+  double frequency_hz = 0;     // interpolated peak frequency
+  double sigma_hz = 0;         // Cramer-Rao bound of the frequency (Rife & Boorstyn 1974)
+  double amplitude = 0;        // sqrt(2 x line power above the background) [u]
+  double amplitude_sigma = 0;  // Cramer-Rao bound of the amplitude, sqrt(S1 / T) (same source)
+  double peak_ratio = 0;       // periodogram / local mean background at the peak bin
+  double threshold = 0;        // ln(bins / line_false_alarm)
+  double resolution_hz = 0;    // bin spacing 1 / T
+};
+
+/// Searches the one-segment Hann periodogram of `rate` (no NaN) for its most significant line
+/// at least 8 bins from DC and away (4 bins) from each frequency in `known_hz`. Background: the
+/// median of the 128 surrounding bins (the central 7 excluded) divided by ln 2, the mean of an
+/// exponential with that median; for a locally monotone spectrum the median of a symmetric
+/// window is the central value, so power-law slopes do not bias it. Under noise, a bin over its
+/// background is exponential (chi-square 2 / 2), so the largest of M bins exceeds t with
+/// probability about M e^-t, and the threshold is t = ln(M / false_alarm).
+SpectralLine find_spectral_line(std::span<const double> rate, double rate_hz,
+                                std::span<const double> known_hz, double false_alarm = 1e-4,
+                                int nthreads = 0);
+
+/// One candidate effect as evaluated in one iteration.
+struct Candidate {
+  Effect effect = Effect::White;
+  bool evaluated = false;
+  std::string note;                   // why not evaluated, or the PSD witness's verdict
+  double delta_ic = 0;                // > 0: significant improvement
+  std::vector<Parameter> parameters;  // the effect's estimated parameters
+};
+
+/// One round of the add-and-repeat loop.
+struct Iteration {
+  Effect effect = Effect::White;        // the effect added
+  std::vector<Parameter> parameters;    // its parameters (model file keys) with uncertainties
+  std::vector<Parameter> coefficients;  // every coefficient of the refitted model
+  double delta_ic = 0;
+  double gap_before = 0, gap_after = 0;
+  std::vector<Band> bands_before, bands_after;
+  std::vector<Candidate> candidates;  // every candidate of this round
+  ChannelSpec model_after;
+};
+
+/// A coefficient the given model had, fixed versus re-estimated (at the end).
+struct Revision {
+  std::string name;  // "N", "K", ..., "sinusoid[0].amplitude", "markov[0].sigma"
+  double given = 0, estimated = 0, sigma = 0;
+};
+
+struct Diagnosis {
+  // The measurement on the comparison grid.
+  std::vector<std::int64_t> m, n;
+  std::vector<double> tau_s, avar_measured, edf;
+  double n_eff = 0;        // effective number of independent taus
+  double penalty = 0;      // the criterion's penalty c_1 for a one-parameter candidate
+  double z_threshold = 0;  // |z| of a normal variate at the per-tau significance level
+
+  ChannelSpec model_before, model_after;
+  Comparison before, after;
+  McBand mc_before, mc_after;
+  SpectralLine line;  // the first iteration's PSD witness
+  std::vector<Iteration> iterations;
+  std::vector<Effect> effects_named;
+  // Effects' final parameters with uncertainties, in effects_named order.
+  std::vector<std::vector<Parameter>> effect_parameters;
+  bool coefficients_wrong = false;  // the given coefficients differ significantly from the data
+  double revision_delta_ic = 0;
+  std::vector<Revision> revisions;  // every coefficient the given model had
+  bool gap_within_noise = false;    // gap_after <= mc_after.gap_p95 (or <= 1 without replicas)
+  std::vector<std::string> notes;
+};
+
+/// Diagnoses the rate samples `rate` (NaN = gap) at rate_hz against `model` (its rate_hz is
+/// replaced by rate_hz). Throws std::invalid_argument for a bad model, a record too short for
+/// three octaves of taus, or a model whose variance is zero at some tau.
+Diagnosis diagnose(std::span<const double> rate, double rate_hz, const ChannelSpec& model,
+                   const DiagnoseOptions& opt = {});
+
+/// gap = sqrt(mean z^2) with the z of docs/diagnose.md "Where", for avar_measured against
+/// avar_model.
+double diagnose_gap(std::span<const double> avar_measured, std::span<const double> avar_model,
+                    std::span<const double> edf);
+
+}  // namespace allanlot::kernels

@@ -1,0 +1,118 @@
+// The types and functions the three sources of diagnose share (candidates.cpp, search.cpp,
+// diagnose.cpp); not part of the interface (diagnose.hpp).
+#pragma once
+
+#include "kernels/diagnose/diagnose.hpp"
+#include "kernels/model/terms.hpp"
+#include "kernels/spectral/psd.hpp"
+
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace allanlot::kernels::diagnose_detail {
+
+inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+inline constexpr std::array<Effect, kNumEffects> kAllEffects = {
+    Effect::Quantization, Effect::White,    Effect::Flicker, Effect::RandomWalk,
+    Effect::Ramp,         Effect::Sinusoid, Effect::Markov};
+
+// The measured curve on the comparison grid with the exact moments of its logarithm:
+// for edf * avar_hat / avar ~ chi2_nu, E ln(avar_hat / avar) = psi(nu/2) - ln(nu/2) (about
+// -1/nu) and var = psi'(nu/2) (about 2/nu), so ln_y below is unbiased for ln avar and var_ln its
+// variance; at edf ~ 3 the bias is -0.37 and the variance 1.4 times 2/nu, which matters for the
+// longest taus.
+struct Curve {
+  std::vector<std::int64_t> m, n;
+  std::vector<double> tau, y, edf, ln_y, var_ln;
+  double tau0 = 1.0;
+  std::int64_t n_samples = 0;
+  std::size_t size() const { return m.size(); }
+};
+
+// A model component: an eq. (3) term, a sinusoid or a Gauss-Markov effect. `coef` is the
+// model file's coefficient (R..Q, amplitude, sigma); the avar is coef^2 times a basis curve.
+enum class Kind { Term, Sinusoid, Markov };
+struct Component {
+  Kind kind = Kind::Term;
+  Term term = Term::N;
+  double nl = 0.0;     // frequency_hz (sinusoid) or tau_c_s (markov)
+  double phase = 0.0;  // sinusoid phase (no effect on avar; kept for the model file)
+  double coef = 0.0;
+  bool free = false;       // re-estimated by the fit
+  bool nl_free = false;    // tau_c is searched (for its uncertainty)
+  bool given = false;      // part of the given model
+  double nl_sigma = kNaN;  // uncertainty of nl when it comes from elsewhere (the PSD)
+  // An added sinusoid's amplitude comes from the PSD line and is never refitted on the Allan
+  // curve: there its bump overlaps any hump nearby (a Gauss-Markov effect at a similar tau),
+  // which the amplitude would absorb, whereas the line's power above the local background is
+  // the sinusoid's alone.
+  bool pinned = false;
+  double coef_sigma = kNaN;  // uncertainty of coef when pinned
+};
+
+// Basis curves: the avar of each component with unit coefficient, from model_avar_sampled so
+// that the diagnosis uses exactly the theory the simulator is tested against. The five term
+// bases are computed once (flicker's sampling factor is a quadrature).
+struct Bases {
+  std::array<std::vector<double>, kNumTerms> term;
+  double rate_hz = 1.0;
+};
+
+// A fitted set of components.
+struct Fit {
+  std::vector<Component> comps;
+  std::vector<double> model;  // avar of the components at each tau
+  double chi2 = 0.0;          // sum (ln_y - ln model)^2 / var_ln
+};
+
+struct CandidateFit {
+  Candidate info;
+  Fit fit;
+  std::size_t added = 0;  // index of the added component in fit.comps
+};
+
+// The selection criterion of a round (see diagnose.hpp): chi-square differences scaled by
+// n_eff / P, against the chi-square quantile at 1 - alpha_candidate with k degrees of freedom.
+struct Criterion {
+  double scale = 1.0;            // n_eff / P
+  double alpha_candidate = 0.0;  // select_alpha / kNumEffects
+  double n_eff = 1.0;
+  double rate_hz = 1.0;
+};
+
+/// The chi-square quantile at 1 - alpha with k degrees of freedom.
+double threshold(int k, double alpha);
+
+// candidates.cpp: model components, their fits and the candidates.
+Bases make_bases(const Curve& cv, double rate_hz);
+std::vector<Component> components_of(const ChannelSpec& s);
+ChannelSpec spec_of(const std::vector<Component>& comps, const ChannelSpec& like);
+Fit fit_components(std::vector<Component> comps, const Curve& cv, const Bases& b);
+void fill_sigmas(Fit& f, const Curve& cv, const Bases& b, double n_eff,
+                 std::vector<double>& coef_sigma, std::vector<double>& nl_sigma);
+std::vector<Parameter> parameters_of(const Component& c, double coef_sigma, double nl_sigma);
+std::string component_label(const std::vector<Component>& comps, std::size_t idx);
+std::vector<double> model_curve(const ChannelSpec& s, const Curve& cv, const Bases& b);
+Fit search_tau_c(std::vector<Component> comps, std::size_t idx, const Curve& cv, const Bases& b);
+/// Candidate e added to `comps` (their coefficients fixed or free as they are), fitted and
+/// judged against chi2_ref; n_refit counts the parameters the reference's refit already frees.
+CandidateFit evaluate_candidate(Effect e, std::vector<Component> comps, const SpectralLine& line,
+                                int n_refit, double chi2_ref, const Curve& cv, const Bases& b,
+                                const Criterion& crit);
+
+// search.cpp: the measurement against a model, the PSD witness and the Monte Carlo band.
+Comparison compare(const Curve& cv, std::vector<double> model, double alpha_tau);
+McBand monte_carlo(const ChannelSpec& spec, const Curve& cv, const std::vector<double>& model,
+                   int replicas, std::uint64_t seed, int threads);
+double effective_taus(const Curve& cv);
+SpectralLine search_line(const PsdResult& psd, double n_seconds, std::span<const double> known,
+                         double false_alarm);
+PsdResult full_periodogram(std::span<const double> rate, double rate_hz, int threads);
+bool has_nan(std::span<const double> v);
+
+}  // namespace allanlot::kernels::diagnose_detail

@@ -1,0 +1,257 @@
+// Diagnose's comparisons (docs/diagnose.md "Where", "PSD witness", "Simulation vs
+// measurement"): z tau by tau and its bands, the effective number of independent taus, the
+// periodogram's line search and the Monte Carlo band of a model.
+#include "kernels/diagnose/internal.hpp"
+
+#include "kernels/allan/phase.hpp"
+#include "kernels/allan/stats.hpp"
+#include "kernels/common/parallel.hpp"
+#include "kernels/model/fit.hpp"
+#include "kernels/uncertainty/chi2.hpp"
+
+#include <Eigen/Core>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+namespace allanlot::kernels {
+namespace diagnose_detail {
+namespace {
+
+// Linear-interpolation quantile of sorted values (Hyndman & Fan type 7, R's default).
+double quantile_sorted(const std::vector<double>& v, double q) {
+  if (v.empty()) return kNaN;
+  const double h = q * static_cast<double>(v.size() - 1);
+  const auto lo = static_cast<std::size_t>(std::floor(h));
+  const std::size_t hi = std::min(lo + 1, v.size() - 1);
+  return v[lo] + (h - static_cast<double>(lo)) * (v[hi] - v[lo]);
+}
+
+}  // namespace
+
+Comparison compare(const Curve& cv, std::vector<double> model, double alpha_tau) {
+  Comparison out;
+  const std::size_t p = cv.size();
+  out.z.resize(p);
+  out.p_value.resize(p);
+  out.significant.resize(p);
+  double s = 0.0;
+  for (std::size_t i = 0; i < p; ++i) {
+    const double ratio = cv.y[i] / model[i];
+    out.z[i] = std::log(ratio) / std::sqrt(2.0 / cv.edf[i]);
+    s += out.z[i] * out.z[i];
+    const double cdf = chi2_cdf(cv.edf[i] * ratio, cv.edf[i]);
+    out.p_value[i] = 2.0 * std::min(cdf, 1.0 - cdf);
+    out.significant[i] = out.p_value[i] < alpha_tau ? 1 : 0;
+  }
+  out.gap = p ? std::sqrt(s / static_cast<double>(p)) : 0.0;
+  for (std::size_t i = 0; i < p; ++i) {
+    if (!out.significant[i]) continue;
+    const int sign = out.z[i] > 0.0 ? 1 : -1;
+    if (!out.bands.empty() && out.bands.back().last + 1 == i && out.bands.back().sign == sign) {
+      out.bands.back().last = i;
+      out.bands.back().tau_hi_s = cv.tau[i];
+      out.bands.back().max_abs_z = std::max(out.bands.back().max_abs_z, std::abs(out.z[i]));
+    } else {
+      out.bands.push_back({i, i, cv.tau[i], cv.tau[i], sign, std::abs(out.z[i])});
+    }
+  }
+  out.avar_model = std::move(model);
+  return out;
+}
+
+McBand monte_carlo(const ChannelSpec& spec, const Curve& cv, const std::vector<double>& model,
+                   int replicas, std::uint64_t seed, int threads) {
+  McBand out;
+  out.replicas = replicas;
+  const std::size_t p = cv.size();
+  if (replicas <= 0) return out;
+  const auto n = static_cast<std::size_t>(cv.n_samples);
+  std::vector<std::vector<double>> avar(static_cast<std::size_t>(replicas));
+  ExceptionCollector errors;
+  // One replica per iteration, each written by one thread into its own row, with its own
+  // Philox stream (the replica index): the band does not depend on the thread count.
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
+  for (int r = 0; r < replicas; ++r) {
+    errors.run([&] {
+      std::vector<double> buf(n);
+      simulate_channel(spec, seed, static_cast<std::uint64_t>(r), buf, 1);
+      const PhaseData ph = phase_from_rate(buf, spec.rate_hz, 1);
+      const StatResult s = compute(Stat::Oadev, ph, cv.m, 1);
+      if (s.size() != p) throw std::logic_error("diagnose: replica tau grid differs");
+      auto& row = avar[static_cast<std::size_t>(r)];
+      row.resize(p);
+      for (std::size_t i = 0; i < p; ++i)
+        row[i] = s.dev[i] * s.dev[i];
+    });
+  }
+  errors.rethrow();
+  out.avar_lo.resize(p);
+  out.avar_median.resize(p);
+  out.avar_hi.resize(p);
+  std::vector<double> col(static_cast<std::size_t>(replicas));
+  for (std::size_t i = 0; i < p; ++i) {
+    for (std::size_t r = 0; r < col.size(); ++r)
+      col[r] = avar[r][i];
+    std::sort(col.begin(), col.end());
+    out.avar_lo[i] = quantile_sorted(col, 0.05);
+    out.avar_median[i] = quantile_sorted(col, 0.5);
+    out.avar_hi[i] = quantile_sorted(col, 0.95);
+  }
+  // The replicas' gaps use the measurement's edf, so that they are draws of the very statistic
+  // reported for the measurement under the hypothesis that the model is right.
+  for (const auto& row : avar)
+    out.gaps.push_back(diagnose_gap(row, model, cv.edf));
+  std::vector<double> g = out.gaps;
+  std::sort(g.begin(), g.end());
+  out.gap_median = quantile_sorted(g, 0.5);
+  out.gap_p95 = quantile_sorted(g, 0.95);
+  return out;
+}
+
+// Satterthwaite's effective number of independent taus from the model covariance of the
+// estimates (see the header). The eq. (3) fit to the measurement supplies the covariance.
+double effective_taus(const Curve& cv) {
+  const std::size_t p = cv.size();
+  Eq3Fit fit(p);
+  FitInput in;
+  in.tau_s = cv.tau;
+  in.values = cv.y;
+  in.n = cv.n;
+  in.edf = cv.edf;
+  in.tau0_s = cv.tau0;
+  in.n_samples = cv.n_samples;
+  const FitResult r = fit.fit(in);
+  const Eigen::MatrixXd& s = fit.covariance();
+  if (r.status == FitStatus::Ok && s.rows() == static_cast<Eigen::Index>(p) && s.allFinite()) {
+    double sum = 0.0;
+    bool ok = true;
+    for (Eigen::Index i = 0; i < s.rows(); ++i)
+      for (Eigen::Index j = 0; j < s.cols(); ++j) {
+        const double d = s(i, i) * s(j, j);
+        if (!(d > 0.0)) ok = false;
+        const double c = ok ? s(i, j) / std::sqrt(d) : 0.0;
+        sum += c * c;
+      }
+    if (ok && sum > 0.0)
+      return std::clamp(static_cast<double>(p * p) / sum, 1.0, static_cast<double>(p));
+  }
+  // Fallback: one independent estimate per octave of tau (overlapping estimates an octave or
+  // more apart are correlated well below 0.5 for the common noises).
+  return std::clamp(std::log2(cv.tau.back() / cv.tau.front()) + 1.0, 1.0, static_cast<double>(p));
+}
+
+// Line search on a periodogram (see find_spectral_line).
+SpectralLine search_line(const PsdResult& psd, double n_seconds, std::span<const double> known,
+                         double false_alarm) {
+  SpectralLine out;
+  out.searched = true;
+  out.resolution_hz = psd.df_hz;
+  const auto kmax = static_cast<std::int64_t>(psd.size()) - 1;
+  constexpr std::int64_t kMinBin = 32, kHalf = 64, kCore = 3, kEdge = 8;
+  const std::int64_t k_lo = kMinBin, k_hi = kmax - kEdge;
+  if (k_hi <= k_lo) {
+    out.searched = false;
+    return out;
+  }
+  std::vector<double> window;
+  double best_ratio = 0.0, best_bg = 0.0;
+  std::int64_t best_k = -1, n_searched = 0;
+  for (std::int64_t k = k_lo; k <= k_hi; ++k) {
+    const double f = static_cast<double>(k) * psd.df_hz;
+    bool near_known = false;
+    for (const double fk : known)
+      near_known = near_known || std::abs(f - fk) <= 4.0 * psd.df_hz;
+    if (near_known) continue;
+    ++n_searched;
+    // Symmetric window, so that the median of a monotone background is its central value.
+    const std::int64_t w = std::min({kHalf, k - 1, kmax - k});
+    window.clear();
+    for (std::int64_t j = k - w; j <= k + w; ++j)
+      if (std::abs(j - k) > kCore) window.push_back(psd.psd[static_cast<std::size_t>(j)]);
+    if (window.size() < 8) continue;
+    const auto mid = window.begin() + static_cast<std::ptrdiff_t>(window.size() / 2);
+    std::nth_element(window.begin(), mid, window.end());
+    const double bg = *mid / std::numbers::ln2;
+    if (!(bg > 0.0)) continue;
+    const double ratio = psd.psd[static_cast<std::size_t>(k)] / bg;
+    if (ratio > best_ratio) {
+      best_ratio = ratio;
+      best_bg = bg;
+      best_k = k;
+    }
+  }
+  if (best_k < 0 || n_searched == 0) return out;
+  out.threshold = std::log(static_cast<double>(n_searched) / false_alarm);
+  out.peak_ratio = best_ratio;
+  out.found = best_ratio > out.threshold;
+  // Peak frequency by a parabola through the log periodogram at the peak and its neighbours
+  // (the Hann main lobe is close to Gaussian in shape, whose log is a parabola).
+  const auto at = [&](std::int64_t k) { return std::log(psd.psd[static_cast<std::size_t>(k)]); };
+  const double lm = at(best_k - 1), l0 = at(best_k), lp = at(best_k + 1);
+  const double den = lm - 2.0 * l0 + lp;
+  const double delta = den < 0.0 ? std::clamp(0.5 * (lm - lp) / den, -0.5, 0.5) : 0.0;
+  out.frequency_hz = (static_cast<double>(best_k) + delta) * psd.df_hz;
+  // The line's power: the periodogram above the background over the main lobe and the first
+  // side lobes (the Welch normalization makes sum P df the mean square, so a line of
+  // amplitude A contributes A^2 / 2).
+  double power = 0.0;
+  for (std::int64_t j = best_k - kCore; j <= best_k + kCore; ++j)
+    power += (psd.psd[static_cast<std::size_t>(j)] - best_bg) * psd.df_hz;
+  out.amplitude = std::sqrt(2.0 * std::max(power, 0.0));
+  // Cramer-Rao bound of a tone's frequency in locally white noise of one-sided density S1 over
+  // a record of T seconds (Rife & Boorstyn, IEEE Trans. Inf. Theory 20(5), 1974):
+  // var(omega) = 24 sigma^2 / (A^2 N^3) per sample, sigma^2 = S1 fs / 2, hence
+  // sigma_f = sqrt(3 S1 / (A^2 T^3)) / pi.
+  // The amplitude's: var(A) = 2 sigma^2 / N per sample (same reference), i.e. S1 / T.
+  out.amplitude_sigma = std::sqrt(best_bg / n_seconds);
+  if (out.amplitude > 0.0)
+    out.sigma_hz = std::sqrt(3.0 * best_bg /
+                             (out.amplitude * out.amplitude * n_seconds * n_seconds * n_seconds)) /
+                   std::numbers::pi;
+  return out;
+}
+
+PsdResult full_periodogram(std::span<const double> rate, double rate_hz, int threads) {
+  const auto n = static_cast<std::int64_t>(rate.size());
+  const PsdPlan plan(n - n % 2);
+  return plan.welch(rate.first(static_cast<std::size_t>(n - n % 2)), rate_hz, threads);
+}
+
+bool has_nan(std::span<const double> v) {
+  return std::any_of(v.begin(), v.end(), [](double x) { return std::isnan(x); });
+}
+
+}  // namespace diagnose_detail
+
+using namespace diagnose_detail;
+
+double diagnose_gap(std::span<const double> avar_measured, std::span<const double> avar_model,
+                    std::span<const double> edf) {
+  if (avar_measured.size() != avar_model.size() || edf.size() != avar_model.size())
+    throw std::invalid_argument("diagnose_gap: unequal lengths");
+  if (avar_model.empty()) return 0.0;
+  double s = 0.0;
+  for (std::size_t i = 0; i < avar_model.size(); ++i) {
+    const double z = std::log(avar_measured[i] / avar_model[i]) / std::sqrt(2.0 / edf[i]);
+    s += z * z;
+  }
+  return std::sqrt(s / static_cast<double>(avar_model.size()));
+}
+
+SpectralLine find_spectral_line(std::span<const double> rate, double rate_hz,
+                                std::span<const double> known_hz, double false_alarm,
+                                int nthreads) {
+  if (!(false_alarm > 0.0 && false_alarm < 1.0))
+    throw std::invalid_argument("find_spectral_line: false_alarm must be in (0, 1), got " +
+                                std::to_string(false_alarm));
+  if (rate.size() < 256 || has_nan(rate)) return {};
+  const PsdResult psd = full_periodogram(rate, rate_hz, resolve_threads(nthreads));
+  return search_line(psd, static_cast<double>(rate.size() - rate.size() % 2) / rate_hz, known_hz,
+                     false_alarm);
+}
+
+}  // namespace allanlot::kernels

@@ -1,0 +1,95 @@
+#include "kernels/uncertainty/confidence.hpp"
+
+#include "kernels/common/parallel.hpp"
+#include "kernels/uncertainty/chi2.hpp"
+#include "kernels/uncertainty/noise_id.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace allanlot::kernels {
+namespace {
+
+void check_confidence(double c) {
+  if (!(c > 0.0 && c < 1.0))
+    throw std::invalid_argument("confidence must be in (0, 1), got " + std::to_string(c));
+}
+
+}  // namespace
+
+Interval chi2_interval(double dev, double edf, double confidence) {
+  check_confidence(confidence);
+  if (!(edf > 0.0) || !std::isfinite(edf))
+    throw std::invalid_argument("chi2_interval: edf must be finite and > 0, got " +
+                                std::to_string(edf));
+  const double q_hi = chi2_quantile(0.5 * (1.0 + confidence), edf);  // > edf: lower bound
+  const double q_lo = chi2_quantile(0.5 * (1.0 - confidence), edf);  // < edf: upper bound
+  return {dev * std::sqrt(edf / q_hi), dev * std::sqrt(edf / q_lo)};
+}
+
+FiniteDifferenceKind difference_kind(Stat s) {
+  switch (s) {
+  case Stat::Adev:
+    return {2, false, false};
+  case Stat::Oadev:
+    return {2, true, false};
+  case Stat::Mdev:
+  case Stat::Tdev:
+    return {2, true, true};
+  case Stat::Hdev:
+    return {3, false, false};
+  case Stat::Ohdev:
+    return {3, true, false};
+  case Stat::Totdev:
+    break;
+  }
+  throw std::invalid_argument("difference_kind: " + std::string(stat_name(s)) +
+                              " is not a finite-difference variance");
+}
+
+double stat_edf(Stat s, int alpha, std::int64_t m, std::int64_t n_phase, std::int64_t terms) {
+  if (s == Stat::Totdev) {
+    // Stable32 prints N - 1 terms for every m; fewer mean samples lost to gaps.
+    const std::int64_t n_eff = std::min(n_phase, terms + 1);
+    return edf_totvar(alpha, m, n_eff);
+  }
+  const FiniteDifferenceKind kind = difference_kind(s);
+  std::int64_t n_eff = n_phase;
+  if (terms < greenhall_terms(kind, m, n_phase))
+    n_eff = greenhall_phase_points(kind, m, std::max<std::int64_t>(terms, 1));
+  return edf_greenhall(alpha, kind, m, n_eff);
+}
+
+void add_confidence(Stat s, const PhaseData& p, StatResult& r, double confidence, int nthreads,
+                    Lag1Cache* cache) {
+  check_confidence(confidence);
+  const std::size_t rows = r.size();
+  if (r.tau_s.size() != rows || r.dev.size() != rows || r.n.size() != rows)
+    throw std::invalid_argument("add_confidence: m, tau_s, dev and n must have equal lengths");
+  const std::vector<int> alpha = identify_alpha(s, p, r, nthreads, cache);
+  std::vector<double> edf(rows), lo(rows), hi(rows);
+  ExceptionCollector errors;
+  const std::int64_t count = static_cast<std::int64_t>(rows);
+#pragma omp parallel for num_threads(resolve_threads(nthreads)) schedule(dynamic, 1)
+  for (std::int64_t j = 0; j < count; ++j) {
+    errors.run([&] {
+      const auto i = static_cast<std::size_t>(j);
+      edf[i] = stat_edf(s, alpha[i], r.m[i], p.n_points(), r.n[i]);
+      if (r.dev[i] > 0.0) {
+        const Interval ci = chi2_interval(r.dev[i], edf[i], confidence);
+        lo[i] = ci.lo;
+        hi[i] = ci.hi;
+      }
+    });
+  }
+  errors.rethrow();
+  r.alpha = alpha;
+  r.edf = std::move(edf);
+  r.dev_lo = std::move(lo);
+  r.dev_hi = std::move(hi);
+  r.confidence = confidence;
+}
+
+}  // namespace allanlot::kernels
