@@ -3,7 +3,7 @@
 // manifest itself, its directory); expansion must never throw, list a path twice, list more
 // paths than the manifest has lines that are neither blank nor comments, or pass over an
 // empty manifest in silence. The same bytes, split in two, are a glob and a channel path.
-#include "src/inputs.hpp"
+#include "src/cli/inputs.hpp"
 
 #include <algorithm>
 #include <cstddef>

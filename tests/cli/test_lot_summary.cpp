@@ -3,7 +3,7 @@
 // whole path through the binary (simulate a lot, analyze --spec, summarize --spec --manifest).
 #include "io/results.hpp"
 #include "kernels/chi2.hpp"
-#include "src/lot_summary.hpp"
+#include "src/lot/summary.hpp"
 #include "support/h5_fixture.hpp"
 
 #include <gtest/gtest.h>

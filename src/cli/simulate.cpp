@@ -1,10 +1,10 @@
-#include "src/simulate_command.hpp"
+#include "src/cli/simulate.hpp"
 
 #include "io/atomic_file.hpp"
 #include "io/error.hpp"
 #include "io/recording.hpp"
 #include "kernels/simulate.hpp"
-#include "src/model.hpp"
+#include "src/lot/model.hpp"
 
 #include <cmath>
 #include <cstdio>

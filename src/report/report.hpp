@@ -7,7 +7,7 @@
 // where `diagnose` has written one, the diagnosis.
 #pragma once
 
-#include "src/cli.hpp"
+#include "src/cli/cli.hpp"
 
 #include <filesystem>
 #include <iosfwd>

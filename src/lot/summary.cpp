@@ -1,6 +1,6 @@
-#include "src/lot_summary.hpp"
+#include "src/lot/summary.hpp"
 
-#include "src/spec.hpp"
+#include "src/lot/spec.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,10 +1,10 @@
-#include "src/cli.hpp"
+#include "src/cli/cli.hpp"
 
-#include "src/analyze.hpp"
-#include "src/diagnose_command.hpp"
-#include "src/export_command.hpp"
-#include "src/report_command.hpp"
-#include "src/simulate_command.hpp"
+#include "src/cli/analyze.hpp"
+#include "src/cli/diagnose.hpp"
+#include "src/cli/export.hpp"
+#include "src/cli/simulate.hpp"
+#include "src/report/report.hpp"
 
 #include <allanlot/version.hpp>
 

@@ -1,11 +1,11 @@
-#include "src/diagnose_command.hpp"
+#include "src/cli/diagnose.hpp"
 
 #include "io/atomic_file.hpp"
 #include "io/diagnosis.hpp"
 #include "io/error.hpp"
 #include "io/recording.hpp"
 #include "kernels/diagnose.hpp"
-#include "src/model.hpp"
+#include "src/lot/model.hpp"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>

@@ -6,7 +6,7 @@
 #pragma once
 
 #include "kernels/stats.hpp"
-#include "src/cli.hpp"
+#include "src/cli/cli.hpp"
 
 #include <filesystem>
 #include <iosfwd>

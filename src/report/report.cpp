@@ -1,4 +1,4 @@
-#include "src/report_command.hpp"
+#include "src/report/report.hpp"
 
 #include "io/atomic_file.hpp"
 #include "io/error.hpp"
@@ -7,7 +7,7 @@
 #include "kernels/fit.hpp"
 #include "kernels/simulate.hpp"
 #include "kernels/units.hpp"
-#include "src/svg.hpp"
+#include "src/report/svg.hpp"
 
 #include <allanlot/version.hpp>
 

@@ -2,7 +2,7 @@
 // measured channel, which effect is missing, and the corrected model (kernels/diagnose.hpp).
 #pragma once
 
-#include "src/cli.hpp"
+#include "src/cli/cli.hpp"
 
 #include <cstdint>
 #include <iosfwd>

@@ -1,6 +1,6 @@
-#include "src/export_command.hpp"
+#include "src/cli/export.hpp"
 
-#include "src/inputs.hpp"
+#include "src/cli/inputs.hpp"
 
 #include "io/atomic_file.hpp"
 #include "io/results.hpp"

@@ -1,4 +1,4 @@
-#include "src/channel_fit.hpp"
+#include "src/pipeline/channel_fit.hpp"
 
 #include "kernels/fit.hpp"
 #include "kernels/psd_fit.hpp"

@@ -1,4 +1,4 @@
-#include "src/analyze.hpp"
+#include "src/cli/analyze.hpp"
 
 #include "io/atomic_file.hpp"
 #include "io/error.hpp"
@@ -28,10 +28,10 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
-#include "src/channel_fit.hpp"
-#include "src/inputs.hpp"
-#include "src/lot_summary.hpp"
-#include "src/spec.hpp"
+#include "src/cli/inputs.hpp"
+#include "src/lot/spec.hpp"
+#include "src/lot/summary.hpp"
+#include "src/pipeline/channel_fit.hpp"
 
 namespace fs = std::filesystem;
 

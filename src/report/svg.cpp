@@ -1,4 +1,4 @@
-#include "src/svg.hpp"
+#include "src/report/svg.hpp"
 
 #include <algorithm>
 #include <cmath>
