@@ -10,7 +10,7 @@
 #include <map>
 #include <sstream>
 
-namespace allanlot::cli {
+namespace allanlot::pipeline {
 namespace {
 
 using kernels::units::Term;
@@ -211,4 +211,4 @@ std::string fit_table(const io::RecordingResult& r) {
   return out.str();
 }
 
-}  // namespace allanlot::cli
+}  // namespace allanlot::pipeline
