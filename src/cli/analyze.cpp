@@ -433,13 +433,13 @@ int run_analyze(const AnalyzeOptions& opt, std::ostream& out, std::ostream& err)
     // Another run writing into the same OUTDIR rebuilds the summary too: listing and writing
     // under one lock, the summary written last has seen every results file (io::DirectoryLock).
     const io::DirectoryLock summary_lock(opt.outdir);
-    std::vector<io::SummaryRow> rows = rows_from_outdir(opt.outdir, err);
+    std::vector<io::SummaryRow> rows = lot::rows_from_outdir(opt.outdir, err);
     rows.insert(rows.end(), failed_rows.begin(), failed_rows.end());
     try {
-      LotOptions lot;
-      lot.spec_path = opt.spec_path;
-      lot.quiet = opt.quiet;
-      write_lot(opt.outdir, std::move(rows), lot, out, err);
+      lot::LotOptions lot_opt;
+      lot_opt.spec_path = opt.spec_path;
+      lot_opt.quiet = opt.quiet;
+      lot::write_lot(opt.outdir, std::move(rows), lot_opt, out, err);
     } catch (const std::exception& e) {
       err << "allanlot: error: writing the lot summary: " << e.what() << "\n";
       return 2;
@@ -471,15 +471,15 @@ int run_summarize(const SummarizeOptions& opt, std::ostream& out, std::ostream& 
     return 2;
   }
   const io::DirectoryLock summary_lock(opt.outdir);
-  std::vector<io::SummaryRow> rows = rows_from_outdir(opt.outdir, err);
+  std::vector<io::SummaryRow> rows = lot::rows_from_outdir(opt.outdir, err);
   const std::size_t n_rows = rows.size();
-  LotOverview overview;
+  lot::LotOverview overview;
   try {
-    LotOptions lot;
-    lot.spec_path = opt.spec_path;
-    lot.manifest = opt.manifest;
-    lot.quiet = opt.quiet;
-    overview = write_lot(opt.outdir, std::move(rows), lot, out, err);
+    lot::LotOptions lot_opt;
+    lot_opt.spec_path = opt.spec_path;
+    lot_opt.manifest = opt.manifest;
+    lot_opt.quiet = opt.quiet;
+    overview = lot::write_lot(opt.outdir, std::move(rows), lot_opt, out, err);
   } catch (const std::exception& e) {
     err << "allanlot: error: writing the lot summary: " << e.what() << "\n";
     return 2;

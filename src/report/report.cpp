@@ -7,6 +7,7 @@
 #include "kernels/fit.hpp"
 #include "kernels/simulate.hpp"
 #include "kernels/units.hpp"
+#include "src/lot/statistics.hpp"
 #include "src/report/svg.hpp"
 
 #include <allanlot/version.hpp>
@@ -707,24 +708,29 @@ struct Outlier {
   std::string unit_ds;
 };
 
-double quantile(const std::vector<double>& sorted, double q) {
-  if (sorted.empty()) return kNaN;
-  const double pos = q * static_cast<double>(sorted.size() - 1);
-  const auto i = static_cast<std::size_t>(std::floor(pos));
-  const double f = pos - static_cast<double>(i);
-  return i + 1 < sorted.size() ? sorted[i] * (1 - f) + sorted[i + 1] * f : sorted[i];
+// The units the lot rule (src/lot/statistics.hpp, the lot summary's) flags on a term,
+// through the summary rows of their results, so that the report lists exactly the outliers of
+// lot_summary.csv, with the same z.
+std::vector<Outlier> lot_outliers(const std::vector<Unit>& units) {
+  std::vector<io::SummaryRow> rows;
+  std::vector<const Unit*> owner;
+  for (const Unit& u : units)
+    for (io::SummaryRow& r : io::summary_rows(u.rec)) {
+      rows.push_back(std::move(r));
+      owner.push_back(&u);
+    }
+  std::vector<Outlier> out;
+  for (const lot::TermOutlier& o : lot::compute_lot_statistics(rows).outliers) {
+    const io::SummaryRow& r = rows[o.row];
+    out.push_back({owner[o.row], r.channel, o.term, r.value[o.term], r.value[o.term] / o.median,
+                   o.z, r.unit[o.term]});
+  }
+  return out;
 }
 
-// Outliers by the modified z-score on log10 of the value (Iglewicz & Hoaglin, "How to detect
-// and handle outliers", ASQC 1993: |0.6745 (x - median) / MAD| > 3.5). Logarithms because
-// noise coefficients spread multiplicatively across a lot (log-normal); the median and MAD
-// because a mean and a standard deviation would be pulled by the very outliers sought. At
-// least 5 units, below which a MAD says little.
-constexpr double kOutlierZ = 3.5;
-constexpr std::size_t kOutlierMinUnits = 5;
-
 std::string distribution_plot(const std::string& id, const std::string& channel,
-                              const std::vector<Member>& members, std::vector<Outlier>& outliers) {
+                              const std::vector<Member>& members,
+                              const std::vector<Outlier>& outliers) {
   svg::Plot p;
   p.id = id;
   p.title = "Spread across units: " + channel;
@@ -765,15 +771,10 @@ std::string distribution_plot(const std::string& id, const std::string& channel,
       logs.push_back(std::log10(val));
     std::vector<double> sorted = logs;
     std::sort(sorted.begin(), sorted.end());
-    const double med = quantile(sorted, 0.5);
-    std::vector<double> dev;
-    for (const double l : logs)
-      dev.push_back(std::abs(l - med));
-    std::sort(dev.begin(), dev.end());
-    const double mad = quantile(dev, 0.5);
+    const double med = lot::quantile_sorted(sorted, 0.5);
     const double median_value = std::pow(10.0, med);
     p.categories.push_back(label + "\n" + number(median_value, 3));
-    const double q1 = quantile(sorted, 0.25), q3 = quantile(sorted, 0.75);
+    const double q1 = lot::quantile_sorted(sorted, 0.25), q3 = lot::quantile_sorted(sorted, 0.75);
     const double iqr = q3 - q1;
     double wlo = q1, whi = q3;
     for (const double l : sorted) {
@@ -788,15 +789,15 @@ std::string distribution_plot(const std::string& id, const std::string& channel,
       const double jitter =
           (std::fmod(0.5 + 0.6180339887 * static_cast<double>(i), 1.0) - 0.5) * 0.36;
       const double x = static_cast<double>(j) + jitter;
-      const double z = mad > 0 ? 0.6745 * (logs[i] - med) / mad : 0.0;
-      const bool is_out = v.size() >= kOutlierMinUnits && std::abs(z) > kOutlierZ;
+      const bool is_out = std::any_of(outliers.begin(), outliers.end(), [&](const Outlier& o) {
+        return o.unit == v[i].second && o.channel == channel && o.term == j;
+      });
       if (is_out) {
         out.x.push_back(x);
         out.y.push_back(rel(logs[i]));
         out.hrefs.push_back(channel_href(*v[i].second, channel));
         out.tooltips.push_back(v[i].second->rec.device_id + " " + kTerms[j].name + " = " +
                                number(v[i].first, 3) + " " + unit_ds);
-        outliers.push_back({v[i].second, channel, j, v[i].first, rel(logs[i]), z, unit_ds});
       } else {
         normal.x.push_back(x);
         normal.y.push_back(rel(logs[i]));
@@ -955,10 +956,12 @@ std::string lot_section(const std::string& title, const std::vector<Unit>& units
   }
   h << "</nav>\n";
   h << "<p class=\"small\">Values in datasheet units, &plusmn; 1&sigma;; grey: not detected "
-       "(the 95 % upper bound is shown). Outliers: modified z-score of log&#8321;&#8320; value "
-       "above "
-    << number(kOutlierZ, 2) << " (at least " << kOutlierMinUnits << " units).</p>\n";
-  std::vector<Outlier> outliers;
+       "(the 95 % upper bound is shown). Outliers, as in the lot summary: |value &minus; lot "
+       "median| / &radic;(spread&sup2; + &sigma;&sup2;) above "
+    << number(lot::kOutlierZ, 2) << ", spread = " << number(lot::kMadToSigma, 5)
+    << " MAD, &sigma; the unit's own (at least " << lot::kMinUnitsForOutliers
+    << " units, at least half of them detecting the term).</p>\n";
+  const std::vector<Outlier> outliers = lot_outliers(units);
   std::ostringstream dists, tables;
   for (const std::string& c : channels) {
     const auto& members = by_channel[c];
