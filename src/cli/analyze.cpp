@@ -14,6 +14,8 @@
 
 #include <allanlot/version.hpp>
 
+#include <CLI/CLI.hpp>
+
 #include <algorithm>
 #include <array>
 #include <cctype>
@@ -22,10 +24,13 @@
 #include <cstdio>
 #include <ctime>
 #include <fstream>
+#include <iostream>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <ostream>
+#include <sstream>
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -464,34 +469,6 @@ int run_analyze(const AnalyzeOptions& opt, std::ostream& out, std::ostream& err)
   return (n_ok < n_inputs || channel_failed) ? 1 : 0;
 }
 
-int run_summarize(const SummarizeOptions& opt, std::ostream& out, std::ostream& err) {
-  std::error_code ec;
-  if (!fs::is_directory(opt.outdir, ec)) {
-    err << "allanlot: error: " << opt.outdir.string() << " is not a directory\n";
-    return 2;
-  }
-  const io::DirectoryLock summary_lock(opt.outdir);
-  std::vector<io::SummaryRow> rows = lot::rows_from_outdir(opt.outdir, err);
-  const std::size_t n_rows = rows.size();
-  lot::LotOverview overview;
-  try {
-    lot::LotOptions lot_opt;
-    lot_opt.spec_path = opt.spec_path;
-    lot_opt.manifest = opt.manifest;
-    lot_opt.quiet = opt.quiet;
-    overview = lot::write_lot(opt.outdir, std::move(rows), lot_opt, out, err);
-  } catch (const std::exception& e) {
-    err << "allanlot: error: writing the lot summary: " << e.what() << "\n";
-    return 2;
-  }
-  if (!opt.quiet)
-    out << "lot summary of " << n_rows
-        << " channel(s): " << (opt.outdir / "lot_summary.csv").string() << "\n";
-  // Recordings of the manifest without results are failed inputs, as in analyze: status 1.
-  if (n_rows == 0) return 2;
-  return overview.n_missing > 0 ? 1 : 0;
-}
-
 std::uint64_t parse_memory_size(const std::string& text) {
   std::size_t pos = 0;
   double v = 0;
@@ -519,6 +496,116 @@ std::uint64_t parse_memory_size(const std::string& text) {
   if (!(scale > 0) || !(v > 0) || !std::isfinite(v) || (unit == "%" && v > 100))
     throw std::invalid_argument("'" + text + "' is not a memory size (e.g. 8G, 512M, 40%)");
   return static_cast<std::uint64_t>(std::min(v * scale, 1.8e19));
+}
+
+namespace {
+
+std::vector<kernels::Stat> parse_stats(const std::string& list) {
+  std::vector<kernels::Stat> out;
+  std::stringstream ss(list);
+  std::string name;
+  while (std::getline(ss, name, ',')) {
+    const auto s = kernels::parse_stat(name);
+    if (!s) {
+      std::string known;
+      for (const auto k : kernels::all_stats())
+        known += (known.empty() ? "" : ", ") + std::string(kernels::stat_name(k));
+      throw CLI::ValidationError("--stats",
+                                 "unknown statistic '" + name + "' (known: " + known + ")");
+    }
+    bool dup = false;
+    for (const auto k : out)
+      dup = dup || k == *s;
+    if (!dup) out.push_back(*s);
+  }
+  if (out.empty()) throw CLI::ValidationError("--stats", "empty list");
+  return out;
+}
+
+// The default statistics of docs/cli.md, reduced to those this build computes (so that the default
+// never names a statistic that is not there).
+std::string default_stats() {
+  std::string s;
+  for (const char* name : {"oadev", "mdev", "hdev", "ohdev", "tdev", "totdev"}) {
+    if (!kernels::parse_stat(name)) continue;
+    s += (s.empty() ? "" : ",") + std::string(name);
+  }
+  return s;
+}
+
+// The options of analyze as given, before they are checked and turned into AnalyzeOptions.
+struct AnalyzeArgs {
+  AnalyzeOptions opt;
+  std::string stats_text = default_stats(), taus_text = kernels::to_string(opt.grid);
+  std::string outdir, spec_text, memory_text;
+  bool no_fit = false, no_psd = false, no_summary = false, no_progress = false;
+};
+
+// Throws CLI::ValidationError (a usage error) naming the option that is wrong.
+AnalyzeOptions checked_options(const AnalyzeArgs& a, const std::string& command_line) {
+  AnalyzeOptions opt = a.opt;
+  opt.stats = parse_stats(a.stats_text);
+  try {
+    opt.grid = kernels::parse_tau_grid(a.taus_text);
+  } catch (const std::invalid_argument& e) {
+    throw CLI::ValidationError("--taus", e.what());
+  }
+  opt.outdir = a.outdir;
+  opt.fit = !a.no_fit;
+  opt.psd = !a.no_psd;
+  opt.command_line = command_line;
+  opt.summary = !a.no_summary;
+  opt.progress = !a.no_progress;
+  opt.spec_path = a.spec_text;
+  if (!a.memory_text.empty()) {
+    try {
+      opt.memory_limit = parse_memory_size(a.memory_text);
+    } catch (const std::invalid_argument& e) {
+      throw CLI::ValidationError("--memory-limit", e.what());
+    }
+  }
+  return opt;
+}
+
+}  // namespace
+
+Command add_analyze_command(CLI::App& app) {
+  auto a = std::make_shared<AnalyzeArgs>();
+  auto* sub = app.add_subcommand("analyze", "Analyse recordings: Allan-family deviations, "
+                                            "results per input and a lot summary");
+  sub->add_option("-o,--output", a->outdir, "Output directory")->required();
+  sub->add_option("inputs", a->opt.inputs, "HDF5 files, directories, or *.txt manifests")
+      ->required();
+  sub->add_option("--stats", a->stats_text, "Comma-separated statistics")->capture_default_str();
+  sub->add_option("--taus", a->taus_text, "Tau grid: octave, decade, all, log:K or m:LIST")
+      ->capture_default_str();
+  sub->add_option("--confidence", a->opt.confidence,
+                  "Confidence level of the intervals dev_lo, dev_hi")
+      ->check(CLI::Range(0.001, 0.999))
+      ->capture_default_str();
+  sub->add_option("--channels", a->opt.channels_glob,
+                  "Only channels whose path or name matches this glob");
+  sub->add_option("--threads", a->opt.threads, "Threads (default: OMP_NUM_THREADS, else all cores)")
+      ->check(CLI::Range(0, kMaxThreads));
+  sub->add_flag("--no-fit", a->no_fit, "Do not fit equation (3) (no fit/ group)");
+  sub->add_flag("--no-psd", a->no_psd, "Do not compute the PSD and the eq. (2) cross-check");
+  sub->add_flag("--table", a->opt.table,
+                "Print each unit's coefficient table (default: when at most 10 inputs)");
+  sub->add_flag("-v,--verbose", a->opt.verbose, "Print per-stage timings");
+  sub->add_flag("-q,--quiet", a->opt.quiet, "Print only errors");
+  sub->add_flag("--force", a->opt.force,
+                "Redo recordings whose results in OUTDIR are complete and current (by "
+                "default they are skipped)");
+  sub->add_flag("--no-summary", a->no_summary,
+                "Do not write the lot summary (a Slurm task; the merge job runs summarize)");
+  sub->add_option("--spec", a->spec_text,
+                  "Spec file (JSON): pass/fail limits per channel and term for the summary");
+  sub->add_option("--memory-limit", a->memory_text,
+                  "Memory for the channels in flight, e.g. 8G, 512M or 40% (default 50%)");
+  sub->add_flag("--no-progress", a->no_progress, "No progress line on stderr");
+  return {sub, [a](const std::string& command_line) {
+            return run_analyze(checked_options(*a, command_line), std::cout, std::cerr);
+          }};
 }
 
 }  // namespace allanlot::cli

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <functional>
+#include <string>
 
 namespace CLI {
 class App;
@@ -16,12 +17,17 @@ enum ExitStatus : int { kExitOk = 0, kExitSomeFailed = 1, kExitUsage = 2 };
 
 int run(int argc, char** argv);
 
-/// A command defined in its own file: `add_<name>_command(app)` adds its subcommand and
-/// options to `app` and returns the subcommand and the function that runs it once the
-/// command line is parsed (returning the exit status). `run` dispatches to whichever parsed.
+/// Every command is defined in its own file, src/cli/<name>.cpp: `add_<name>_command(app)`
+/// adds its subcommand and options to `app` and returns the subcommand and the function that
+/// runs it once the command line is parsed, given the whole command line as typed (analyze
+/// records it in every results file), and returns the exit status. `run` adds every command
+/// from one list and dispatches to whichever was parsed.
 struct Command {
   CLI::App* app = nullptr;
-  std::function<int()> run;
+  std::function<int(const std::string& command_line)> run;
 };
+
+/// The largest --threads any command accepts.
+inline constexpr int kMaxThreads = 4096;
 
 }  // namespace allanlot::cli
