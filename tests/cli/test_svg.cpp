@@ -1,4 +1,4 @@
-// The SVG plotting module (src/svg.hpp): ticks of log and linear axes, escaping, and the
+// The SVG plotting module (src/report/svg.hpp): ticks of log and linear axes, escaping, and the
 // rendered element: well-formed XML, deterministic, hostile text escaped, unusable points
 // skipped, ids unique per plot.
 #include "src/report/svg.hpp"
