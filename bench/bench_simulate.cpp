@@ -16,7 +16,7 @@ namespace {
 
 using allanlot::kernels::ChannelSpec;
 
-// The paper's Table in channel units (src/model.cpp's default_demo_model, repeated here
+// The paper's Table in channel units (src/lot/model.cpp's default_demo_model, repeated here
 // because the bench links only the kernels): gyros in deg/s, accelerometers in m/s^2.
 std::vector<ChannelSpec> demo_unit() {
   const double g = 9.80665e-3;  // m/s^2 per mg

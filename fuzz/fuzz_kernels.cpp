@@ -1,5 +1,5 @@
 // libFuzzer target: the kernels' entry points with arbitrary lengths and values, in the order
-// `analyze` calls them for one channel (src/analyze.cpp compute_channel): phase building,
+// `analyze` calls them for one channel (src/pipeline/channel.cpp analyze_channel): phase building,
 // each statistic on an arbitrary m list, confidence intervals and noise identification, the
 // eq. (3) fit, and the Welch PSD with its log binning, eq. (2) cross-check and PSD fit.
 // Documented preconditions throw std::invalid_argument (docs/development.md "Errors");

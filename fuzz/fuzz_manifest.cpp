@@ -1,9 +1,9 @@
-// libFuzzer target: manifest expansion and the --channels matcher (src/inputs.cpp). The input
+// libFuzzer target: manifest expansion and the --channels matcher (src/cli/inputs.cpp). The input
 // is written as a manifest file, whose lines name paths relative to it (some exist: the
 // manifest itself, its directory); expansion must never throw, list a path twice, list more
 // paths than the manifest has lines that are neither blank nor comments, or pass over an
 // empty manifest in silence. The same bytes, split in two, are a glob and a channel path.
-#include "src/inputs.hpp"
+#include "src/cli/inputs.hpp"
 
 #include <algorithm>
 #include <cstddef>

@@ -1,7 +1,7 @@
-// libFuzzer target: the model file parser (src/model.cpp). Any text must either parse into a
+// libFuzzer target: the model file parser (src/lot/model.cpp). Any text must either parse into a
 // model that validates and survives a round trip through to_json, or be rejected with a
 // model::Error; nothing else may escape, crash or trip a sanitizer.
-#include "src/model.hpp"
+#include "src/lot/model.hpp"
 
 #include <cstddef>
 #include <cstdint>

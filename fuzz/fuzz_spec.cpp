@@ -1,7 +1,7 @@
-// libFuzzer target: the spec file parser (src/spec.cpp). Any text must parse or be rejected
+// libFuzzer target: the spec file parser (src/lot/spec.cpp). Any text must parse or be rejected
 // with a spec::Error; a parsed spec must give a verdict on a summary row without escaping
 // anything but spec::Error (a rule whose unit does not fit the channel).
-#include "src/spec.hpp"
+#include "src/lot/spec.hpp"
 
 #include <cmath>
 #include <cstddef>

@@ -1,7 +1,7 @@
 // `allanlot export`: Stable32 tables compared row by row with Stable32's own output for
 // PHASE.DAT (AF, Tau, # and Alpha exact, Sigma to the printed digits, the bounds to 1 %), the
 // tidy CSV's shape, and the errors.
-#include "src/export_command.hpp"
+#include "src/cli/export.hpp"
 #include "support/h5_fixture.hpp"
 
 #include <gtest/gtest.h>

@@ -3,7 +3,8 @@
 // whole path through the binary (simulate a lot, analyze --spec, summarize --spec --manifest).
 #include "io/results.hpp"
 #include "kernels/uncertainty/chi2.hpp"
-#include "src/lot_summary.hpp"
+#include "src/lot/statistics.hpp"
+#include "src/lot/summary.hpp"
 #include "support/h5_fixture.hpp"
 
 #include <gtest/gtest.h>
@@ -37,13 +38,13 @@ const io::StatisticsRow& find(const std::vector<io::StatisticsRow>& s, const std
 TEST(LotSummary, QuantilesAreHyndmanFanType7) {
   // h = (n - 1) p on {1, 2, 3, 4}: p = 0.25 -> h = 0.75 -> 1 + 0.75 * 1.
   const std::vector<double> v{1, 2, 3, 4};
-  EXPECT_DOUBLE_EQ(cli::quantile_sorted(v, 0.25), 1.75);
-  EXPECT_DOUBLE_EQ(cli::quantile_sorted(v, 0.5), 2.5);
-  EXPECT_DOUBLE_EQ(cli::quantile_sorted(v, 0.95), 3.85);  // h = 2.85
-  EXPECT_DOUBLE_EQ(cli::quantile_sorted(v, 0.0), 1.0);
-  EXPECT_DOUBLE_EQ(cli::quantile_sorted(v, 1.0), 4.0);
-  EXPECT_DOUBLE_EQ(cli::quantile_sorted(std::vector<double>{7}, 0.3), 7.0);
-  EXPECT_THROW(cli::quantile_sorted(std::vector<double>{}, 0.5), std::invalid_argument);
+  EXPECT_DOUBLE_EQ(lot::quantile_sorted(v, 0.25), 1.75);
+  EXPECT_DOUBLE_EQ(lot::quantile_sorted(v, 0.5), 2.5);
+  EXPECT_DOUBLE_EQ(lot::quantile_sorted(v, 0.95), 3.85);  // h = 2.85
+  EXPECT_DOUBLE_EQ(lot::quantile_sorted(v, 0.0), 1.0);
+  EXPECT_DOUBLE_EQ(lot::quantile_sorted(v, 1.0), 4.0);
+  EXPECT_DOUBLE_EQ(lot::quantile_sorted(std::vector<double>{7}, 0.3), 7.0);
+  EXPECT_THROW(lot::quantile_sorted(std::vector<double>{}, 0.5), std::invalid_argument);
 }
 
 TEST(LotSummary, StatisticsMatchHandComputedValues) {
@@ -61,7 +62,7 @@ TEST(LotSummary, StatisticsMatchHandComputedValues) {
   auto failed = row("U5", "/imu/gyro_x", 1000.0);
   failed.status = io::ChannelStatus::failed("too short");  // a failed channel's numbers never enter
   rows.push_back(failed);
-  const auto stats = cli::lot_statistics(rows);
+  const auto stats = lot::lot_statistics(rows);
   ASSERT_EQ(stats.size(), 1u);
   const auto& s = find(stats, "/imu/gyro_x", "N");
   EXPECT_EQ(s.unit, "deg/h/sqrt(Hz)");
@@ -105,7 +106,7 @@ TEST(LotSummary, PlantedOutlierIsTheOnlyOneFlagged) {
     rows.push_back(r);
   }
   rows[7].value[3] = 18.0 + 10 * 0.5;
-  const auto stats = cli::lot_statistics(rows);
+  const auto stats = lot::lot_statistics(rows);
   EXPECT_EQ(find(stats, "/imu/gyro_x", "N").n_outliers, 1);
   EXPECT_EQ(find(stats, "/imu/gyro_x", "B").n_outliers, 0);
   EXPECT_NEAR(find(stats, "/imu/gyro_x", "N").spread, 0.5, 0.1);  // estimates the scatter
@@ -115,7 +116,7 @@ TEST(LotSummary, PlantedOutlierIsTheOnlyOneFlagged) {
 
   // With four units nobody is called an outlier, however far.
   std::vector<io::SummaryRow> small(rows.begin() + 4, rows.begin() + 8);
-  cli::lot_statistics(small);
+  lot::lot_statistics(small);
   for (const auto& r : small)
     EXPECT_EQ(r.outlier, 0);
   // MAD 0 (a term fitted as 0 in most units): the units' own sigmas are the scale; 3 +- 0.01
@@ -123,20 +124,20 @@ TEST(LotSummary, PlantedOutlierIsTheOnlyOneFlagged) {
   std::vector<io::SummaryRow> flat;
   for (int i = 0; i < 6; ++i)
     flat.push_back(row("F" + std::to_string(i), "/imu/gyro_x", i == 5 ? 3.0 : 0.0));
-  EXPECT_EQ(find(cli::lot_statistics(flat), "/imu/gyro_x", "N").n_outliers, 1);
+  EXPECT_EQ(find(lot::lot_statistics(flat), "/imu/gyro_x", "N").n_outliers, 1);
   for (auto& r : flat)
     r.sigma[3] = 0.0;
-  EXPECT_EQ(find(cli::lot_statistics(flat), "/imu/gyro_x", "N").n_outliers, 0);
+  EXPECT_EQ(find(lot::lot_statistics(flat), "/imu/gyro_x", "N").n_outliers, 0);
   // Where most units do not detect the term (fitted at or near 0), nobody is judged on it.
   for (std::size_t i = 0; i < 4; ++i)
     flat[i].detected[3] = 0;
   for (auto& r : flat)
     r.sigma[3] = 0.01;
-  EXPECT_EQ(find(cli::lot_statistics(flat), "/imu/gyro_x", "N").n_outliers, 0);
+  EXPECT_EQ(find(lot::lot_statistics(flat), "/imu/gyro_x", "N").n_outliers, 0);
   // A deviation of many robust spreads but within the unit's own uncertainty is no outlier.
   auto noisy = rows;
   noisy[7].sigma[3] = 10 * 0.5;  // 10 lot sigmas away, but only 1 own sigma
-  EXPECT_EQ(find(cli::lot_statistics(noisy), "/imu/gyro_x", "N").n_outliers, 0);
+  EXPECT_EQ(find(lot::lot_statistics(noisy), "/imu/gyro_x", "N").n_outliers, 0);
 }
 
 TEST(LotSummary, KindsAndUnitsAreNeverPooled) {
@@ -145,7 +146,7 @@ TEST(LotSummary, KindsAndUnitsAreNeverPooled) {
   auto other = row("C", "/imu/gyro_x", 7);
   other.unit[3] = "deg/sqrt(h)";
   rows.push_back(other);
-  const auto stats = cli::lot_statistics(rows);
+  const auto stats = lot::lot_statistics(rows);
   ASSERT_EQ(stats.size(), 3u);
   EXPECT_EQ(stats[0].channel, "/imu/gyro_x");
   EXPECT_EQ(stats[0].unit, "deg/h/sqrt(Hz)");
@@ -168,13 +169,13 @@ TEST(LotSummary, ManifestEntriesWithoutResultsAreFailedRows) {
   io::SummaryRow failed{
       "u3", "", "", 0, io::ChannelStatus::failed("not HDF5"), (dir / "rec" / "u3.h5").string()};
   rows.push_back(failed);  // already reported by this run: not listed twice
-  const auto missing = cli::manifest_failures(dir / "rec" / "manifest.txt", rows);
+  const auto missing = lot::manifest_failures(dir / "rec" / "manifest.txt", rows);
   ASSERT_EQ(missing.size(), 1u);  // u2, once although listed twice
   EXPECT_EQ(missing[0].device_id, "u2");
   EXPECT_EQ(missing[0].channel, "");
   EXPECT_EQ(io::to_string(missing[0].status), "failed: no results file");
   EXPECT_EQ(missing[0].source_file, fs::absolute(dir / "rec" / "u2.h5").string());
-  EXPECT_THROW(cli::manifest_failures(dir / "absent.txt", rows), std::runtime_error);
+  EXPECT_THROW(lot::manifest_failures(dir / "absent.txt", rows), std::runtime_error);
 }
 
 TEST(LotSummary, WriteLotWritesSpecColumnsStatisticsAndOverview) {
@@ -192,11 +193,11 @@ TEST(LotSummary, WriteLotWritesSpecColumnsStatisticsAndOverview) {
     rows.push_back(row("U" + std::to_string(i), "/imu/gyro_x", n[i]));
     rows.back().source_file = (dir / ("U" + std::to_string(i) + ".h5")).string();
   }
-  cli::LotOptions opt;
+  lot::LotOptions opt;
   opt.spec_path = dir / "spec.json";
   opt.manifest = dir / "manifest.txt";
   std::ostringstream out, err;
-  const auto ov = cli::write_lot(dir, rows, opt, out, err);
+  const auto ov = lot::write_lot(dir, rows, opt, out, err);
   EXPECT_EQ(ov.n_units, 7u);
   EXPECT_EQ(ov.n_missing, 1u);
   ASSERT_EQ(ov.kinds.size(), 1u);
@@ -239,7 +240,7 @@ TEST(LotSummary, WriteLotWritesSpecColumnsStatisticsAndOverview) {
   opt.manifest.clear();
   opt.quiet = true;
   std::ostringstream out2, err2;
-  cli::write_lot(dir, rows, opt, out2, err2);
+  lot::write_lot(dir, rows, opt, out2, err2);
   EXPECT_EQ(out2.str(), "");
   EXPECT_NE(err2.str().find("channels.mag_*: matches no channel"), std::string::npos);
   EXPECT_EQ(io::read_lot_summary(dir / "lot_summary.h5")[0].spec_status, "no spec");
@@ -250,7 +251,7 @@ TEST(LotSummary, WriteLotWritesSpecColumnsStatisticsAndOverview) {
   }
   opt.spec_path = dir / "bad.json";
   fs::remove(dir / "lot_summary.h5");
-  EXPECT_THROW(cli::write_lot(dir, rows, opt, out2, err2), std::runtime_error);
+  EXPECT_THROW(lot::write_lot(dir, rows, opt, out2, err2), std::runtime_error);
   EXPECT_FALSE(fs::exists(dir / "lot_summary.h5"));
 }
 

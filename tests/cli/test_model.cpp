@@ -2,7 +2,7 @@
 // path in the message, to_json round-trips, the demo unit carries the paper's Table, lot draws are
 // deterministic and have the promised spread.
 #include "kernels/model/units.hpp"
-#include "src/model.hpp"
+#include "src/lot/model.hpp"
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
 // simulated, analysed by the real binary, and the eq. (3) fit must recover the Table.
 #include "io/results.hpp"
 #include "kernels/model/units.hpp"
-#include "src/model.hpp"
+#include "src/lot/model.hpp"
 #include "support/h5_fixture.hpp"
 
 #include <gtest/gtest.h>

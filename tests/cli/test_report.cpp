@@ -1,8 +1,9 @@
 // `allanlot report` end to end through the binary, on a small simulated lot (five units of two
 // channels and one unit with five times the white noise): the page is self-contained and
-// deterministic, has the expected plots, finds the odd unit as an outlier, splits into linked
-// unit pages, shows a diagnosis group and the lot summary's spec colouring when present, and
-// fails with clear messages.
+// deterministic, has the expected plots, finds the odd unit as an outlier (exactly the lot
+// summary's outliers), splits into linked unit pages, shows a diagnosis group and the lot
+// summary's spec colouring when present, and fails with clear messages.
+#include "io/results.hpp"
 #include "support/h5_fixture.hpp"
 
 #include <gtest/gtest.h>
@@ -10,6 +11,7 @@
 #include <cmath>
 #include <cstddef>
 #include <fstream>
+#include <map>
 #include <regex>
 #include <set>
 
@@ -122,6 +124,38 @@ TEST_F(Report, NamesTheOddUnitAsAnOutlier) {
   EXPECT_NE(section.find("href=\"#u-odd_unit-_imu_gyro_x\">odd_unit</a>"), std::string::npos)
       << section;
   EXPECT_EQ(section.find("unit_000"), std::string::npos) << section;
+}
+
+// The report judges outliers with the lot summary's rule (src/lot/statistics.hpp), so on the
+// lot with a planted outlier (odd_unit, with six times the others' white noise) its outlier table
+// lists exactly the (unit, channel, term) of lot_summary.h5's outlier_terms, with the same z
+// (the report prints 3 significant digits, the summary 2).
+TEST_F(Report, OutlierListEqualsTheLotSummarys) {
+  report(results().string() + " -q -o " + (dir() / "same.html").string());
+  const std::string s = read_file(dir() / "same.html");
+  const auto at = s.find("<h2>Outlier units</h2>");
+  ASSERT_NE(at, std::string::npos);
+  const std::string section = s.substr(at, s.find("<h2>", at + 5) - at);
+  std::map<std::string, double> in_report;
+  const std::regex row("<tr><td class=\"l\"><a href=\"[^\"]*\">([^<]*)</a></td>"
+                       "<td class=\"l\">([^<]*)</td><td>([RKBNQ])</td>(?:<td[^>]*>[^<]*</td>){3}"
+                       "<td>([^<]*)</td></tr>");
+  for (auto it = std::sregex_iterator(section.begin(), section.end(), row);
+       it != std::sregex_iterator(); ++it)
+    in_report[(*it)[1].str() + " " + (*it)[2].str() + " " + (*it)[3].str()] =
+        std::stod((*it)[4].str());
+  std::map<std::string, double> in_summary;
+  const std::regex term("([RKBNQ]) z=([-+0-9.e]+)");
+  for (const io::SummaryRow& r : io::read_lot_summary(results() / "lot_summary.h5"))
+    for (auto it = std::sregex_iterator(r.outlier_terms.begin(), r.outlier_terms.end(), term);
+         it != std::sregex_iterator(); ++it)
+      in_summary[r.device_id + " " + r.channel + " " + (*it)[1].str()] = std::stod((*it)[2].str());
+  ASSERT_EQ(in_summary.count("odd_unit /imu/gyro_x N"), 1u);  // the planted outlier
+  ASSERT_EQ(in_report.size(), in_summary.size()) << section;
+  for (const auto& [key, z] : in_summary) {
+    ASSERT_EQ(in_report.count(key), 1u) << key << "\n" << section;
+    EXPECT_NEAR(in_report[key], z, 0.055 * std::abs(z)) << key;
+  }
 }
 
 TEST_F(Report, SplitsIntoLinkedUnitPages) {

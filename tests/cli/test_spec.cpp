@@ -1,7 +1,7 @@
 // The spec file: strict parsing (every message names the file and the key path), unit
 // conversion through kernels/model/units.hpp, and the pass / fail / undecided decisions at their
 // boundaries.
-#include "src/spec.hpp"
+#include "src/lot/spec.hpp"
 #include "support/h5_fixture.hpp"
 
 #include <gtest/gtest.h>

@@ -1,7 +1,7 @@
-// The SVG plotting module (src/svg.hpp): ticks of log and linear axes, escaping, and the
+// The SVG plotting module (src/report/svg.hpp): ticks of log and linear axes, escaping, and the
 // rendered element: well-formed XML, deterministic, hostile text escaped, unusable points
 // skipped, ids unique per plot.
-#include "src/svg.hpp"
+#include "src/report/svg.hpp"
 
 #include <gtest/gtest.h>
 

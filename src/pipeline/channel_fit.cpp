@@ -1,4 +1,4 @@
-#include "src/channel_fit.hpp"
+#include "src/pipeline/channel_fit.hpp"
 
 #include "kernels/model/fit.hpp"
 #include "kernels/model/psd_fit.hpp"
@@ -10,7 +10,7 @@
 #include <map>
 #include <sstream>
 
-namespace allanlot::cli {
+namespace allanlot::pipeline {
 namespace {
 
 using kernels::units::Term;
@@ -211,4 +211,4 @@ std::string fit_table(const io::RecordingResult& r) {
   return out.str();
 }
 
-}  // namespace allanlot::cli
+}  // namespace allanlot::pipeline

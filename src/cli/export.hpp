@@ -6,7 +6,7 @@
 #pragma once
 
 #include "kernels/allan/stats.hpp"
-#include "src/cli.hpp"
+#include "src/cli/cli.hpp"
 
 #include <filesystem>
 #include <iosfwd>

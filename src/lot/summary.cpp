@@ -1,9 +1,9 @@
-#include "src/lot_summary.hpp"
+#include "src/lot/summary.hpp"
 
-#include "src/spec.hpp"
+#include "src/lot/spec.hpp"
+#include "src/lot/statistics.hpp"
 
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <map>
@@ -12,15 +12,12 @@
 #include <set>
 #include <stdexcept>
 #include <system_error>
-#include <tuple>
 
-namespace allanlot::cli {
+namespace allanlot::lot {
 
 namespace fs = std::filesystem;
 
 namespace {
-
-constexpr const char* kTermNames[5] = {"R", "K", "B", "N", "Q"};
 
 // Keys under which a path is "the same file": the absolute path lexically normalized, and the
 // path with symlinks resolved. Two keys because the results record fs::absolute of what
@@ -39,12 +36,6 @@ std::string trim(const std::string& s) {
   if (b == std::string::npos) return "";
   const auto e = s.find_last_not_of(" \t\r\n");
   return s.substr(b, e - b + 1);
-}
-
-std::string signed_number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%+.2g", v);
-  return buf;
 }
 
 void print_overview(const LotOverview& ov, const spec::Spec* sp, std::ostream& out) {
@@ -138,74 +129,6 @@ std::vector<io::SummaryRow> manifest_failures(const fs::path& manifest,
   return out;
 }
 
-double quantile_sorted(std::span<const double> sorted, double p) {
-  if (sorted.empty()) throw std::invalid_argument("quantile_sorted: no values");
-  if (!(p >= 0.0 && p <= 1.0)) throw std::invalid_argument("quantile_sorted: p outside [0, 1]");
-  const double h = static_cast<double>(sorted.size() - 1) * p;
-  const auto lo = static_cast<std::size_t>(std::floor(h));
-  if (lo + 1 >= sorted.size()) return sorted.back();
-  return sorted[lo] + (h - static_cast<double>(lo)) * (sorted[lo + 1] - sorted[lo]);
-}
-
-std::vector<io::StatisticsRow> lot_statistics(std::vector<io::SummaryRow>& rows) {
-  // (channel, term index, unit) -> indices of the rows with a value. The unit is part of the
-  // key so that a lot mixing channel units never pools numbers of different units.
-  std::map<std::tuple<std::string, std::size_t, std::string>, std::vector<std::size_t>> groups;
-  for (std::size_t r = 0; r < rows.size(); ++r) {
-    io::SummaryRow& row = rows[r];
-    row.outlier = 0;  // this function alone decides them
-    row.outlier_terms.clear();
-    if (!row.status.is_ok() || row.channel.empty()) continue;
-    for (std::size_t i = 0; i < 5; ++i)
-      if (std::isfinite(row.value[i])) groups[{row.channel, i, row.unit[i]}].push_back(r);
-  }
-  std::vector<io::StatisticsRow> stats;
-  for (const auto& [key, members] : groups) {
-    const auto& [channel, i, unit] = key;
-    std::vector<double> v;
-    io::StatisticsRow s;
-    s.channel = channel;
-    s.term = kTermNames[i];
-    s.unit = unit;
-    for (const std::size_t r : members) {
-      v.push_back(rows[r].value[i]);
-      s.n_detected += rows[r].detected[i] ? 1 : 0;
-    }
-    std::sort(v.begin(), v.end());
-    s.n = static_cast<std::int64_t>(v.size());
-    s.median = quantile_sorted(v, 0.5);
-    std::vector<double> dev;
-    for (const double x : v)
-      dev.push_back(std::abs(x - s.median));
-    std::sort(dev.begin(), dev.end());
-    s.spread = kMadToSigma * quantile_sorted(dev, 0.5);
-    s.p5 = quantile_sorted(v, 0.05);
-    s.p25 = quantile_sorted(v, 0.25);
-    s.p75 = quantile_sorted(v, 0.75);
-    s.p95 = quantile_sorted(v, 0.95);
-    s.min = v.front();
-    s.max = v.back();
-    // Outliers only where most units detect the term: otherwise median and MAD describe the
-    // fit's noise around the zero clamp, and a unit that merely detects the term (K at 3.6
-    // sigma where its neighbours fit 0, seen on a simulated lot) would be called an outlier.
-    if (v.size() >= kMinUnitsForOutliers && 2 * s.n_detected >= s.n)
-      for (const std::size_t r : members) {
-        const double sigma = std::isfinite(rows[r].sigma[i]) ? rows[r].sigma[i] : 0.0;
-        const double scale = std::hypot(s.spread, sigma);
-        if (!(scale > 0.0)) continue;  // no scale to measure a deviation against
-        const double z = (rows[r].value[i] - s.median) / scale;
-        if (std::abs(z) <= kOutlierZ) continue;
-        ++s.n_outliers;
-        rows[r].outlier = 1;
-        rows[r].outlier_terms +=
-            (rows[r].outlier_terms.empty() ? "" : "; ") + s.term + " z=" + signed_number(z);
-      }
-    stats.push_back(std::move(s));
-  }
-  // std::map orders the terms by index already (R, K, B, N, Q), channels by path.
-  return stats;
-}
-
 LotOverview write_lot(const fs::path& outdir, std::vector<io::SummaryRow> rows,
                       const LotOptions& opt, std::ostream& out, std::ostream& err) {
   std::optional<spec::Spec> sp;
@@ -275,4 +198,4 @@ LotOverview write_lot(const fs::path& outdir, std::vector<io::SummaryRow> rows,
   return ov;
 }
 
-}  // namespace allanlot::cli
+}  // namespace allanlot::lot

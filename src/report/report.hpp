@@ -1,20 +1,18 @@
-// `allanlot report OUTDIR [-o report.html]`: one self-contained HTML page (inline CSS and SVG,
-// no scripts, nothing fetched) from the results files of `analyze`: a lot page (summary
-// tables with pass/fail colouring where the lot summary has spec columns, per-term
-// distributions across units, outliers) and, per unit and channel, the Allan-family curves
+// The HTML report (`allanlot report OUTDIR [-o report.html]`, docs/reports.md): one self-contained
+// HTML page (inline CSS and SVG, no scripts, nothing fetched) from the results files of `analyze`:
+// a lot page (summary tables with pass/fail colouring where the lot summary has spec columns,
+// per-term distributions across units, outliers) and, per unit and channel, the Allan-family curves
 // with confidence intervals, the eq. (3) fit with its terms as slope asymptotes (the paper's
 // Figure 1), the PSD against the model's, the eq. (2) cross-check, the coefficient table and,
 // where `diagnose` has written one, the diagnosis.
 #pragma once
-
-#include "src/cli.hpp"
 
 #include <filesystem>
 #include <iosfwd>
 #include <string>
 #include <vector>
 
-namespace allanlot::cli {
+namespace allanlot::report {
 
 enum class UnitPages {
   Auto,    // one page up to kSinglePageMaxUnits units, linked per-unit pages above
@@ -38,12 +36,15 @@ struct ReportOptions {
   bool quiet = false;
 };
 
-/// Returns the exit status: 0 written; 1 written, but some results files could not be read
-/// (each named on `err`); 2 usage error (OUTDIR not a directory or without results files, no
-/// results file readable, output not writable).
-int run_report(const ReportOptions& opt, std::ostream& out, std::ostream& err);
+/// What run_report did (the command's exit status, docs/cli.md, follows from it).
+enum class Outcome {
+  Written,                // every results file read, the report written
+  WrittenSomeUnreadable,  // written, but some results files could not be read (named on `err`)
+  UsageError  // OUTDIR not a directory or without results files, none readable, output not
+              // writable, a --diagnosis file unreadable (named on `err`)
+};
 
-/// Adds the `report` subcommand to `app` (see cli.hpp, struct Command).
-Command add_report_command(CLI::App& app);
+/// Writes the report of `opt.outdir`; prints its path on `out` unless opt.quiet.
+Outcome run_report(const ReportOptions& opt, std::ostream& out, std::ostream& err);
 
-}  // namespace allanlot::cli
+}  // namespace allanlot::report

@@ -1,17 +1,20 @@
-#include "src/analyze.hpp"
+#include "src/cli/analyze.hpp"
 
 #include "io/atomic_file.hpp"
 #include "io/error.hpp"
 #include "io/fingerprint.hpp"
 #include "io/recording.hpp"
 #include "io/results.hpp"
-#include "kernels/allan/allan.hpp"
-#include "kernels/allan/phase.hpp"
 #include "kernels/common/parallel.hpp"
-#include "kernels/spectral/psd.hpp"
-#include "kernels/uncertainty/confidence.hpp"
+#include "src/cli/inputs.hpp"
+#include "src/lot/spec.hpp"
+#include "src/lot/summary.hpp"
+#include "src/pipeline/channel.hpp"
+#include "src/pipeline/channel_fit.hpp"
 
 #include <allanlot/version.hpp>
+
+#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <array>
@@ -21,17 +24,15 @@
 #include <cstdio>
 #include <ctime>
 #include <fstream>
+#include <iostream>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <ostream>
+#include <sstream>
 #include <sys/resource.h>
 #include <unistd.h>
-
-#include "src/channel_fit.hpp"
-#include "src/inputs.hpp"
-#include "src/lot_summary.hpp"
-#include "src/spec.hpp"
 
 namespace fs = std::filesystem;
 
@@ -61,151 +62,6 @@ struct StageTimes {
   double read = 0, kernels = 0, psd = 0, fit = 0, write = 0, analysis_wall = 0;
 };
 
-// One channel read into memory and prepared for the kernels.
-struct Prepared {
-  io::ChannelResult result;
-  kernels::PhaseData phase;
-  StageTimes times;  // kernels, psd, fit of this channel
-  bool ok = false;
-};
-
-// The Welch PSD of the channel's rate (psd/, log-binned) and equation (2) applied to it at the
-// oadev taus against the time-domain variance (crosscheck/). The rate is rebuilt from the
-// phase (mean removed, NaN where an increment is missing) so that phase and rate input are
-// treated alike; the phase is released once the rate is built (this is the channel's last
-// stage). A record too short for a PSD is a note, not a failure of the channel.
-void psd_and_crosscheck(Prepared& c, const kernels::StatResult& oadev, int threads,
-                        const std::array<kernels::TermFit, kernels::kNumTerms>* allan_terms) {
-  const std::vector<double>& x = c.phase.x;
-  std::vector<double> rate(x.size() - 1);
-  const double rate_hz = 1.0 / c.phase.tau0_s;
-  for (std::size_t k = 0; k + 1 < x.size(); ++k)
-    rate[k] = c.phase.clean(static_cast<std::int64_t>(k), static_cast<std::int64_t>(k) + 1)
-                  ? (x[k + 1] - x[k]) * rate_hz
-                  : std::nan("");
-  // The phase is not needed after this point: freeing it here keeps a channel's peak at the
-  // phase plus one working array at every stage.
-  c.phase = kernels::PhaseData{};
-  kernels::PsdResult psd;
-  try {
-    psd = kernels::welch_psd(rate, rate_hz, threads);
-  } catch (const std::invalid_argument& e) {
-    c.result.notes += (c.result.notes.empty() ? "" : "; ") + std::string("no PSD: ") + e.what();
-    return;
-  }
-  const kernels::BinnedPsd binned = kernels::log_bin(psd);
-  io::PsdRecord pr;
-  pr.method = "welch, hann window, 50% overlap, segment length " +
-              std::to_string(psd.segment_length) + ", " + std::to_string(psd.n_segments) +
-              " segments (" + std::to_string(psd.n_skipped) + " skipped for gaps), log-binned";
-  pr.f = binned.f_hz;
-  pr.psd = binned.psd;
-  pr.edf = binned.edf;
-  pr.n_avg = binned.n_avg;
-  c.result.psd = std::move(pr);
-  c.result.psd_fit = psd_fit_channel(psd, c.result.units, allan_terms);
-
-  const kernels::AvarPsdResult ap = kernels::avar_from_psd(psd, oadev.tau_s, {}, threads);
-  io::CrosscheckRecord cc;
-  cc.tau = oadev.tau_s;
-  cc.avar_psd = ap.avar;
-  cc.valid = ap.valid;
-  double worst = -1.0;
-  for (std::size_t i = 0; i < oadev.size(); ++i) {
-    const double avar = oadev.dev[i] * oadev.dev[i];
-    cc.avar_time.push_back(avar);
-    cc.ratio.push_back(ap.avar[i] / avar);
-    if (ap.valid[i] && std::isfinite(cc.ratio.back()) && cc.ratio.back() > 0.0 &&
-        std::abs(std::log10(cc.ratio.back())) > worst) {
-      worst = std::abs(std::log10(cc.ratio.back()));
-      cc.worst_tau = oadev.tau_s[i];
-    }
-  }
-  cc.max_abs_log10_ratio = worst >= 0.0 ? worst : std::nan("");
-  cc.valid_tau_range = {ap.tau_valid_min, ap.tau_valid_max};
-  c.result.crosscheck = std::move(cc);
-}
-
-// Computes every requested statistic of one prepared channel, then the eq. (3) fit of its
-// overlapping Allan curve (computed for the fit when not requested: fit/ is written whatever
-// --stats says, docs/formats.md). TDEV is derived from MDEV when both are requested (tau/sqrt(3)
-// times the same sum, SP1065 eq. (16)) instead of summing the same third differences twice. Throws
-// std::exception on a numerical precondition (the caller records it as the channel's failure).
-void compute_channel(Prepared& c, const AnalyzeOptions& opt, int kernel_threads) {
-  // Samples near the top of double's range (|x| ~ 1e300) square to infinity: fail the channel
-  // naming the cause rather than write inf or let the fit reject it.
-  const auto require_finite = [](kernels::Stat s, const kernels::StatResult& r) {
-    for (std::size_t i = 0; i < r.size(); ++i)
-      if (!std::isfinite(r.dev[i])) {
-        char tau[32];
-        std::snprintf(tau, sizeof tau, "%.6g", r.tau_s[i]);
-        throw std::invalid_argument(std::string(kernels::stat_name(s)) + " is not finite at tau " +
-                                    tau +
-                                    " s: the samples' differences overflow double precision "
-                                    "(rescale them, e.g. with a scale attribute)");
-      }
-  };
-  const auto t_stats = Clock::now();
-  bool any_row = false;
-  const kernels::StatResult* mdev = nullptr;
-  std::optional<kernels::StatResult> oadev_for_fit;
-  c.result.stats.reserve(opt.stats.size());  // `mdev` points into it: no reallocation
-  kernels::Lag1Cache noise_id;               // shared by the statistics of this channel
-  kernels::SumCache sums;                    // OADEV's sums are TOTDEV's inner sums
-  for (const kernels::Stat s : opt.stats) {
-    if (c.phase.has_gaps() && !kernels::supports_gaps(s)) {
-      // Skipped, not failed: the channel's other statistics stand, and the note says why.
-      c.result.notes += (c.result.notes.empty() ? "" : "; ") + std::string(kernels::stat_name(s)) +
-                        " not computed: it cannot run on data with gaps (" +
-                        std::to_string(c.phase.n_gaps) + " missing samples)";
-      continue;
-    }
-    const auto ms =
-        kernels::make_m_list(opt.grid, kernels::max_m(s, c.phase.n_points()), c.phase.n_points());
-    kernels::StatResult r = (s == kernels::Stat::Tdev && mdev && mdev->m == ms)
-                                ? kernels::tdev_from_mdev(*mdev)
-                                : kernels::compute(s, c.phase, ms, kernel_threads, &sums);
-    require_finite(s, r);
-    kernels::add_confidence(s, c.phase, r, opt.confidence, kernel_threads, &noise_id);
-    any_row = any_row || r.size() > 0;
-    c.result.stats.emplace_back(std::string(kernels::stat_name(s)), std::move(r));
-    if (s == kernels::Stat::Mdev) mdev = &c.result.stats.back().second;
-    if (s == kernels::Stat::Oadev) oadev_for_fit = c.result.stats.back().second;
-  }
-  if (!any_row) {
-    c.result.stats.clear();
-    throw std::invalid_argument("too short for any tau of the requested statistics (" +
-                                std::to_string(c.result.n_samples) + " samples)");
-  }
-  if (!opt.fit && !opt.psd) {
-    c.times.kernels += seconds_since(t_stats);
-    return;
-  }
-  if (!oadev_for_fit) {
-    const auto ms = kernels::make_m_list(
-        opt.grid, kernels::max_m(kernels::Stat::Oadev, c.phase.n_points()), c.phase.n_points());
-    oadev_for_fit = kernels::compute(kernels::Stat::Oadev, c.phase, ms, kernel_threads, &sums);
-    require_finite(kernels::Stat::Oadev, *oadev_for_fit);
-    kernels::add_confidence(kernels::Stat::Oadev, c.phase, *oadev_for_fit, opt.confidence,
-                            kernel_threads, &noise_id);
-  }
-  c.times.kernels += seconds_since(t_stats);
-  std::array<kernels::TermFit, kernels::kNumTerms> allan_terms{};
-  bool have_allan_terms = false;
-  if (opt.fit) {
-    const auto t_fit = Clock::now();
-    c.result.fit = fit_channel(*oadev_for_fit, c.phase, c.result.units, &allan_terms);
-    have_allan_terms = c.result.fit->status == kernels::FitStatus::Ok;
-    c.times.fit += seconds_since(t_fit);
-  }
-  if (opt.psd) {
-    const auto t_psd = Clock::now();
-    psd_and_crosscheck(c, *oadev_for_fit, kernel_threads,
-                       have_allan_terms ? &allan_terms : nullptr);
-    c.times.psd += seconds_since(t_psd);
-  }
-}
-
 std::string join_stats(const std::vector<kernels::Stat>& stats) {
   std::string s;
   for (std::size_t i = 0; i < stats.size(); ++i) {
@@ -223,6 +79,33 @@ std::uint64_t physical_memory();
 // freed once the phase is built, the phase before the PSD): the measured peak of a 90-minute
 // 1 kHz channel in flight is about 3 x 8 n with the process's own memory (bench_unit.sh).
 constexpr std::uint64_t kBytesPerSampleInFlight = 32;
+
+// Reads one channel's samples and adds them to the input hash (callers hold the read lock:
+// HDF5 calls one at a time, in channel order so that the hash is that of the sequential
+// read). On failure, `result` is the channel's description with the reason in its status.
+bool read_channel(io::RecordingReader& reader, const std::string& file, const io::ChannelInfo& ch,
+                  std::vector<double>& samples, std::uint64_t& hash, io::ChannelResult& result) {
+  try {
+    // A chunked dataset whose chunks were never written declares any length in a few
+    // kilobytes; refuse one that could not be analysed in this machine's memory before
+    // allocating it, rather than fail the whole run on the allocation.
+    if (static_cast<std::uint64_t>(ch.n_samples) > physical_memory() / kBytesPerSampleInFlight)
+      throw io::Error(file, ch.path,
+                      std::to_string(ch.n_samples) +
+                          " samples: more than this machine's memory holds for analysis (" +
+                          std::to_string(kBytesPerSampleInFlight) + " bytes per sample)");
+    samples = reader.read(ch);
+    hash = io::hash_channel(hash, ch.path, samples);
+    return true;
+  } catch (const io::Error& e) {
+    result = pipeline::describe_channel(ch);
+    result.status = io::ChannelStatus::failed(e.reason());
+  } catch (const std::exception& e) {
+    result = pipeline::describe_channel(ch);
+    result.status = io::ChannelStatus::failed(e.what());
+  }
+  return false;
+}
 
 // Analyses one recording. Throws io::Error when the input as a whole cannot be analysed
 // (unreadable, no channel, every channel failed); channel failures inside a readable file are
@@ -291,8 +174,15 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
       across ? static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(threads), slots))
              : 1;
   const int kernel_threads = std::max(1, threads / workers);
+  pipeline::ChannelOptions copt;
+  copt.stats = opt.stats;
+  copt.grid = opt.grid;
+  copt.confidence = opt.confidence;
+  copt.fit = opt.fit;
+  copt.psd = opt.psd;
+  copt.threads = kernel_threads;
   std::uint64_t hash = io::kHashSeed;
-  std::vector<Prepared> done(n_selected);
+  std::vector<pipeline::ChannelAnalysis> done(n_selected);
   std::mutex read_mutex;
   std::size_t next = 0;
   const auto t_analysis = Clock::now();
@@ -300,58 +190,19 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
   for (;;) {
     std::size_t i = 0;
     std::vector<double> samples;
+    bool read_ok = false;
     {
       const std::lock_guard<std::mutex> lock(read_mutex);
       if (next == n_selected) break;
       i = next++;
       const auto t_read = Clock::now();
-      const io::ChannelInfo& ch = *selected[i];
-      Prepared& c = done[i];
-      c.result.path = ch.path;
-      c.result.units = ch.units;
-      c.result.sample_rate_hz = ch.sample_rate_hz;
-      c.result.n_samples = ch.n_samples;
-      c.result.data_type = ch.data_type == kernels::DataType::Rate ? "rate" : "phase";
-      try {
-        // A chunked dataset whose chunks were never written declares any length in a few
-        // kilobytes; refuse one that could not be analysed in this machine's memory before
-        // allocating it, rather than fail the whole run on the allocation.
-        if (static_cast<std::uint64_t>(ch.n_samples) > physical_memory() / kBytesPerSampleInFlight)
-          throw io::Error(file, ch.path,
-                          std::to_string(ch.n_samples) +
-                              " samples: more than this machine's memory holds for analysis (" +
-                              std::to_string(kBytesPerSampleInFlight) + " bytes per sample)");
-        samples = reader.read(ch);
-        hash = io::hash_channel(hash, ch.path, samples);
-        c.ok = true;
-      } catch (const io::Error& e) {
-        c.result.status = io::ChannelStatus::failed(e.reason());
-      } catch (const std::exception& e) {
-        c.result.status = io::ChannelStatus::failed(e.what());
-      }
+      read_ok = read_channel(reader, file, *selected[i], samples, hash, done[i].result);
       times.read += seconds_since(t_read);
     }
-    Prepared& c = done[i];
-    if (!c.ok) continue;
-    try {
-      const auto t_phase = Clock::now();
-      c.phase = kernels::make_phase(samples, selected[i]->data_type, selected[i]->sample_rate_hz,
-                                    kernel_threads);
-      c.result.n_gaps = c.phase.n_gaps;
-      samples = std::vector<double>{};  // the phase replaces the samples
-      c.times.kernels += seconds_since(t_phase);
-      compute_channel(c, opt, kernel_threads);
-    } catch (const std::exception& e) {
-      c.result.status = io::ChannelStatus::failed(e.what());
-      c.ok = false;
-    } catch (...) {
-      c.result.status = io::ChannelStatus::failed("unexpected error");
-      c.ok = false;
-    }
-    c.phase = kernels::PhaseData{};  // free the channel's memory as soon as it is done
+    if (read_ok) done[i] = pipeline::analyze_channel(*selected[i], std::move(samples), copt);
   }
   times.analysis_wall += seconds_since(t_analysis);
-  for (const Prepared& c : done) {
+  for (const pipeline::ChannelAnalysis& c : done) {
     times.kernels += c.times.kernels;
     times.psd += c.times.psd;
     times.fit += c.times.fit;
@@ -359,10 +210,10 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
   rec.attributes.emplace_back("input_hash", io::hash_hex(hash));
 
   std::size_t n_ok = 0;
-  for (Prepared& c : done) {
+  for (pipeline::ChannelAnalysis& c : done) {
     if (!c.result.notes.empty())
       err << "allanlot: note: " << file << ":" << c.result.path << ": " << c.result.notes << "\n";
-    if (!c.ok) {
+    if (!c.ok()) {
       err << "allanlot: error: " << file << ":" << c.result.path << ": " << c.result.status.reason
           << "\n";
       channel_failed = true;
@@ -571,7 +422,7 @@ int run_analyze(const AnalyzeOptions& opt, std::ostream& out, std::ostream& err)
       io::write_results(opt.outdir / (id + ".allan.h5"), rec);
       times.write += seconds_since(t0);
       ++n_ok;
-      if (!opt.quiet && (opt.table || inputs.files.size() <= 10)) out << fit_table(rec);
+      if (!opt.quiet && (opt.table || inputs.files.size() <= 10)) out << pipeline::fit_table(rec);
     } catch (const io::Error& e) {
       err << "allanlot: error: " << e.what() << "\n";
       failed_rows.push_back({fs::path(file).stem().string(), e.dataset(), "", 0,
@@ -588,13 +439,13 @@ int run_analyze(const AnalyzeOptions& opt, std::ostream& out, std::ostream& err)
     // Another run writing into the same OUTDIR rebuilds the summary too: listing and writing
     // under one lock, the summary written last has seen every results file (io::DirectoryLock).
     const io::DirectoryLock summary_lock(opt.outdir);
-    std::vector<io::SummaryRow> rows = rows_from_outdir(opt.outdir, err);
+    std::vector<io::SummaryRow> rows = lot::rows_from_outdir(opt.outdir, err);
     rows.insert(rows.end(), failed_rows.begin(), failed_rows.end());
     try {
-      LotOptions lot;
-      lot.spec_path = opt.spec_path;
-      lot.quiet = opt.quiet;
-      write_lot(opt.outdir, std::move(rows), lot, out, err);
+      lot::LotOptions lot_opt;
+      lot_opt.spec_path = opt.spec_path;
+      lot_opt.quiet = opt.quiet;
+      lot::write_lot(opt.outdir, std::move(rows), lot_opt, out, err);
     } catch (const std::exception& e) {
       err << "allanlot: error: writing the lot summary: " << e.what() << "\n";
       return 2;
@@ -617,34 +468,6 @@ int run_analyze(const AnalyzeOptions& opt, std::ostream& out, std::ostream& err)
   }
   if (n_ok == 0) return 2;
   return (n_ok < n_inputs || channel_failed) ? 1 : 0;
-}
-
-int run_summarize(const SummarizeOptions& opt, std::ostream& out, std::ostream& err) {
-  std::error_code ec;
-  if (!fs::is_directory(opt.outdir, ec)) {
-    err << "allanlot: error: " << opt.outdir.string() << " is not a directory\n";
-    return 2;
-  }
-  const io::DirectoryLock summary_lock(opt.outdir);
-  std::vector<io::SummaryRow> rows = rows_from_outdir(opt.outdir, err);
-  const std::size_t n_rows = rows.size();
-  LotOverview overview;
-  try {
-    LotOptions lot;
-    lot.spec_path = opt.spec_path;
-    lot.manifest = opt.manifest;
-    lot.quiet = opt.quiet;
-    overview = write_lot(opt.outdir, std::move(rows), lot, out, err);
-  } catch (const std::exception& e) {
-    err << "allanlot: error: writing the lot summary: " << e.what() << "\n";
-    return 2;
-  }
-  if (!opt.quiet)
-    out << "lot summary of " << n_rows
-        << " channel(s): " << (opt.outdir / "lot_summary.csv").string() << "\n";
-  // Recordings of the manifest without results are failed inputs, as in analyze: status 1.
-  if (n_rows == 0) return 2;
-  return overview.n_missing > 0 ? 1 : 0;
 }
 
 std::uint64_t parse_memory_size(const std::string& text) {
@@ -674,6 +497,116 @@ std::uint64_t parse_memory_size(const std::string& text) {
   if (!(scale > 0) || !(v > 0) || !std::isfinite(v) || (unit == "%" && v > 100))
     throw std::invalid_argument("'" + text + "' is not a memory size (e.g. 8G, 512M, 40%)");
   return static_cast<std::uint64_t>(std::min(v * scale, 1.8e19));
+}
+
+namespace {
+
+std::vector<kernels::Stat> parse_stats(const std::string& list) {
+  std::vector<kernels::Stat> out;
+  std::stringstream ss(list);
+  std::string name;
+  while (std::getline(ss, name, ',')) {
+    const auto s = kernels::parse_stat(name);
+    if (!s) {
+      std::string known;
+      for (const auto k : kernels::all_stats())
+        known += (known.empty() ? "" : ", ") + std::string(kernels::stat_name(k));
+      throw CLI::ValidationError("--stats",
+                                 "unknown statistic '" + name + "' (known: " + known + ")");
+    }
+    bool dup = false;
+    for (const auto k : out)
+      dup = dup || k == *s;
+    if (!dup) out.push_back(*s);
+  }
+  if (out.empty()) throw CLI::ValidationError("--stats", "empty list");
+  return out;
+}
+
+// The default statistics of docs/cli.md, reduced to those this build computes (so that the default
+// never names a statistic that is not there).
+std::string default_stats() {
+  std::string s;
+  for (const char* name : {"oadev", "mdev", "hdev", "ohdev", "tdev", "totdev"}) {
+    if (!kernels::parse_stat(name)) continue;
+    s += (s.empty() ? "" : ",") + std::string(name);
+  }
+  return s;
+}
+
+// The options of analyze as given, before they are checked and turned into AnalyzeOptions.
+struct AnalyzeArgs {
+  AnalyzeOptions opt;
+  std::string stats_text = default_stats(), taus_text = kernels::to_string(opt.grid);
+  std::string outdir, spec_text, memory_text;
+  bool no_fit = false, no_psd = false, no_summary = false, no_progress = false;
+};
+
+// Throws CLI::ValidationError (a usage error) naming the option that is wrong.
+AnalyzeOptions checked_options(const AnalyzeArgs& a, const std::string& command_line) {
+  AnalyzeOptions opt = a.opt;
+  opt.stats = parse_stats(a.stats_text);
+  try {
+    opt.grid = kernels::parse_tau_grid(a.taus_text);
+  } catch (const std::invalid_argument& e) {
+    throw CLI::ValidationError("--taus", e.what());
+  }
+  opt.outdir = a.outdir;
+  opt.fit = !a.no_fit;
+  opt.psd = !a.no_psd;
+  opt.command_line = command_line;
+  opt.summary = !a.no_summary;
+  opt.progress = !a.no_progress;
+  opt.spec_path = a.spec_text;
+  if (!a.memory_text.empty()) {
+    try {
+      opt.memory_limit = parse_memory_size(a.memory_text);
+    } catch (const std::invalid_argument& e) {
+      throw CLI::ValidationError("--memory-limit", e.what());
+    }
+  }
+  return opt;
+}
+
+}  // namespace
+
+Command add_analyze_command(CLI::App& app) {
+  auto a = std::make_shared<AnalyzeArgs>();
+  auto* sub = app.add_subcommand("analyze", "Analyse recordings: Allan-family deviations, "
+                                            "results per input and a lot summary");
+  sub->add_option("-o,--output", a->outdir, "Output directory")->required();
+  sub->add_option("inputs", a->opt.inputs, "HDF5 files, directories, or *.txt manifests")
+      ->required();
+  sub->add_option("--stats", a->stats_text, "Comma-separated statistics")->capture_default_str();
+  sub->add_option("--taus", a->taus_text, "Tau grid: octave, decade, all, log:K or m:LIST")
+      ->capture_default_str();
+  sub->add_option("--confidence", a->opt.confidence,
+                  "Confidence level of the intervals dev_lo, dev_hi")
+      ->check(CLI::Range(0.001, 0.999))
+      ->capture_default_str();
+  sub->add_option("--channels", a->opt.channels_glob,
+                  "Only channels whose path or name matches this glob");
+  sub->add_option("--threads", a->opt.threads, "Threads (default: OMP_NUM_THREADS, else all cores)")
+      ->check(CLI::Range(0, kMaxThreads));
+  sub->add_flag("--no-fit", a->no_fit, "Do not fit equation (3) (no fit/ group)");
+  sub->add_flag("--no-psd", a->no_psd, "Do not compute the PSD and the eq. (2) cross-check");
+  sub->add_flag("--table", a->opt.table,
+                "Print each unit's coefficient table (default: when at most 10 inputs)");
+  sub->add_flag("-v,--verbose", a->opt.verbose, "Print per-stage timings");
+  sub->add_flag("-q,--quiet", a->opt.quiet, "Print only errors");
+  sub->add_flag("--force", a->opt.force,
+                "Redo recordings whose results in OUTDIR are complete and current (by "
+                "default they are skipped)");
+  sub->add_flag("--no-summary", a->no_summary,
+                "Do not write the lot summary (a Slurm task; the merge job runs summarize)");
+  sub->add_option("--spec", a->spec_text,
+                  "Spec file (JSON): pass/fail limits per channel and term for the summary");
+  sub->add_option("--memory-limit", a->memory_text,
+                  "Memory for the channels in flight, e.g. 8G, 512M or 40% (default 50%)");
+  sub->add_flag("--no-progress", a->no_progress, "No progress line on stderr");
+  return {sub, [a](const std::string& command_line) {
+            return run_analyze(checked_options(*a, command_line), std::cout, std::cerr);
+          }};
 }
 
 }  // namespace allanlot::cli

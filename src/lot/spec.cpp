@@ -1,5 +1,5 @@
 // Spec file parsing and the pass/fail decisions; the rules are listed in spec.hpp.
-#include "src/spec.hpp"
+#include "src/lot/spec.hpp"
 
 #include "kernels/uncertainty/chi2.hpp"
 

@@ -1,4 +1,4 @@
-#include "src/svg.hpp"
+#include "src/report/svg.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -208,7 +208,22 @@ std::vector<Tick> linear_ticks(double lo, double hi) {
 
 Plot::Plot() : x_min(kNaN), x_max(kNaN), y_min(kNaN), y_max(kNaN) {}
 
-std::string render(const Plot& p) {
+namespace {
+
+// The plot area and the two axes of a plot, in viewBox pixels.
+struct Frame {
+  Axis xa, ya;
+  double left = 78, top = 14, plot_w = 40, plot_h = 40;
+  bool any_legend = false;
+  double X(double v) const { return xa.px(v); }
+  double Y(double v) const { return ya.px(v); }
+  bool ok_x(double v) const { return usable(v, xa.scale); }
+  bool ok_y(double v) const { return usable(v, ya.scale); }
+  bool x_log() const { return xa.scale == Scale::Log; }
+  bool y_log() const { return ya.scale == Scale::Log; }
+};
+
+void validate(const Plot& p) {
   if (p.id.empty()) throw std::invalid_argument("svg::render: empty plot id");
   for (const Series& s : p.series) {
     if (s.x.size() != s.y.size() || (!s.y_lo.empty() && s.y_lo.size() != s.y.size()) ||
@@ -222,9 +237,13 @@ std::string render(const Plot& p) {
     if (!b.vertical && (b.x.size() != b.lo.size() || b.x.size() != b.hi.size()))
       throw std::invalid_argument("svg::render: band of plot '" + p.id +
                                   "' has vectors of different lengths");
+}
 
+Frame frame_of(const Plot& p) {
+  Frame f;
+  Axis& xa = f.xa;
+  Axis& ya = f.ya;
   // Ranges.
-  Axis xa, ya;
   xa.scale = p.x_scale == Scale::Categorical ? Scale::Linear : p.x_scale;
   ya.scale = p.y_scale == Scale::Categorical ? Scale::Linear : p.y_scale;
   std::vector<double> xs, ys;
@@ -259,78 +278,75 @@ std::string render(const Plot& p) {
   auto_range(ys, ya.scale, ya.lo, ya.hi);
 
   // Layout: title above, tick labels and axis labels left and below, legend on the right.
-  bool any_legend = false;
   for (const Series& s : p.series)
-    any_legend = any_legend || !s.label.empty();
+    f.any_legend = f.any_legend || !s.label.empty();
   for (const Band& b : p.bands)
-    any_legend = any_legend || !b.label.empty();
-  any_legend = any_legend && p.legend;
-  const double left = 78, top = p.title.empty() ? 14 : 34, bottom = 50;
-  const double right = any_legend ? 178 : 16;
-  const double plot_w = std::max(40.0, p.width - left - right);
-  const double plot_h = std::max(40.0, p.height - top - bottom);
-  xa.p0 = left;
-  xa.p1 = left + plot_w;
-  ya.p0 = top + plot_h;
-  ya.p1 = top;
-  const auto X = [&](double v) { return xa.px(v); };
-  const auto Y = [&](double v) { return ya.px(v); };
-  const bool x_log = xa.scale == Scale::Log, y_log = ya.scale == Scale::Log;
-  const auto ok_x = [&](double v) { return usable(v, xa.scale); };
-  const auto ok_y = [&](double v) { return usable(v, ya.scale); };
+    f.any_legend = f.any_legend || !b.label.empty();
+  f.any_legend = f.any_legend && p.legend;
+  const double bottom = 50;
+  f.left = 78;
+  f.top = p.title.empty() ? 14 : 34;
+  const double right = f.any_legend ? 178 : 16;
+  f.plot_w = std::max(40.0, p.width - f.left - right);
+  f.plot_h = std::max(40.0, p.height - f.top - bottom);
+  f.xa.p0 = f.left;
+  f.xa.p1 = f.left + f.plot_w;
+  f.ya.p0 = f.top + f.plot_h;
+  f.ya.p1 = f.top;
+  return f;
+}
 
-  std::string o;
-  o.reserve(8192);
-  o += "<svg xmlns=\"http://www.w3.org/2000/svg\"";
-  append_attr(o, "id", escape(p.id));
-  append_attr(o, "class", "plot");
-  o += " viewBox=\"0 0 " + coord(p.width) + " " + coord(p.height) + "\"";
-  o += " font-family=\"Helvetica,Arial,sans-serif\" font-size=\"12\" role=\"img\"";
-  append_attr(o, "aria-label", escape(p.title));
-  o += ">\n";
-  if (!p.title.empty()) o += "<title>" + escape(p.title) + "</title>\n";
-  o += "<rect width=\"100%\" height=\"100%\" fill=\"#fff\"/>\n";
-  const std::string clip = escape(p.id) + "-clip";
-  o += "<clipPath id=\"" + clip + "\"><rect x=\"" + coord(left) + "\" y=\"" + coord(top) +
-       "\" width=\"" + coord(plot_w) + "\" height=\"" + coord(plot_h) + "\"/></clipPath>\n";
+struct Ticks {
+  std::vector<Tick> x, y;
+};
 
+Ticks ticks_of(const Plot& p, const Frame& f) {
   // Grid and ticks.
   std::vector<Tick> xt;
   if (p.x_scale == Scale::Categorical) {
     for (std::size_t i = 0; i < p.categories.size(); ++i)
       xt.push_back({static_cast<double>(i), p.categories[i], true});
   } else {
-    xt = x_log ? log_ticks(xa.lo, xa.hi) : linear_ticks(xa.lo, xa.hi);
+    xt = f.x_log() ? log_ticks(f.xa.lo, f.xa.hi) : linear_ticks(f.xa.lo, f.xa.hi);
   }
-  const std::vector<Tick> yt = y_log ? log_ticks(ya.lo, ya.hi) : linear_ticks(ya.lo, ya.hi);
+  const std::vector<Tick> yt =
+      f.y_log() ? log_ticks(f.ya.lo, f.ya.hi) : linear_ticks(f.ya.lo, f.ya.hi);
+  return {std::move(xt), std::move(yt)};
+}
+
+// The grid lines (drawn now, under everything) and the tick marks (returned: drawn with the
+// frame, over the data).
+std::string draw_grid(std::string& o, const Plot& p, const Frame& f, const Ticks& ticks) {
+  const std::vector<Tick>& xt = ticks.x;
+  const std::vector<Tick>& yt = ticks.y;
   std::string grid_major, grid_minor, tick_marks;
   for (const Tick& t : xt) {
     if (p.x_scale == Scale::Categorical) continue;
     std::string& g = t.major ? grid_major : grid_minor;
     g += "M";
-    append_coord(g, X(t.value));
+    append_coord(g, f.X(t.value));
     g += " ";
-    append_coord(g, top);
+    append_coord(g, f.top);
     g += "V";
-    append_coord(g, top + plot_h);
+    append_coord(g, f.top + f.plot_h);
     tick_marks += "M";
-    append_coord(tick_marks, X(t.value));
+    append_coord(tick_marks, f.X(t.value));
     tick_marks += " ";
-    append_coord(tick_marks, top + plot_h);
+    append_coord(tick_marks, f.top + f.plot_h);
     tick_marks += t.major ? "v6" : "v3";
   }
   for (const Tick& t : yt) {
     std::string& g = t.major ? grid_major : grid_minor;
     g += "M";
-    append_coord(g, left);
+    append_coord(g, f.left);
     g += " ";
-    append_coord(g, Y(t.value));
+    append_coord(g, f.Y(t.value));
     g += "H";
-    append_coord(g, left + plot_w);
+    append_coord(g, f.left + f.plot_w);
     tick_marks += "M";
-    append_coord(tick_marks, left);
+    append_coord(tick_marks, f.left);
     tick_marks += " ";
-    append_coord(tick_marks, Y(t.value));
+    append_coord(tick_marks, f.Y(t.value));
     tick_marks += t.major ? "h-6" : "h-3";
   }
   if (!grid_minor.empty())
@@ -338,31 +354,35 @@ std::string render(const Plot& p) {
   if (!grid_major.empty())
     o += "<path d=\"" + grid_major + "\" stroke=\"#ccc\" stroke-width=\"1\" fill=\"none\"/>\n";
 
-  o += "<g clip-path=\"url(#" + clip + ")\">\n";
+  return tick_marks;
+}
+
+// Bands, reference lines and boxes, under the series.
+void draw_areas(std::string& o, const Plot& p, const Frame& f) {
   // Bands.
   for (const Band& b : p.bands) {
     std::string d;
     if (b.vertical) {
-      if (b.x.size() < 2 || !ok_x(b.x[0]) || !ok_x(b.x[1])) continue;
-      const double a = std::clamp(X(b.x[0]), left, left + plot_w);
-      const double c = std::clamp(X(b.x[1]), left, left + plot_w);
-      d = "M" + coord(a) + " " + coord(top) + "H" + coord(c) + "V" + coord(top + plot_h) + "H" +
-          coord(a) + "Z";
+      if (b.x.size() < 2 || !f.ok_x(b.x[0]) || !f.ok_x(b.x[1])) continue;
+      const double a = std::clamp(f.X(b.x[0]), f.left, f.left + f.plot_w);
+      const double c = std::clamp(f.X(b.x[1]), f.left, f.left + f.plot_w);
+      d = "M" + coord(a) + " " + coord(f.top) + "H" + coord(c) + "V" + coord(f.top + f.plot_h) +
+          "H" + coord(a) + "Z";
     } else {
       // Upper edge left to right, lower edge back; runs of unusable points break the polygon.
       std::vector<std::size_t> idx;
       for (std::size_t i = 0; i < b.x.size(); ++i)
-        if (ok_x(b.x[i]) && ok_y(b.lo[i]) && ok_y(b.hi[i])) idx.push_back(i);
+        if (f.ok_x(b.x[i]) && f.ok_y(b.lo[i]) && f.ok_y(b.hi[i])) idx.push_back(i);
       if (idx.size() < 2) continue;
       for (std::size_t j = 0; j < idx.size(); ++j) {
         d += j == 0 ? "M" : "L";
-        d += coord(X(b.x[idx[j]])) + " " + coord(Y(b.hi[idx[j]]));
+        d += coord(f.X(b.x[idx[j]])) + " " + coord(f.Y(b.hi[idx[j]]));
       }
       for (std::size_t j = idx.size(); j-- > 0;) {
         d += 'L';
-        d += coord(X(b.x[idx[j]]));
+        d += coord(f.X(b.x[idx[j]]));
         d += ' ';
-        d += coord(Y(b.lo[idx[j]]));
+        d += coord(f.Y(b.lo[idx[j]]));
       }
       d += "Z";
     }
@@ -370,127 +390,133 @@ std::string render(const Plot& p) {
          number(b.opacity, 3) + "\" stroke=\"none\"/>\n";
   }
   for (const HLine& h : p.hlines) {
-    if (!ok_y(h.y)) continue;
-    o += "<path d=\"M" + coord(left) + " " + coord(Y(h.y)) + "H" + coord(left + plot_w) +
+    if (!f.ok_y(h.y)) continue;
+    o += "<path d=\"M" + coord(f.left) + " " + coord(f.Y(h.y)) + "H" + coord(f.left + f.plot_w) +
          "\" stroke=\"" + escape(h.color) + "\" stroke-width=\"1.2\"" +
          (h.dash.empty() ? std::string() : " stroke-dasharray=\"" + escape(h.dash) + "\"") +
          " fill=\"none\"/>\n";
   }
   for (const Box& b : p.boxes) {
-    if (!ok_y(b.q1) || !ok_y(b.q3) || !ok_y(b.median)) continue;
-    const double xl = X(b.x - b.half_width), xr = X(b.x + b.half_width), xc = X(b.x);
+    if (!f.ok_y(b.q1) || !f.ok_y(b.q3) || !f.ok_y(b.median)) continue;
+    const double xl = f.X(b.x - b.half_width), xr = f.X(b.x + b.half_width), xc = f.X(b.x);
     const double cap = (xr - xl) / 4;
-    std::string d = "M" + coord(xl) + " " + coord(Y(b.q3)) + "H" + coord(xr) + "V" +
-                    coord(Y(b.q1)) + "H" + coord(xl) + "Z";
-    if (ok_y(b.whisker_hi))
-      d += "M" + coord(xc) + " " + coord(Y(b.q3)) + "V" + coord(Y(b.whisker_hi)) + "M" +
-           coord(xc - cap) + " " + coord(Y(b.whisker_hi)) + "H" + coord(xc + cap);
-    if (ok_y(b.whisker_lo))
-      d += "M" + coord(xc) + " " + coord(Y(b.q1)) + "V" + coord(Y(b.whisker_lo)) + "M" +
-           coord(xc - cap) + " " + coord(Y(b.whisker_lo)) + "H" + coord(xc + cap);
+    std::string d = "M" + coord(xl) + " " + coord(f.Y(b.q3)) + "H" + coord(xr) + "V" +
+                    coord(f.Y(b.q1)) + "H" + coord(xl) + "Z";
+    if (f.ok_y(b.whisker_hi))
+      d += "M" + coord(xc) + " " + coord(f.Y(b.q3)) + "V" + coord(f.Y(b.whisker_hi)) + "M" +
+           coord(xc - cap) + " " + coord(f.Y(b.whisker_hi)) + "H" + coord(xc + cap);
+    if (f.ok_y(b.whisker_lo))
+      d += "M" + coord(xc) + " " + coord(f.Y(b.q1)) + "V" + coord(f.Y(b.whisker_lo)) + "M" +
+           coord(xc - cap) + " " + coord(f.Y(b.whisker_lo)) + "H" + coord(xc + cap);
     o += "<path d=\"" + d + "\" stroke=\"" + escape(b.color) +
          "\" stroke-width=\"1.2\" fill=\"#f4f4f4\"/>\n";
-    o += "<path d=\"M" + coord(xl) + " " + coord(Y(b.median)) + "H" + coord(xr) + "\" stroke=\"" +
+    o += "<path d=\"M" + coord(xl) + " " + coord(f.Y(b.median)) + "H" + coord(xr) + "\" stroke=\"" +
          escape(b.color) + "\" stroke-width=\"2.4\"/>\n";
   }
+}
 
-  // Series: error bars, then the line, then dots (so that dots sit on top).
-  for (const Series& s : p.series) {
-    const std::string color = escape(s.color);
-    if (!s.y_lo.empty() && !s.y_hi.empty()) {
-      std::string d;
-      for (std::size_t i = 0; i < s.x.size(); ++i) {
-        if (!ok_x(s.x[i]) || !ok_y(s.y_lo[i]) || !ok_y(s.y_hi[i])) continue;
-        const double x = X(s.x[i]), a = Y(s.y_lo[i]), b = Y(s.y_hi[i]);
-        d += "M";
-        append_coord(d, x);
-        d += " ";
-        append_coord(d, a);
-        d += "V";
-        append_coord(d, b);
-        d += "M";
-        append_coord(d, x - 2);
-        d += " ";
-        append_coord(d, a);
-        d += "h4M";
-        append_coord(d, x - 2);
-        d += " ";
-        append_coord(d, b);
-        d += "h4";
-      }
-      if (!d.empty())
-        o += "<path d=\"" + d + "\" stroke=\"" + color +
-             "\" stroke-width=\"0.9\" stroke-opacity=\"0.7\" fill=\"none\"/>\n";
+// One series: error bars, then the line, then dots (so that dots sit on top).
+void draw_series(std::string& o, const Series& s, const Frame& f) {
+  const std::string color = escape(s.color);
+  if (!s.y_lo.empty() && !s.y_hi.empty()) {
+    std::string d;
+    for (std::size_t i = 0; i < s.x.size(); ++i) {
+      if (!f.ok_x(s.x[i]) || !f.ok_y(s.y_lo[i]) || !f.ok_y(s.y_hi[i])) continue;
+      const double x = f.X(s.x[i]), a = f.Y(s.y_lo[i]), b = f.Y(s.y_hi[i]);
+      d += "M";
+      append_coord(d, x);
+      d += " ";
+      append_coord(d, a);
+      d += "V";
+      append_coord(d, b);
+      d += "M";
+      append_coord(d, x - 2);
+      d += " ";
+      append_coord(d, a);
+      d += "h4M";
+      append_coord(d, x - 2);
+      d += " ";
+      append_coord(d, b);
+      d += "h4";
     }
-    if (s.line) {
-      std::string d;
-      bool pen_down = false;
-      for (std::size_t i = 0; i < s.x.size(); ++i) {
-        if (!ok_x(s.x[i]) || !ok_y(s.y[i])) {
-          pen_down = false;
-          continue;
-        }
-        d += pen_down ? " " : "M";
-        append_coord(d, X(s.x[i]));
-        d += " ";
-        append_coord(d, Y(s.y[i]));
-        pen_down = true;
-      }
-      if (!d.empty())
-        o += "<path d=\"" + d + "\" stroke=\"" + color + "\" stroke-width=\"" + number(s.width, 3) +
-             "\"" +
-             (s.dash.empty() ? std::string() : " stroke-dasharray=\"" + escape(s.dash) + "\"") +
-             " fill=\"none\" stroke-linejoin=\"round\"/>\n";
-    }
-    if (s.dots) {
-      // Zero-length subpaths with round caps draw one dot per point in a single element.
-      std::string d, links;
-      for (std::size_t i = 0; i < s.x.size(); ++i) {
-        if (!ok_x(s.x[i]) || !ok_y(s.y[i])) continue;
-        const double x = X(s.x[i]), y = Y(s.y[i]);
-        if (!s.hrefs.empty() && !s.hrefs[i].empty()) {
-          links += "<a href=\"" + escape(s.hrefs[i]) + "\"><circle cx=\"" + coord(x) + "\" cy=\"" +
-                   coord(y) + "\" r=\"" + number(s.dot_size * 0.75, 3) + "\" fill=\"" + color +
-                   "\" stroke=\"#000\" stroke-width=\"0.8\">";
-          if (!s.tooltips.empty()) links += "<title>" + escape(s.tooltips[i]) + "</title>";
-          links += "</circle></a>\n";
-          continue;
-        }
-        d += "M";
-        append_coord(d, x);
-        d += " ";
-        append_coord(d, y);
-        d += "h0";
-      }
-      if (!d.empty())
-        o += "<path d=\"" + d + "\" stroke=\"" + color + "\" stroke-width=\"" +
-             number(s.dot_size, 3) + "\" stroke-linecap=\"round\" fill=\"none\"/>\n";
-      o += links;
-    }
+    if (!d.empty())
+      o += "<path d=\"" + d + "\" stroke=\"" + color +
+           "\" stroke-width=\"0.9\" stroke-opacity=\"0.7\" fill=\"none\"/>\n";
   }
-  o += "</g>\n";
+  if (s.line) {
+    std::string d;
+    bool pen_down = false;
+    for (std::size_t i = 0; i < s.x.size(); ++i) {
+      if (!f.ok_x(s.x[i]) || !f.ok_y(s.y[i])) {
+        pen_down = false;
+        continue;
+      }
+      d += pen_down ? " " : "M";
+      append_coord(d, f.X(s.x[i]));
+      d += " ";
+      append_coord(d, f.Y(s.y[i]));
+      pen_down = true;
+    }
+    if (!d.empty())
+      o += "<path d=\"" + d + "\" stroke=\"" + color + "\" stroke-width=\"" + number(s.width, 3) +
+           "\"" +
+           (s.dash.empty() ? std::string() : " stroke-dasharray=\"" + escape(s.dash) + "\"") +
+           " fill=\"none\" stroke-linejoin=\"round\"/>\n";
+  }
+  if (s.dots) {
+    // Zero-length subpaths with round caps draw one dot per point in a single element.
+    std::string d, links;
+    for (std::size_t i = 0; i < s.x.size(); ++i) {
+      if (!f.ok_x(s.x[i]) || !f.ok_y(s.y[i])) continue;
+      const double x = f.X(s.x[i]), y = f.Y(s.y[i]);
+      if (!s.hrefs.empty() && !s.hrefs[i].empty()) {
+        links += "<a href=\"" + escape(s.hrefs[i]) + "\"><circle cx=\"" + coord(x) + "\" cy=\"" +
+                 coord(y) + "\" r=\"" + number(s.dot_size * 0.75, 3) + "\" fill=\"" + color +
+                 "\" stroke=\"#000\" stroke-width=\"0.8\">";
+        if (!s.tooltips.empty()) links += "<title>" + escape(s.tooltips[i]) + "</title>";
+        links += "</circle></a>\n";
+        continue;
+      }
+      d += "M";
+      append_coord(d, x);
+      d += " ";
+      append_coord(d, y);
+      d += "h0";
+    }
+    if (!d.empty())
+      o += "<path d=\"" + d + "\" stroke=\"" + color + "\" stroke-width=\"" +
+           number(s.dot_size, 3) + "\" stroke-linecap=\"round\" fill=\"none\"/>\n";
+    o += links;
+  }
+}
 
+void draw_annotations(std::string& o, const Plot& p, const Frame& f) {
   // Annotations, clamped into the plot area so that a label is never lost off the edge.
   for (const Annotation& a : p.annotations) {
-    if (!ok_x(a.x) || !ok_y(a.y)) continue;
-    const double x = std::clamp(X(a.x) + a.dx, left + 2, left + plot_w - 2);
-    const double y = std::clamp(Y(a.y) + a.dy, top + 12, top + plot_h - 4);
+    if (!f.ok_x(a.x) || !f.ok_y(a.y)) continue;
+    const double x = std::clamp(f.X(a.x) + a.dx, f.left + 2, f.left + f.plot_w - 2);
+    const double y = std::clamp(f.Y(a.y) + a.dy, f.top + 12, f.top + f.plot_h - 4);
     o += "<text x=\"" + coord(x) + "\" y=\"" + coord(y) + "\" fill=\"" + escape(a.color) +
          "\" text-anchor=\"" + escape(a.anchor) +
          "\" font-size=\"11\" stroke=\"#fff\" stroke-width=\"3\" paint-order=\"stroke\">" +
          escape(a.text) + "</text>\n";
   }
+}
 
+void draw_axes(std::string& o, const Plot& p, const Frame& f, const Ticks& ticks,
+               const std::string& tick_marks) {
+  const std::vector<Tick>& xt = ticks.x;
+  const std::vector<Tick>& yt = ticks.y;
   // Frame, ticks, tick labels.
-  o += "<rect x=\"" + coord(left) + "\" y=\"" + coord(top) + "\" width=\"" + coord(plot_w) +
-       "\" height=\"" + coord(plot_h) + "\" fill=\"none\" stroke=\"#333\" stroke-width=\"1\"/>\n";
+  o += "<rect x=\"" + coord(f.left) + "\" y=\"" + coord(f.top) + "\" width=\"" + coord(f.plot_w) +
+       "\" height=\"" + coord(f.plot_h) + "\" fill=\"none\" stroke=\"#333\" stroke-width=\"1\"/>\n";
   if (!tick_marks.empty())
     o += "<path d=\"" + tick_marks + "\" stroke=\"#333\" stroke-width=\"1\" fill=\"none\"/>\n";
   o += "<g fill=\"#222\">\n";
   for (const Tick& t : xt) {
     if (!t.major) continue;
     // Categorical labels may have several lines ('\n'), each centred under the category.
-    const std::string x = coord(X(t.value));
+    const std::string x = coord(f.X(t.value));
     std::string text;
     std::size_t start = 0;
     for (int line = 0;; ++line) {
@@ -501,30 +527,32 @@ std::string render(const Plot& p) {
       if (nl == std::string::npos) break;
       start = nl + 1;
     }
-    o += "<text x=\"" + x + "\" y=\"" + coord(top + plot_h + 20) + "\" text-anchor=\"middle\">" +
-         text + "</text>\n";
+    o += "<text x=\"" + x + "\" y=\"" + coord(f.top + f.plot_h + 20) +
+         "\" text-anchor=\"middle\">" + text + "</text>\n";
   }
   for (const Tick& t : yt) {
     if (!t.major) continue;
-    o += "<text x=\"" + coord(left - 9) + "\" y=\"" + coord(Y(t.value) + 4) +
+    o += "<text x=\"" + coord(f.left - 9) + "\" y=\"" + coord(f.Y(t.value) + 4) +
          "\" text-anchor=\"end\">" + tick_text(t.label) + "</text>\n";
   }
   o += "</g>\n";
   if (!p.x_label.empty())
-    o += "<text x=\"" + coord(left + plot_w / 2) + "\" y=\"" + coord(p.height - 10) +
+    o += "<text x=\"" + coord(f.left + f.plot_w / 2) + "\" y=\"" + coord(p.height - 10) +
          "\" text-anchor=\"middle\" font-size=\"13\">" + escape(p.x_label) + "</text>\n";
   if (!p.y_label.empty())
-    o += "<text transform=\"translate(16 " + coord(top + plot_h / 2) +
+    o += "<text transform=\"translate(16 " + coord(f.top + f.plot_h / 2) +
          ") rotate(-90)\" text-anchor=\"middle\" font-size=\"13\">" + escape(p.y_label) +
          "</text>\n";
   if (!p.title.empty())
-    o += "<text x=\"" + coord(left) + "\" y=\"22\" font-size=\"14\" font-weight=\"bold\">" +
+    o += "<text x=\"" + coord(f.left) + "\" y=\"22\" font-size=\"14\" font-weight=\"bold\">" +
          escape(p.title) + "</text>\n";
+}
 
+void draw_legend(std::string& o, const Plot& p, const Frame& f) {
   // Legend.
-  if (any_legend) {
-    const double lx = left + plot_w + 14;
-    double ly = top + 10;
+  if (f.any_legend) {
+    const double lx = f.left + f.plot_w + 14;
+    double ly = f.top + 10;
     o += "<g class=\"legend\" font-size=\"11\">\n";
     const auto short_label = [](const std::string& s) {
       // About 24 characters fit in the legend column; longer labels are cut with an ellipsis
@@ -559,6 +587,38 @@ std::string render(const Plot& p) {
     }
     o += "</g>\n";
   }
+}
+
+}  // namespace
+
+std::string render(const Plot& p) {
+  validate(p);
+  const Frame f = frame_of(p);
+  std::string o;
+  o.reserve(8192);
+  o += "<svg xmlns=\"http://www.w3.org/2000/svg\"";
+  append_attr(o, "id", escape(p.id));
+  append_attr(o, "class", "plot");
+  o += " viewBox=\"0 0 " + coord(p.width) + " " + coord(p.height) + "\"";
+  o += " font-family=\"Helvetica,Arial,sans-serif\" font-size=\"12\" role=\"img\"";
+  append_attr(o, "aria-label", escape(p.title));
+  o += ">\n";
+  if (!p.title.empty()) o += "<title>" + escape(p.title) + "</title>\n";
+  o += "<rect width=\"100%\" height=\"100%\" fill=\"#fff\"/>\n";
+  const std::string clip = escape(p.id) + "-clip";
+  o += "<clipPath id=\"" + clip + "\"><rect x=\"" + coord(f.left) + "\" y=\"" + coord(f.top) +
+       "\" width=\"" + coord(f.plot_w) + "\" height=\"" + coord(f.plot_h) + "\"/></clipPath>\n";
+
+  const Ticks ticks = ticks_of(p, f);
+  const std::string tick_marks = draw_grid(o, p, f, ticks);
+  o += "<g clip-path=\"url(#" + clip + ")\">\n";
+  draw_areas(o, p, f);
+  for (const Series& s : p.series)
+    draw_series(o, s, f);
+  o += "</g>\n";
+  draw_annotations(o, p, f);
+  draw_axes(o, p, f, ticks, tick_marks);
+  draw_legend(o, p, f);
   o += "</svg>\n";
   return o;
 }

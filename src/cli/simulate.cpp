@@ -1,13 +1,17 @@
-#include "src/simulate_command.hpp"
+#include "src/cli/simulate.hpp"
 
 #include "io/atomic_file.hpp"
 #include "io/error.hpp"
 #include "io/recording.hpp"
 #include "kernels/simulate/simulate.hpp"
-#include "src/model.hpp"
+#include "src/lot/model.hpp"
+
+#include <CLI/CLI.hpp>
 
 #include <cmath>
 #include <cstdio>
+#include <iostream>
+#include <memory>
 #include <ostream>
 #include <vector>
 
@@ -91,6 +95,28 @@ int run_simulate(const SimulateOptions& opt, std::ostream& out, std::ostream& er
     err << "allanlot: error: " << e.what() << "\n";
   }
   return 2;
+}
+
+Command add_simulate_command(CLI::App& app) {
+  auto opt = std::make_shared<SimulateOptions>();
+  auto output = std::make_shared<std::string>();
+  auto* sub = app.add_subcommand(
+      "simulate", "Write simulated recordings from a noise model (default: the paper's unit)");
+  sub->add_option("-o,--output", *output, "Output FILE.h5, or DIR with --lot")->required();
+  sub->add_option("--model", opt->model_path, "Model file (JSON, see docs/formats.md)");
+  sub->add_option("--duration", opt->duration_s, "Record length in seconds")->capture_default_str();
+  sub->add_option("--seed", opt->seed, "Random seed")->capture_default_str();
+  sub->add_option("--channel", opt->channel, "Dataset name of a single-channel model")
+      ->capture_default_str();
+  sub->add_option("--lot", opt->lot, "Write N units into the directory -o")
+      ->check(CLI::Range(1, 1000000));
+  sub->add_option("--threads", opt->threads, "Threads (default: OMP_NUM_THREADS, else all cores)")
+      ->check(CLI::Range(0, kMaxThreads));
+  sub->add_flag("-q,--quiet", opt->quiet, "Print only errors");
+  return {sub, [opt, output](const std::string&) {
+            opt->output = *output;
+            return run_simulate(*opt, std::cout, std::cerr);
+          }};
 }
 
 }  // namespace allanlot::cli

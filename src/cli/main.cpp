@@ -1,4 +1,4 @@
-#include "src/cli.hpp"
+#include "src/cli/cli.hpp"
 
 int main(int argc, char** argv) {
   return allanlot::cli::run(argc, argv);

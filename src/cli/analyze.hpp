@@ -1,8 +1,12 @@
-// `allanlot analyze` (docs/cli.md "Command: analyze"): the batch driver over recordings.
+// `allanlot analyze` (docs/cli.md "Command: analyze"): the batch driver over recordings. Each
+// channel is analysed by src/pipeline/channel.hpp; the driver expands the inputs, skips the
+// recordings whose results are current (resume), reads channels in memory-bounded waves across
+// threads, writes one results file per recording and the lot summary (src/lot/summary.hpp).
 #pragma once
 
 #include "kernels/allan/stats.hpp"
 #include "kernels/allan/tau_grid.hpp"
+#include "src/cli/cli.hpp"
 
 #include <cstdint>
 #include <filesystem>
@@ -39,18 +43,11 @@ struct AnalyzeOptions {
 /// on `err` with file, dataset and reason; the closing summary goes to `out`.
 int run_analyze(const AnalyzeOptions& opt, std::ostream& out, std::ostream& err);
 
-/// `allanlot summarize OUTDIR`: rebuilds lot_summary.h5/.csv from the results files present.
-/// Options of `summarize` beyond OUTDIR.
-struct SummarizeOptions {
-  std::filesystem::path outdir;
-  std::filesystem::path spec_path;  // --spec
-  std::filesystem::path manifest;   // --manifest: entries without results are listed as failed
-  bool quiet = false;
-};
-int run_summarize(const SummarizeOptions& opt, std::ostream& out, std::ostream& err);
-
 /// Parses a memory size: "512M", "8G", "1.5GiB", "2000000000", or "40%" of the machine's RAM.
 /// Throws std::invalid_argument naming the text.
 std::uint64_t parse_memory_size(const std::string& text);
+
+/// Adds the `analyze` subcommand to `app` (see cli.hpp, struct Command).
+Command add_analyze_command(CLI::App& app);
 
 }  // namespace allanlot::cli

@@ -2,6 +2,8 @@
 // or a whole lot.
 #pragma once
 
+#include "src/cli/cli.hpp"
+
 #include <cstdint>
 #include <filesystem>
 #include <iosfwd>
@@ -23,5 +25,8 @@ struct SimulateOptions {
 /// Returns the exit status: 0 written, 2 usage error (bad model, bad options, unwritable
 /// output). Nothing is left under an output name unless it is complete.
 int run_simulate(const SimulateOptions& opt, std::ostream& out, std::ostream& err);
+
+/// Adds the `simulate` subcommand to `app` (see cli.hpp, struct Command).
+Command add_simulate_command(CLI::App& app);
 
 }  // namespace allanlot::cli

@@ -12,7 +12,7 @@
 
 #include <string>
 
-namespace allanlot::cli {
+namespace allanlot::pipeline {
 
 /// Fits eq. (3) to `oadev` (with edf filled by add_confidence) of a channel with phase data
 /// `p` and channel units `units`. When the curve has more taus than the fit needs (--taus
@@ -37,4 +37,4 @@ io::FitRecord psd_fit_channel(const kernels::PsdResult& psd, const std::string& 
 /// "v ± s" for detected terms, "< u" (95 % upper bound) for the others.
 std::string fit_table(const io::RecordingResult& r);
 
-}  // namespace allanlot::cli
+}  // namespace allanlot::pipeline

@@ -3,7 +3,7 @@
 // (kernels/diagnose/diagnose.hpp).
 #pragma once
 
-#include "src/cli.hpp"
+#include "src/cli/cli.hpp"
 
 #include <cstdint>
 #include <iosfwd>

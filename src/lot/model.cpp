@@ -1,5 +1,5 @@
 // Model file parsing and writing; the rules are listed in model.hpp.
-#include "src/model.hpp"
+#include "src/lot/model.hpp"
 
 #include "kernels/model/units.hpp"
 #include "kernels/simulate/rng.hpp"

@@ -1,6 +1,6 @@
-#include "src/export_command.hpp"
+#include "src/cli/export.hpp"
 
-#include "src/inputs.hpp"
+#include "src/cli/inputs.hpp"
 
 #include "io/atomic_file.hpp"
 #include "io/results.hpp"
@@ -187,7 +187,7 @@ Command add_export_command(CLI::App& app) {
   sub->add_option("--stats", *stats, "Only these statistics (comma-separated)");
   sub->add_option("--channels", opt->channels_glob,
                   "Only channels whose path or name matches this glob");
-  return {sub, [=]() {
+  return {sub, [=](const std::string&) {
             opt->inputs.assign(inputs->begin(), inputs->end());
             opt->format = *format == "stable32" ? ExportFormat::Stable32 : ExportFormat::Csv;
             opt->output = *output;

@@ -1,4 +1,4 @@
-#include "src/inputs.hpp"
+#include "src/cli/inputs.hpp"
 
 #include <fnmatch.h>
 

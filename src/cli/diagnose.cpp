@@ -1,11 +1,11 @@
-#include "src/diagnose_command.hpp"
+#include "src/cli/diagnose.hpp"
 
 #include "io/atomic_file.hpp"
 #include "io/diagnosis.hpp"
 #include "io/error.hpp"
 #include "io/recording.hpp"
 #include "kernels/diagnose/diagnose.hpp"
-#include "src/model.hpp"
+#include "src/lot/model.hpp"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -348,8 +348,8 @@ Command add_diagnose_command(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--seed", opt->seed, "Seed of the Monte Carlo replicas")->capture_default_str();
   sub->add_option("--threads", opt->threads, "Threads (default: OMP_NUM_THREADS, else all cores)")
-      ->check(CLI::Range(0, 4096));
-  return {sub, [opt] { return run_diagnose(*opt, std::cout, std::cerr); }};
+      ->check(CLI::Range(0, kMaxThreads));
+  return {sub, [opt](const std::string&) { return run_diagnose(*opt, std::cout, std::cerr); }};
 }
 
 }  // namespace allanlot::cli

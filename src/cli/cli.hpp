@@ -1,0 +1,33 @@
+// The allanlot command line (docs/cli.md): parses arguments, dispatches to the
+// subcommands and turns exceptions into exit statuses.
+#pragma once
+
+#include <functional>
+#include <string>
+
+namespace CLI {
+class App;
+}
+
+namespace allanlot::cli {
+
+/// Exit statuses (docs/cli.md "Exit status"): every input analysed; some inputs failed; usage
+/// error or nothing could be analysed.
+enum ExitStatus : int { kExitOk = 0, kExitSomeFailed = 1, kExitUsage = 2 };
+
+int run(int argc, char** argv);
+
+/// Every command is defined in its own file, src/cli/<name>.cpp: `add_<name>_command(app)`
+/// adds its subcommand and options to `app` and returns the subcommand and the function that
+/// runs it once the command line is parsed, given the whole command line as typed (analyze
+/// records it in every results file), and returns the exit status. `run` adds every command
+/// from one list and dispatches to whichever was parsed.
+struct Command {
+  CLI::App* app = nullptr;
+  std::function<int(const std::string& command_line)> run;
+};
+
+/// The largest --threads any command accepts.
+inline constexpr int kMaxThreads = 4096;
+
+}  // namespace allanlot::cli

@@ -1,0 +1,155 @@
+#include "src/pipeline/channel.hpp"
+
+#include "kernels/allan/allan.hpp"
+#include "kernels/allan/phase.hpp"
+#include "kernels/uncertainty/confidence.hpp"
+#include "src/pipeline/channel_fit.hpp"
+#include "src/pipeline/spectrum.hpp"
+
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+namespace allanlot::pipeline {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+void add_note(io::ChannelResult& r, const std::string& note) {
+  r.notes += (r.notes.empty() ? "" : "; ") + note;
+}
+
+// Samples near the top of double's range (|x| ~ 1e300) square to infinity: fail the channel
+// naming the cause rather than write inf or let the fit reject it.
+void require_finite(kernels::Stat s, const kernels::StatResult& r) {
+  for (std::size_t i = 0; i < r.size(); ++i)
+    if (!std::isfinite(r.dev[i])) {
+      char tau[32];
+      std::snprintf(tau, sizeof tau, "%.6g", r.tau_s[i]);
+      throw std::invalid_argument(std::string(kernels::stat_name(s)) + " is not finite at tau " +
+                                  tau +
+                                  " s: the samples' differences overflow double precision "
+                                  "(rescale them, e.g. with a scale attribute)");
+    }
+}
+
+// The caches one channel's statistics share: noise identification (lag-1 levels) and
+// OADEV's sums, which are TOTDEV's inner sums.
+struct StatCaches {
+  kernels::Lag1Cache noise_id;
+  kernels::SumCache sums;
+};
+
+kernels::StatResult compute_stat(kernels::Stat s, const kernels::PhaseData& phase,
+                                 const ChannelOptions& opt, StatCaches& caches,
+                                 const kernels::StatResult* mdev) {
+  const auto ms =
+      kernels::make_m_list(opt.grid, kernels::max_m(s, phase.n_points()), phase.n_points());
+  // TDEV is derived from MDEV when both are requested (tau/sqrt(3) times the same sum, SP1065
+  // eq. (16)) instead of summing the same third differences twice.
+  kernels::StatResult r = (s == kernels::Stat::Tdev && mdev && mdev->m == ms)
+                              ? kernels::tdev_from_mdev(*mdev)
+                              : kernels::compute(s, phase, ms, opt.threads, &caches.sums);
+  require_finite(s, r);
+  kernels::add_confidence(s, phase, r, opt.confidence, opt.threads, &caches.noise_id);
+  return r;
+}
+
+// Every requested statistic into result.stats; returns the overlapping Allan curve the fit and
+// the cross-check need (computed for them when not requested: fit/ is written whatever --stats
+// says, docs/formats.md), or nullopt when neither runs. Throws std::invalid_argument when no
+// statistic has a single tau.
+std::optional<kernels::StatResult> compute_stats(io::ChannelResult& result,
+                                                 const kernels::PhaseData& phase,
+                                                 const ChannelOptions& opt) {
+  StatCaches caches;
+  bool any_row = false;
+  const kernels::StatResult* mdev = nullptr;
+  std::optional<kernels::StatResult> oadev;
+  result.stats.reserve(opt.stats.size());  // `mdev` points into it: no reallocation
+  for (const kernels::Stat s : opt.stats) {
+    if (phase.has_gaps() && !kernels::supports_gaps(s)) {
+      // Skipped, not failed: the channel's other statistics stand, and the note says why.
+      add_note(result, std::string(kernels::stat_name(s)) +
+                           " not computed: it cannot run on data with gaps (" +
+                           std::to_string(phase.n_gaps) + " missing samples)");
+      continue;
+    }
+    kernels::StatResult r = compute_stat(s, phase, opt, caches, mdev);
+    any_row = any_row || r.size() > 0;
+    result.stats.emplace_back(std::string(kernels::stat_name(s)), std::move(r));
+    if (s == kernels::Stat::Mdev) mdev = &result.stats.back().second;
+    if (s == kernels::Stat::Oadev) oadev = result.stats.back().second;
+  }
+  if (!any_row) {
+    result.stats.clear();
+    throw std::invalid_argument("too short for any tau of the requested statistics (" +
+                                std::to_string(result.n_samples) + " samples)");
+  }
+  if (!opt.fit && !opt.psd) return std::nullopt;
+  if (!oadev) oadev = compute_stat(kernels::Stat::Oadev, phase, opt, caches, nullptr);
+  return oadev;
+}
+
+// The stages after the samples are read; throws std::exception on a numerical precondition.
+void run_stages(ChannelAnalysis& a, const io::ChannelInfo& channel, std::vector<double>& samples,
+                const ChannelOptions& opt) {
+  const auto t_kernels = Clock::now();
+  kernels::PhaseData phase =
+      kernels::make_phase(samples, channel.data_type, channel.sample_rate_hz, opt.threads);
+  a.result.n_gaps = phase.n_gaps;
+  samples = std::vector<double>{};  // the phase replaces the samples
+  const std::optional<kernels::StatResult> oadev = compute_stats(a.result, phase, opt);
+  a.times.kernels += seconds_since(t_kernels);
+  if (!oadev) return;
+  std::array<kernels::TermFit, kernels::kNumTerms> allan_terms{};
+  bool have_allan_terms = false;
+  if (opt.fit) {
+    const auto t_fit = Clock::now();
+    a.result.fit = fit_channel(*oadev, phase, a.result.units, &allan_terms);
+    have_allan_terms = a.result.fit->status == kernels::FitStatus::Ok;
+    a.times.fit += seconds_since(t_fit);
+  }
+  if (opt.psd) {
+    const auto t_psd = Clock::now();
+    add_spectrum(a.result, phase, *oadev, opt.threads, have_allan_terms ? &allan_terms : nullptr);
+    a.times.psd += seconds_since(t_psd);
+  }
+}
+
+}  // namespace
+
+io::ChannelResult describe_channel(const io::ChannelInfo& channel) {
+  io::ChannelResult r;
+  r.path = channel.path;
+  r.units = channel.units;
+  r.sample_rate_hz = channel.sample_rate_hz;
+  r.n_samples = channel.n_samples;
+  r.data_type = channel.data_type == kernels::DataType::Rate ? "rate" : "phase";
+  return r;
+}
+
+ChannelAnalysis analyze_channel(const io::ChannelInfo& channel, std::vector<double> samples,
+                                const ChannelOptions& opt) {
+  ChannelAnalysis a;
+  a.result = describe_channel(channel);
+  try {
+    run_stages(a, channel, samples, opt);
+  } catch (const std::exception& e) {
+    a.result.status = io::ChannelStatus::failed(e.what());
+  } catch (...) {
+    a.result.status = io::ChannelStatus::failed("unexpected error");
+  }
+  return a;
+}
+
+}  // namespace allanlot::pipeline

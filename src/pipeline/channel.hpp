@@ -1,0 +1,51 @@
+// One channel's analysis (docs/statistics.md, docs/fit-and-psd.md): the phase built from the
+// samples, every requested Allan-family statistic with its confidence intervals, the eq. (3)
+// fit of the overlapping Allan curve, the Welch PSD with its own fit and the eq. (2)
+// cross-check. What the results file's channel group holds, computed from the samples alone:
+// no file, no thread across channels, no printing (the driver, src/cli/analyze.cpp, owns those).
+#pragma once
+
+#include "io/recording.hpp"
+#include "io/results.hpp"
+#include "kernels/allan/stats.hpp"
+#include "kernels/allan/tau_grid.hpp"
+
+#include <vector>
+
+namespace allanlot::pipeline {
+
+/// The options of `analyze` that change a channel's results (docs/cli.md "Command: analyze").
+struct ChannelOptions {
+  std::vector<kernels::Stat> stats;  // statistics to compute, in output order
+  kernels::TauGridSpec grid;         // which taus
+  double confidence = 0.683;         // confidence level of dev_lo / dev_hi, in (0, 1)
+  bool fit = true;                   // fit/ (the eq. (3) fit)
+  bool psd = true;                   // psd/, psd_fit/ and crosscheck/ (Welch PSD, eq. (2))
+  int threads = 1;                   // threads inside the kernels (results do not depend on it)
+};
+
+/// Seconds one channel spent per stage: kernels (phase, statistics, confidence intervals),
+/// psd (PSD, PSD fit, cross-check) and fit (the eq. (3) fit).
+struct ChannelTimes {
+  double kernels = 0, psd = 0, fit = 0;
+};
+
+struct ChannelAnalysis {
+  io::ChannelResult result;  // status ok, or failed with its reason and what was computed
+  ChannelTimes times;
+  bool ok() const { return result.status.is_ok(); }
+};
+
+/// The channel's description in the results (path, units, rate, length, data type), status
+/// "ok" and nothing computed yet: what a channel that cannot even be read is recorded with.
+io::ChannelResult describe_channel(const io::ChannelInfo& channel);
+
+/// Analyses one channel from its samples as read (`samples` is consumed: it is freed once the
+/// phase is built, and the phase once the PSD's rate is built, so that a channel holds at most
+/// two arrays of its length at any stage). Never throws: a numerical precondition (a record too
+/// short for any tau, samples whose differences overflow) fails the channel with the reason in
+/// its status; a statistic that cannot run on gaps, or a record too short for a PSD, is a note.
+ChannelAnalysis analyze_channel(const io::ChannelInfo& channel, std::vector<double> samples,
+                                const ChannelOptions& opt);
+
+}  // namespace allanlot::pipeline

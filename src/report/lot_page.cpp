@@ -1,0 +1,208 @@
+#include "src/report/parts.hpp"
+
+#include "src/lot/statistics.hpp"
+#include "src/report/svg.hpp"
+
+#include <allanlot/version.hpp>
+
+#include <algorithm>
+#include <set>
+#include <sstream>
+
+namespace allanlot::report {
+
+using svg::escape;
+using svg::number;
+
+namespace {
+
+// The units the lot rule (src/lot/statistics.hpp, the lot summary's) flags on a term,
+// through the summary rows of their results, so that the report lists exactly the outliers of
+// lot_summary.csv, with the same z.
+std::vector<Outlier> lot_outliers(const std::vector<Unit>& units) {
+  std::vector<io::SummaryRow> rows;
+  std::vector<const Unit*> owner;
+  for (const Unit& u : units)
+    for (io::SummaryRow& r : io::summary_rows(u.rec)) {
+      rows.push_back(std::move(r));
+      owner.push_back(&u);
+    }
+  std::vector<Outlier> out;
+  for (const lot::TermOutlier& o : lot::compute_lot_statistics(rows).outliers) {
+    const io::SummaryRow& r = rows[o.row];
+    out.push_back({owner[o.row], r.channel, o.term, r.value[o.term], r.value[o.term] / o.median,
+                   o.z, r.unit[o.term]});
+  }
+  return out;
+}
+
+std::string summary_table(const std::string& channel, const std::vector<Member>& members,
+                          const ExtrasMap& extras) {
+  std::ostringstream h;
+  // Units per term from the first unit that has them (a channel has the same units across a
+  // lot; a unit whose units differ shows them in its cell).
+  std::array<std::string, 5> header_unit;
+  for (const Member& m : members)
+    if (m.ch->fit)
+      for (std::size_t j = 0; j < 5; ++j)
+        if (const auto* t = find_term(*m.ch->fit, kTerms[j].name); t && header_unit[j].empty())
+          header_unit[j] = t->unit_datasheet;
+  bool any_spec = false, any_agree = false;
+  for (const Member& m : members) {
+    const auto it = extras.find({m.unit->rec.device_id, channel});
+    if (it == extras.end()) continue;
+    any_spec = any_spec || !it->second.spec.empty();
+    any_agree = any_agree || !it->second.agree.empty();
+  }
+  h << "<table class=\"summary\"><tr><th class=\"l\">unit</th><th class=\"l\">status</th>";
+  for (std::size_t j = 0; j < 5; ++j)
+    h << "<th>" << kTerms[j].name << "<br><span class=\"small\">" << escape(header_unit[j])
+      << "</span></th>";
+  h << "<th>&chi;&sup2;/dof</th><th>eq. (2)<br><span class=\"small\">max |log&#8321;&#8320; "
+       "ratio|</span></th>";
+  if (any_spec) h << "<th>spec</th>";
+  if (any_agree) h << "<th>fits agree</th>";
+  h << "</tr>\n";
+  for (const Member& m : members) {
+    const auto it = extras.find({m.unit->rec.device_id, channel});
+    const RowExtras* x = it == extras.end() ? nullptr : &it->second;
+    h << "<tr><td class=\"l\"><a href=\"" << escape(channel_href(*m.unit, channel)) << "\">"
+      << escape(m.unit->rec.device_id) << "</a></td>";
+    h << "<td class=\"l" << (m.ch->status.is_ok() ? "" : " bad") << "\">"
+      << escape(io::to_string(m.ch->status));
+    if (m.ch->fit && m.ch->fit->status != kernels::FitStatus::Ok)
+      h << " <span class=\"bad\">(fit: " << escape(io::to_string(m.ch->fit->status)) << ")</span>";
+    h << "</td>";
+    for (std::size_t j = 0; j < 5; ++j) {
+      const io::TermRecord* t = m.ch->fit ? find_term(*m.ch->fit, kTerms[j].name) : nullptr;
+      std::string cls = x ? spec_class(x->term_spec[j]) : "";
+      if (!t || !t->detected) cls += cls.empty() ? "nd" : " nd";
+      if (x && x->term_agree[j] == "no") cls += cls.empty() ? "bad" : " bad";
+      h << "<td" << (cls.empty() ? "" : " class=\"" + cls + "\"") << ">";
+      if (t) {
+        h << (t->detected ? value_pm(t->value_datasheet, t->sigma_datasheet)
+                          : "&lt; " + number(t->upper_datasheet, 2));
+        if (t->unit_datasheet != header_unit[j])
+          h << " <span class=\"small\">" << escape(t->unit_datasheet) << "</span>";
+      } else {
+        h << "&ndash;";
+      }
+      h << "</td>";
+    }
+    h << "<td>" << (m.ch->fit ? number(m.ch->fit->chi2_dof, 3) : "&ndash;") << "</td><td>"
+      << (m.ch->crosscheck ? number(m.ch->crosscheck->max_abs_log10_ratio, 2) : "&ndash;")
+      << "</td>";
+    if (any_spec)
+      h << "<td" << (x && !x->spec.empty() ? " class=\"" + x->spec + "\">" + x->spec : ">")
+        << "</td>";
+    if (any_agree)
+      h << "<td" << (x && x->agree == "no" ? " class=\"bad\"" : "") << ">" << (x ? x->agree : "")
+        << "</td>";
+    h << "</tr>\n";
+  }
+  h << "</table>\n";
+  return h.str();
+}
+
+}  // namespace
+
+std::string lot_section(const std::string& title, const std::vector<Unit>& units,
+                        const ExtrasMap& extras, const std::vector<FailedInput>& failed_inputs,
+                        const std::vector<std::string>& problems) {
+  std::ostringstream h;
+  // Channels in the order of their first appearance across the (sorted) units.
+  std::vector<std::string> channels;
+  std::map<std::string, std::vector<Member>> by_channel;
+  std::size_t n_channels = 0, n_failed = 0;
+  std::set<std::string> versions;
+  std::string first_created, last_created;
+  for (const Unit& u : units) {
+    versions.insert(u.rec.tool_version);
+    if (first_created.empty() || u.rec.created_utc < first_created)
+      first_created = u.rec.created_utc;
+    last_created = std::max(last_created, u.rec.created_utc);
+    for (const auto& ch : u.rec.channels) {
+      if (!by_channel.count(ch.path)) channels.push_back(ch.path);
+      by_channel[ch.path].push_back({&u, &ch});
+      ++n_channels;
+      n_failed += ch.status.is_ok() ? 0 : 1;
+    }
+  }
+  std::array<std::size_t, 3> spec_count{};
+  for (const auto& [key, x] : extras) {
+    if (x.spec == "pass") ++spec_count[0];
+    if (x.spec == "fail") ++spec_count[1];
+    if (x.spec == "undecided") ++spec_count[2];
+  }
+  h << "<section id=\"lot\">\n<h1>" << escape(title) << "</h1>\n<p>" << units.size() << " units, "
+    << n_channels << " channels (" << n_failed << " failed)";
+  if (!failed_inputs.empty()) h << ", " << failed_inputs.size() << " inputs that failed";
+  h << ". Results written " << escape(first_created)
+    << (last_created != first_created ? " to " + escape(last_created) : std::string()) << " by ";
+  bool first = true;
+  for (const auto& v : versions) {
+    h << (first ? "" : ", ") << "allanlot " << escape(v);
+    first = false;
+  }
+  h << "; report by allanlot " << escape(kVersion) << ".";
+  if (spec_count[0] + spec_count[1] + spec_count[2] > 0)
+    h << " Spec: <span class=\"pass\">" << spec_count[0] << " pass</span> <span class=\"fail\">"
+      << spec_count[1] << " fail</span> <span class=\"undecided\">" << spec_count[2]
+      << " undecided</span>.";
+  h << "</p>\n";
+  if (!problems.empty() || !failed_inputs.empty()) {
+    h << "<h2>Problems</h2>\n<ul>\n";
+    for (const auto& p : problems)
+      h << "<li class=\"bad\">" << escape(p) << "</li>\n";
+    for (const auto& f : failed_inputs)
+      h << "<li class=\"bad\">" << escape(f.device_id) << " (" << escape(f.source_file)
+        << "): " << escape(f.status) << "</li>\n";
+    h << "</ul>\n";
+  }
+  h << "<nav class=\"units\"><b>Units:</b> ";
+  for (const Unit& u : units) {
+    std::size_t bad = 0;
+    for (const auto& ch : u.rec.channels)
+      bad += ch.status.is_ok() ? 0 : 1;
+    h << "<a href=\"" << escape(unit_href(u)) << "\"" << (bad ? " class=\"bad\"" : "") << ">"
+      << escape(u.rec.device_id) << "</a>";
+  }
+  h << "</nav>\n";
+  h << "<p class=\"small\">Values in datasheet units, &plusmn; 1&sigma;; grey: not detected "
+       "(the 95 % upper bound is shown). Outliers, as in the lot summary: |value &minus; lot "
+       "median| / &radic;(spread&sup2; + &sigma;&sup2;) above "
+    << number(lot::kOutlierZ, 2) << ", spread = " << number(lot::kMadToSigma, 5)
+    << " MAD, &sigma; the unit's own (at least " << lot::kMinUnitsForOutliers
+    << " units, at least half of them detecting the term).</p>\n";
+  const std::vector<Outlier> outliers = lot_outliers(units);
+  std::ostringstream dists, tables;
+  for (const std::string& c : channels) {
+    const auto& members = by_channel[c];
+    dists << distribution_plot("dist-" + sanitize(c), c, members, outliers);
+    tables << "<div><h3 id=\"lot-" << sanitize(c) << "\">" << escape(c) << "</h3>\n"
+           << summary_table(c, members, extras) << "</div>\n";
+  }
+  h << "<h2>Distributions across units</h2>\n<p class=\"small\">Each detected term of each "
+       "unit relative to the lot median (labelled under its term), with the quartile box and "
+       "1.5 IQR whiskers; outliers in red link to the unit.</p>\n<div class=\"dists\">\n"
+    << dists.str() << "</div>\n";
+  h << "<h2>Outlier units</h2>\n";
+  if (outliers.empty()) {
+    h << "<p>None.</p>\n";
+  } else {
+    h << "<table><tr><th class=\"l\">unit</th><th class=\"l\">channel</th><th>term</th>"
+         "<th>value</th><th class=\"l\">unit</th><th>/ lot median</th><th>modified z</th></tr>\n";
+    for (const Outlier& o : outliers)
+      h << "<tr><td class=\"l\"><a href=\"" << escape(channel_href(*o.unit, o.channel)) << "\">"
+        << escape(o.unit->rec.device_id) << "</a></td><td class=\"l\">" << escape(o.channel)
+        << "</td><td>" << kTerms[o.term].name << "</td><td>" << number(o.value, 3)
+        << "</td><td class=\"l\">" << escape(o.unit_ds) << "</td><td>" << number(o.ratio, 3)
+        << "</td><td>" << number(o.z, 3) << "</td></tr>\n";
+    h << "</table>\n";
+  }
+  h << "<h2>Summary by channel</h2>\n<div class=\"tables\">\n"
+    << tables.str() << "</div>\n</section>\n";
+  return h.str();
+}
+
+}  // namespace allanlot::report

@@ -1,0 +1,160 @@
+#include "src/report/parts.hpp"
+
+#include "src/report/svg.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace allanlot::report {
+
+using svg::escape;
+using svg::number;
+
+// ---------------------------------------------------------------------------------------------
+// Names, ids and colours.
+
+// An id or file name made of [A-Za-z0-9_-] only: device ids and channel paths come from the
+// data, and must neither break the HTML nor lead a link outside the report's directory.
+std::string sanitize(std::string_view s) {
+  std::string out;
+  for (const char c : s) {
+    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                    c == '_' || c == '-';
+    out += ok ? c : '_';
+  }
+  if (out.empty()) out.push_back('_');  // not `out = "_"`: GCC 12 -Wrestrict false positive
+  return out;
+}
+
+// Distinct, colour-blind-safe-ish colours per statistic (matplotlib's tab10 order), the same
+// on every plot so that a reader learns them once.
+std::string stat_color(const std::string& s) {
+  static const std::map<std::string, std::string> c = {{"oadev", "#1f77b4"}, {"adev", "#17becf"},
+                                                       {"mdev", "#2ca02c"},  {"hdev", "#9467bd"},
+                                                       {"ohdev", "#d62728"}, {"totdev", "#8c564b"}};
+  const auto it = c.find(s);
+  return it == c.end() ? "#7f7f7f" : it->second;
+}
+
+int term_index(const std::string& name) {
+  for (std::size_t i = 0; i < kTerms.size(); ++i)
+    if (name == kTerms[i].name) return static_cast<int>(i);
+  return -1;
+}
+
+namespace {
+
+std::string lower(std::string s) {
+  for (char& c : s)
+    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+}  // namespace
+
+std::string spec_class(const std::string& v) {
+  const std::string l = lower(v);
+  if (l == "pass" || l == "passed" || l == "ok") return "pass";
+  if (l == "fail" || l == "failed") return "fail";
+  if (l == "undecided" || l == "unknown" || l == "marginal") return "undecided";
+  return "";
+}
+
+namespace {
+
+std::string agree_value(const std::string& v) {
+  const std::string l = lower(v);
+  if (l == "1" || l == "true" || l == "yes" || l == "agree") return "yes";
+  if (l == "0" || l == "false" || l == "no" || l == "disagree") return "no";
+  return "";
+}
+
+}  // namespace
+
+void read_lot_extras(const io::SummaryColumns& c, ExtrasMap& map,
+                     std::vector<FailedInput>& failed) {
+  const int dev = c.find("device_id"), chan = c.find("channel"), status = c.find("status");
+  if (dev < 0 || chan < 0) return;
+  const int source = c.find("source_file");
+  const auto col = [&](const std::string& a) { return c.find(a); };
+  const int spec = col("spec_status"), agree = col("fits_agree");
+  std::array<int, 5> tspec{}, tagree{};
+  for (std::size_t t = 0; t < 5; ++t) {
+    const std::string n = kTerms[t].name;
+    tspec[t] = std::max(col(n + "_spec_status"), col("spec_status_" + n));
+    tagree[t] = std::max(col(n + "_fits_agree"), col("fits_agree_" + n));
+  }
+  for (std::size_t r = 0; r < c.rows; ++r) {
+    const std::string& d = c.values[static_cast<std::size_t>(dev)][r];
+    const std::string& ch = c.values[static_cast<std::size_t>(chan)][r];
+    if (ch.empty()) {
+      if (status >= 0)
+        failed.push_back({d, source >= 0 ? c.values[static_cast<std::size_t>(source)][r] : "",
+                          c.values[static_cast<std::size_t>(status)][r]});
+      continue;
+    }
+    RowExtras x;
+    if (spec >= 0) x.spec = spec_class(c.values[static_cast<std::size_t>(spec)][r]);
+    if (agree >= 0) x.agree = agree_value(c.values[static_cast<std::size_t>(agree)][r]);
+    for (std::size_t t = 0; t < 5; ++t) {
+      if (tspec[t] >= 0)
+        x.term_spec[t] = spec_class(c.values[static_cast<std::size_t>(tspec[t])][r]);
+      if (tagree[t] >= 0)
+        x.term_agree[t] = agree_value(c.values[static_cast<std::size_t>(tagree[t])][r]);
+    }
+    map[{d, ch}] = x;
+  }
+}
+
+std::string channel_anchor(const Unit& u, const std::string& channel) {
+  return u.anchor + "-" + sanitize(channel);
+}
+
+// Links from the lot page.
+std::string unit_href(const Unit& u) {
+  return u.page + "#" + u.anchor;
+}
+
+std::string channel_href(const Unit& u, const std::string& channel) {
+  return u.page + "#" + channel_anchor(u, channel);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Numbers in tables.
+
+std::string value_pm(double v, double s) {
+  if (std::isnan(v)) return "&ndash;";
+  std::string t = number(v, 3);
+  if (std::isfinite(s) && s > 0) t += " &plusmn; " + number(s, 2);
+  return t;
+}
+
+const io::TermRecord* find_term(const io::FitRecord& f, const std::string& name) {
+  for (const auto& t : f.terms)
+    if (t.term == name) return &t;
+  return nullptr;
+}
+
+std::array<double, kernels::kNumTerms> theta_of(const io::FitRecord& f) {
+  std::array<double, kernels::kNumTerms> th{};
+  for (const auto& t : f.terms) {
+    const int i = term_index(t.term);
+    if (i >= 0 && std::isfinite(t.value)) th[static_cast<std::size_t>(i)] = t.value * t.value;
+  }
+  return th;
+}
+
+std::pair<double, double> decade_range(const std::vector<double>& v) {
+  double lo = INFINITY, hi = 0;
+  for (const double x : v)
+    if (std::isfinite(x) && x > 0) {
+      lo = std::min(lo, x);
+      hi = std::max(hi, x);
+    }
+  if (!(hi > 0)) return {1, 10};
+  double a = std::floor(std::log10(lo) + 1e-9), b = std::ceil(std::log10(hi) - 1e-9);
+  if (b <= a) b = a + 1;
+  return {std::pow(10.0, a), std::pow(10.0, b)};
+}
+
+}  // namespace allanlot::report

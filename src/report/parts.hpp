@@ -1,0 +1,135 @@
+// The parts of the HTML report (src/report/report.hpp) its files share: the units of the lot
+// and the lot summary's extra columns as read, names, anchors and colours (parts.cpp), the
+// plots of a channel and of the lot (plots.cpp, distribution.cpp) and the two kinds of page
+// (unit_page.cpp, lot_page.cpp). Internal to src/report/.
+#pragma once
+
+#include "io/report_data.hpp"
+#include "io/results.hpp"
+#include "kernels/model/fit.hpp"
+
+#include <array>
+#include <cstddef>
+#include <filesystem>
+#include <limits>
+#include <map>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace allanlot::report {
+
+inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// The eq. (3) terms with their Allan-deviation slope (the paper's Figure 1: mu of
+// sigma(tau) ~ tau^mu) and a colour for their asymptote.
+struct TermStyle {
+  const char* name;
+  const char* slope;  // as printed
+  const char* color;
+  const char* meaning;
+};
+inline constexpr std::array<TermStyle, 5> kTerms = {{
+    {"R", "+1", "#e377c2", "rate ramp"},
+    {"K", "+1/2", "#ff7f0e", "rate random walk"},
+    {"B", "0", "#bcbd22", "bias instability (flicker)"},
+    {"N",
+     "\xE2\x88\x92"
+     "1/2",
+     "#17becf", "white rate noise (ARW/VRW)"},
+    {"Q",
+     "\xE2\x88\x92"
+     "1",
+     "#7f7f7f", "quantization"},
+}};
+
+// ---------------------------------------------------------------------------------------------
+// Lot-summary columns added by other commands (spec_status, fits_agree), looked up by
+// (device, channel). Absent columns leave every field empty: no colouring.
+
+struct RowExtras {
+  std::string spec;  // whole-row spec status: pass, fail, undecided, or ""
+  std::array<std::string, 5> term_spec;
+  std::string agree;  // "yes", "no" or ""
+  std::array<std::string, 5> term_agree;
+};
+
+using ExtrasMap = std::map<std::pair<std::string, std::string>, RowExtras>;
+
+struct FailedInput {
+  std::string device_id, source_file, status;
+};
+
+// The units of the lot.
+struct Unit {
+  std::filesystem::path file;
+  io::RecordingResult rec;
+  std::map<std::string, io::FitRecord> psd_fits;       // by channel path
+  std::map<std::string, io::DiagnosisView> diagnoses;  // by channel path
+  std::vector<std::string> notes;                      // what the extras could not read
+  std::string anchor;                                  // id of its section
+  std::string page;  // its own page, relative to the lot page ("" = in the lot page)
+};
+
+// The channels of one kind across the lot, and a unit the lot rule flags on a term.
+struct Member {
+  const Unit* unit;
+  const io::ChannelResult* ch;
+};
+
+struct Outlier {
+  const Unit* unit;
+  std::string channel;
+  std::size_t term;
+  double value, ratio, z;
+  std::string unit_ds;
+};
+
+// Names, ids and colours.
+
+// An id or file name made of [A-Za-z0-9_-] only: device ids and channel paths come from the
+// data, and must neither break the HTML nor lead a link outside the report's directory.
+std::string sanitize(std::string_view s);
+// Distinct colours per statistic, the same on every plot so that a reader learns them once.
+std::string stat_color(const std::string& s);
+int term_index(const std::string& name);
+// "pass", "fail", "undecided" or "" (no colouring) for the spellings a lot summary may use.
+std::string spec_class(const std::string& v);
+// The spec and fits_agree columns of a lot summary by (device, channel), and its failed inputs.
+void read_lot_extras(const io::SummaryColumns& c, ExtrasMap& map, std::vector<FailedInput>& failed);
+
+std::string channel_anchor(const Unit& u, const std::string& channel);
+// Links from the lot page.
+std::string unit_href(const Unit& u);
+std::string channel_href(const Unit& u, const std::string& channel);
+
+// Numbers in tables.
+std::string value_pm(double v, double s);
+const io::TermRecord* find_term(const io::FitRecord& f, const std::string& name);
+std::array<double, kernels::kNumTerms> theta_of(const io::FitRecord& f);
+// Decade-snapped x range of a set of taus, shared by the asymptotes so that they span the
+// whole plot.
+std::pair<double, double> decade_range(const std::vector<double>& v);
+
+// Plots of one channel (plots.cpp).
+std::string adev_plot(const std::string& id, const io::ChannelResult& ch);
+std::string psd_plot(const std::string& id, const io::ChannelResult& ch,
+                     const io::FitRecord* psd_fit);
+std::string crosscheck_plot(const std::string& id, const io::CrosscheckRecord& c);
+std::string diagnosis_plot(const std::string& id, const io::DiagnosisView& d,
+                           const std::string& units);
+// The spread of each detected term of one channel kind across the units, `outliers` in red
+// (distribution.cpp).
+std::string distribution_plot(const std::string& id, const std::string& channel,
+                              const std::vector<Member>& members,
+                              const std::vector<Outlier>& outliers);
+
+// Pages (unit_page.cpp, lot_page.cpp).
+std::string html_head(const std::string& title);
+std::string unit_section(const Unit& u, const ExtrasMap& extras, const std::string& lot_href);
+std::string lot_section(const std::string& title, const std::vector<Unit>& units,
+                        const ExtrasMap& extras, const std::vector<FailedInput>& failed_inputs,
+                        const std::vector<std::string>& problems);
+
+}  // namespace allanlot::report

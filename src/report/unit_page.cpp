@@ -1,0 +1,205 @@
+#include "src/report/parts.hpp"
+
+#include "src/report/svg.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace allanlot::report {
+
+using svg::escape;
+using svg::number;
+
+// ---------------------------------------------------------------------------------------------
+// HTML.
+
+namespace {
+
+const char* kCss =
+    R"(body{font:14px/1.45 Helvetica,Arial,sans-serif;color:#222;margin:0 auto;max-width:1600px;padding:0 18px 40px}
+h1{font-size:24px;margin:18px 0 6px}h2{font-size:19px;border-bottom:2px solid #ccc;padding-bottom:3px;margin-top:28px}
+h3{font-size:16px;margin:22px 0 6px}h4{font-size:14px;margin:12px 0 4px}
+table{border-collapse:collapse;margin:6px 0 14px;font-size:13px}
+th,td{border:1px solid #ccc;padding:2px 7px;text-align:right;vertical-align:top;white-space:nowrap}
+th{background:#f1f1f1}td.l,th.l{text-align:left}td.wrap{white-space:normal;max-width:900px;word-break:break-word;font-size:12px}
+.pass{background:#cdeccf}.fail{background:#f6c4c4}.undecided{background:#fbeab5}
+.nd{color:#999}.bad{color:#b00;font-weight:bold}.small{font-size:12px;color:#555}
+.plots{display:grid;grid-template-columns:repeat(auto-fill,minmax(520px,1fr));gap:10px;margin:6px 0}
+.plots>div{overflow-x:auto}
+svg.plot{width:100%;height:auto;display:block;border:1px solid #e4e4e4}
+.dists{display:grid;grid-template-columns:repeat(auto-fill,minmax(420px,1fr));gap:10px}
+.tables{display:flex;flex-wrap:wrap;gap:0 28px}
+nav.units a{display:inline-block;margin:0 10px 2px 0}
+.legend-key span{display:inline-block;padding:0 8px;margin-right:6px;border:1px solid #ccc}
+@media print{.plots{grid-template-columns:1fr 1fr}section.unit{break-before:page}}
+)";
+
+}  // namespace
+
+std::string html_head(const std::string& title) {
+  return "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<meta "
+         "name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>" +
+         escape(title) + "</title>\n<style>\n" + kCss + "</style>\n</head>\n<body>\n";
+}
+
+namespace {
+
+std::string coefficient_table(const io::ChannelResult& ch, const io::FitRecord* psd_fit,
+                              const RowExtras* x) {
+  std::ostringstream h;
+  const io::FitRecord& f = *ch.fit;
+  h << "<table class=\"coef\"><tr><th class=\"l\">term</th><th>slope &mu;</th><th>value &plusmn; "
+       "1&sigma;</th><th class=\"l\">unit</th><th>detected<br><span class=\"small\">else 95 % "
+       "upper bound</span></th>";
+  if (psd_fit) h << "<th>PSD fit &plusmn; 1&sigma;</th>";
+  h << "</tr>\n";
+  for (std::size_t j = 0; j < kTerms.size(); ++j) {
+    const io::TermRecord* t = find_term(f, kTerms[j].name);
+    if (!t) continue;
+    std::string cls = x ? spec_class(x->term_spec[j]) : "";
+    h << "<tr" << (cls.empty() ? "" : " class=\"" + cls + "\"") << "><td class=\"l\" title=\""
+      << kTerms[j].meaning << "\"><b>" << kTerms[j].name << "</b></td><td>" << kTerms[j].slope
+      << "</td><td" << (t->detected ? "" : " class=\"nd\"") << ">"
+      << value_pm(t->value_datasheet, t->sigma_datasheet) << "</td><td class=\"l\">"
+      << escape(t->unit_datasheet);
+    // The other common datasheet form (ARW in deg/sqrt(h), Q in deg) under the primary one.
+    if (!t->unit_datasheet_alt.empty() && t->detected)
+      h << "<br><span class=\"small\">= " << number(t->value_datasheet_alt, 3) << " "
+        << escape(t->unit_datasheet_alt) << "</span>";
+    h << "</td><td>";
+    if (t->detected)
+      h << "yes";
+    else
+      h << "<span class=\"nd\">no, &lt; "
+        << (std::isfinite(t->upper_datasheet) ? number(t->upper_datasheet, 2) : "?") << "</span>";
+    h << "</td>";
+    if (psd_fit) {
+      const io::TermRecord* q = find_term(*psd_fit, kTerms[j].name);
+      const std::string agree = x ? x->term_agree[j] : "";
+      h << "<td" << (agree == "no" ? " class=\"bad\" title=\"the two fits disagree\"" : "") << ">"
+        << (q ? value_pm(q->value_datasheet, q->sigma_datasheet) : std::string("&ndash;"))
+        << "</td>";
+    }
+    h << "</tr>\n";
+  }
+  h << "</table>\n";
+  return h.str();
+}
+
+std::string diagnosis_section(const std::string& id, const io::DiagnosisView& d,
+                              const std::string& units) {
+  std::ostringstream h;
+  h << "<h4>Diagnosis</h4>\n<p>Effects named, in the order they were added: ";
+  if (d.effects_named.empty()) {
+    h << "<i>none (the model already agrees)</i>";
+  } else {
+    for (std::size_t i = 0; i < d.effects_named.size(); ++i)
+      h << (i ? " &rarr; " : "") << "<b>" << escape(d.effects_named[i]) << "</b>";
+  }
+  h << ". Gap before: " << number(d.gap_before, 3) << ", after: " << number(d.gap_after, 3)
+    << " (about 1 = agreement within statistical noise).</p>\n";
+  // The plot and, beside it, the iterations and the group's attributes.
+  h << "<div class=\"plots\">";
+  if (!d.tau.empty() && (!d.measured.empty() || !d.model_after.empty()))
+    h << diagnosis_plot(id, d, units);
+  h << "<div>\n";
+  // One row per iteration (effect added): whatever per-iteration datasets there are.
+  const std::size_t iterations =
+      std::max({d.effects_named.size(), d.iteration_gap_before.size(), d.iteration_gap_after.size(),
+                d.iteration_delta_ic.size(), d.iteration_parameters.size()});
+  if (iterations > 0) {
+    h << "<table><tr><th>iteration</th><th class=\"l\">effect added</th><th>gap before</th>"
+         "<th>gap after</th><th>&Delta;IC</th><th class=\"l\">parameters</th></tr>\n";
+    const auto num = [](const std::vector<double>& v, std::size_t i) {
+      return i < v.size() ? number(v[i], 3) : std::string("&ndash;");
+    };
+    for (std::size_t i = 0; i < iterations; ++i)
+      h << "<tr><td>" << i + 1 << "</td><td class=\"l\">"
+        << (i < d.effects_named.size() ? escape(d.effects_named[i]) : std::string()) << "</td><td>"
+        << num(d.iteration_gap_before, i) << "</td><td>" << num(d.iteration_gap_after, i)
+        << "</td><td>" << num(d.iteration_delta_ic, i) << "</td><td class=\"l wrap\">"
+        << (i < d.iteration_parameters.size() ? escape(d.iteration_parameters[i]) : std::string())
+        << "</td></tr>\n";
+    h << "</table>\n";
+  }
+  // Everything else diagnose recorded (models, settings) folded away: it can be long.
+  if (!d.attributes.empty()) {
+    h << "<details><summary class=\"small\">All attributes of the diagnosis group</summary>"
+         "<table><tr><th class=\"l\">attribute</th><th class=\"l\">value</th></tr>\n";
+    for (const auto& [k, v] : d.attributes)
+      h << "<tr><td class=\"l\">" << escape(k) << "</td><td class=\"l wrap\">"
+        << escape(v.size() > 2000 ? v.substr(0, 2000) + "..." : v) << "</td></tr>\n";
+    h << "</table></details>\n";
+  }
+  h << "</div></div>\n";
+  for (const std::string& n : d.notes)
+    h << "<p class=\"small\">" << escape(n) << "</p>\n";
+  return h.str();
+}
+
+std::string channel_section(const Unit& u, const io::ChannelResult& ch, const ExtrasMap& extras) {
+  std::ostringstream h;
+  const std::string id = channel_anchor(u, ch.path);
+  const auto xit = extras.find({u.rec.device_id, ch.path});
+  const RowExtras* x = xit == extras.end() ? nullptr : &xit->second;
+  const auto pf = u.psd_fits.find(ch.path);
+  const io::FitRecord* psd_fit = pf == u.psd_fits.end() ? nullptr : &pf->second;
+  h << "<section class=\"channel\" id=\"" << id << "\">\n<h3>" << escape(u.rec.device_id)
+    << " &middot; " << escape(ch.path) << "</h3>\n<p class=\"small\">units " << escape(ch.units)
+    << ", " << number(ch.sample_rate_hz, 6) << " Hz, " << ch.n_samples << " samples ("
+    << number(ch.n_samples / std::max(ch.sample_rate_hz, 1e-300), 4) << " s), " << ch.n_gaps
+    << " gaps, " << escape(ch.data_type) << " data";
+  if (ch.fit)
+    h << "; fit " << escape(io::to_string(ch.fit->status)) << ", &chi;&sup2;/dof "
+      << number(ch.fit->chi2_dof, 3);
+  if (ch.crosscheck)
+    h << "; eq. (2) max |log&#8321;&#8320; ratio| "
+      << number(ch.crosscheck->max_abs_log10_ratio, 3);
+  if (x && !x->spec.empty())
+    h << "; spec: <span class=\"" << x->spec << "\">" << x->spec << "</span>";
+  if (x && x->agree == "no") h << "; <span class=\"bad\">time- and PSD-domain fits disagree</span>";
+  h << "</p>\n";
+  if (!ch.status.is_ok()) h << "<p class=\"bad\">" << escape(io::to_string(ch.status)) << "</p>\n";
+  if (!ch.notes.empty()) h << "<p class=\"small\">Notes: " << escape(ch.notes) << "</p>\n";
+  if (ch.status.is_ok()) {
+    h << "<div class=\"plots\">\n";
+    if (!ch.stats.empty()) h << adev_plot(id + "-adev", ch);
+    if (ch.psd && !ch.psd->f.empty()) h << psd_plot(id + "-psd", ch, psd_fit);
+    if (ch.crosscheck && !ch.crosscheck->tau.empty())
+      h << crosscheck_plot(id + "-xc", *ch.crosscheck);
+    // The coefficient table fills the grid's fourth cell, beside the cross-check.
+    if (ch.fit && !ch.fit->terms.empty())
+      h << "<div><h4>Equation (3) coefficients (datasheet units)</h4>\n"
+        << coefficient_table(ch, psd_fit, x) << "</div>\n";
+    h << "</div>\n";
+  }
+  const auto d = u.diagnoses.find(ch.path);
+  if (d != u.diagnoses.end()) h << diagnosis_section(id + "-diag", d->second, ch.units);
+  h << "</section>\n";
+  return h.str();
+}
+
+}  // namespace
+
+std::string unit_section(const Unit& u, const ExtrasMap& extras, const std::string& lot_href) {
+  std::ostringstream h;
+  h << "<section class=\"unit\" id=\"" << u.anchor << "\">\n<h2>Unit " << escape(u.rec.device_id)
+    << "</h2>\n<p class=\"small\">results " << escape(u.file.filename().string()) << "; source "
+    << escape(u.rec.source_file) << "; " << escape(u.rec.tool_version) << "; created "
+    << escape(u.rec.created_utc) << " &middot; <a href=\"" << escape(lot_href)
+    << "\">back to the lot</a></p>\n";
+  h << "<p class=\"small\">Channels: ";
+  for (std::size_t i = 0; i < u.rec.channels.size(); ++i)
+    h << (i ? ", " : "") << "<a href=\"#" << channel_anchor(u, u.rec.channels[i].path) << "\">"
+      << escape(u.rec.channels[i].path) << "</a>";
+  h << "</p>\n";
+  for (const std::string& n : u.notes)
+    h << "<p class=\"small\">" << escape(n) << "</p>\n";
+  for (const auto& ch : u.rec.channels)
+    h << channel_section(u, ch, extras);
+  h << "</section>\n";
+  return h.str();
+}
+
+}  // namespace allanlot::report
