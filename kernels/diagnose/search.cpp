@@ -6,6 +6,7 @@
 #include "kernels/allan/phase.hpp"
 #include "kernels/allan/stats.hpp"
 #include "kernels/common/parallel.hpp"
+#include "kernels/common/quantile.hpp"
 #include "kernels/model/fit.hpp"
 #include "kernels/uncertainty/chi2.hpp"
 
@@ -19,18 +20,6 @@
 
 namespace allanlot::kernels {
 namespace diagnose_detail {
-namespace {
-
-// Linear-interpolation quantile of sorted values (Hyndman & Fan type 7, R's default).
-double quantile_sorted(const std::vector<double>& v, double q) {
-  if (v.empty()) return kNaN;
-  const double h = q * static_cast<double>(v.size() - 1);
-  const auto lo = static_cast<std::size_t>(std::floor(h));
-  const std::size_t hi = std::min(lo + 1, v.size() - 1);
-  return v[lo] + (h - static_cast<double>(lo)) * (v[hi] - v[lo]);
-}
-
-}  // namespace
 
 Comparison compare(const Curve& cv, std::vector<double> model, double alpha_tau) {
   Comparison out;

@@ -1,5 +1,7 @@
 #include "src/lot/statistics.hpp"
 
+#include "kernels/common/quantile.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -12,10 +14,7 @@ namespace allanlot::lot {
 double quantile_sorted(std::span<const double> sorted, double p) {
   if (sorted.empty()) throw std::invalid_argument("quantile_sorted: no values");
   if (!(p >= 0.0 && p <= 1.0)) throw std::invalid_argument("quantile_sorted: p outside [0, 1]");
-  const double h = static_cast<double>(sorted.size() - 1) * p;
-  const auto lo = static_cast<std::size_t>(std::floor(h));
-  if (lo + 1 >= sorted.size()) return sorted.back();
-  return sorted[lo] + (h - static_cast<double>(lo)) * (sorted[lo + 1] - sorted[lo]);
+  return kernels::quantile_sorted(sorted, p);
 }
 
 double median_absolute_deviation(std::span<const double> values, double median) {
