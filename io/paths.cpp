@@ -25,6 +25,19 @@ std::optional<fs::path> replaced_input(const fs::path& output, std::span<const f
   return std::nullopt;
 }
 
+std::string outputs_conflict(std::span<const fs::path> outputs, std::span<const fs::path> inputs) {
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    if (outputs[i].empty()) continue;
+    if (const auto in = replaced_input(outputs[i], inputs))
+      return replaced_input_message(outputs[i], *in);
+    for (std::size_t j = i + 1; j < outputs.size(); ++j)
+      if (!outputs[j].empty() && (outputs[i] == outputs[j] || same_file(outputs[i], outputs[j])))
+        return "outputs " + outputs[i].string() + " and " + outputs[j].string() +
+               " are the same file";
+  }
+  return "";
+}
+
 std::string replaced_input_message(const fs::path& output, const fs::path& input) {
   return "output " + output.string() + " is the input " + input.string() +
          (output == input ? "" : " (the same file)") + "; it would be overwritten";
@@ -43,7 +56,8 @@ bool is_within(const fs::path& path, const fs::path& dir) {
 
 std::string input_file_problem(const fs::path& path) {
   struct stat st {};
-  if (::stat(path.c_str(), &st) != 0) return std::strerror(errno);
+  if (::stat(path.c_str(), &st) != 0)
+    return errno == ENOENT ? "no such file" : std::strerror(errno);
   if (S_ISREG(st.st_mode)) return "";
   if (S_ISDIR(st.st_mode)) return "is a directory";
   if (S_ISFIFO(st.st_mode)) return "not a regular file (a FIFO)";

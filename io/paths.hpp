@@ -21,6 +21,11 @@ bool same_file(const std::filesystem::path& a, const std::filesystem::path& b);
 std::optional<std::filesystem::path> replaced_input(const std::filesystem::path& output,
                                                     std::span<const std::filesystem::path> inputs);
 
+/// Empty when no output replaces an input or another output; otherwise the usage error's
+/// message (every command's outputs go through this before any work: docs/reliability.md).
+std::string outputs_conflict(std::span<const std::filesystem::path> outputs,
+                             std::span<const std::filesystem::path> inputs);
+
 /// The message of a usage error for an output that would replace an input.
 std::string replaced_input_message(const std::filesystem::path& output,
                                    const std::filesystem::path& input);

@@ -3,10 +3,13 @@
 #include "io/atomic_file.hpp"
 #include "io/error.hpp"
 #include "io/fingerprint.hpp"
+#include "io/paths.hpp"
 #include "io/recording.hpp"
 #include "io/results.hpp"
 #include "kernels/common/parallel.hpp"
 #include "src/cli/inputs.hpp"
+#include "src/cli/interrupt.hpp"
+#include "src/cli/resume.hpp"
 #include "src/lot/spec.hpp"
 #include "src/lot/summary.hpp"
 #include "src/pipeline/channel.hpp"
@@ -242,39 +245,6 @@ std::string options_stamp(const AnalyzeOptions& opt) {
          ";fit=" + (opt.fit ? "1" : "0") + ";psd=" + (opt.psd ? "1" : "0") + ";version=" + kVersion;
 }
 
-// The results file of `file` in OUTDIR when it is complete and current (see
-// io/fingerprint.hpp), with the device id it was found under; nullopt otherwise (absent,
-// damaged, other options, input changed, or the input cannot be opened: then analyze reports
-// the input's own error).
-std::optional<std::pair<fs::path, std::string>> current_results(const std::string& file,
-                                                                const io::InputStat& st,
-                                                                const std::string& options,
-                                                                const AnalyzeOptions& opt) {
-  try {
-    io::RecordingReader reader(file);
-    const std::string id = io::sanitize_device_id(reader.info().device_id);
-    const fs::path path = opt.outdir / (id + ".allan.h5");
-    const auto stamp = io::read_results_stamp(path);
-    if (!stamp || stamp->options != options || stamp->source_file != fs::absolute(file).string() ||
-        stamp->input_size != st.size)
-      return std::nullopt;
-    if (stamp->input_mtime_ns == st.mtime_ns) return std::pair{path, id};
-    // Same size, another time (copied, touched): the samples decide.
-    std::uint64_t h = io::kHashSeed;
-    for (const io::ChannelInfo& ch : reader.info().channels) {
-      if (!channel_matches(opt.channels_glob, ch.path)) continue;
-      try {
-        h = io::hash_channel(h, ch.path, reader.read(ch));
-      } catch (const std::exception&) {
-        // A channel that cannot be read is not hashed here, as in analyze_recording.
-      }
-    }
-    if (io::hash_hex(h) == stamp->input_hash) return std::pair{path, id};
-  } catch (const std::exception&) {
-  }
-  return std::nullopt;
-}
-
 // Peak resident memory of this process so far, in bytes (getrusage: kilobytes on Linux).
 std::uint64_t peak_rss_bytes() {
   rusage ru{};
@@ -353,7 +323,131 @@ bool prepare_outdir(const fs::path& outdir, std::ostream& err) {
     }
   }
   fs::remove(probe, ec);
+  // Temporary files of an earlier run that was killed (SIGKILL, a node lost) are removed;
+  // a minute's margin spares those another host is writing right now.
+  const std::size_t stale = io::remove_stale_temporaries(outdir, fs::file_time_type::clock::now() -
+                                                                     std::chrono::minutes(1));
+  if (stale > 0)
+    err << "allanlot: note: removed " << stale << " temporary file(s) of an interrupted run from "
+        << outdir.string() << "\n";
   return true;
+}
+
+// One run of analyze over its inputs: what is counted and collected as recordings are done.
+struct Run {
+  Run(const AnalyzeOptions& o, std::ostream& out_stream, std::ostream& err_stream)
+      : opt(o), out(out_stream), err(err_stream) {}
+  const AnalyzeOptions& opt;
+  std::ostream& out;
+  std::ostream& err;
+  int threads = 1;
+  std::uint64_t memory_limit = 0;
+  std::string options;  // the resume stamp of these options
+  std::vector<fs::path> inputs;
+  StageTimes times;
+  std::size_t n_ok = 0, n_current = 0;
+  bool channel_failed = false;
+  std::map<std::string, std::string> used_ids;  // sanitized device id -> file that has it
+  std::vector<io::SummaryRow> failed_rows;
+
+  void failed(const std::string& file, const std::string& dataset, const std::string& reason) {
+    failed_rows.push_back(
+        {fs::path(file).stem().string(), dataset, "", 0, io::ChannelStatus::failed(reason), file});
+  }
+  void claim_id(const std::string& id, const std::string& file) {
+    if (const auto it = used_ids.find(id); it != used_ids.end())
+      throw io::Error(file, "",
+                      "device_id '" + id + "' is also the device_id of " + it->second +
+                          "; its results would overwrite those");
+    used_ids.emplace(id, file);
+  }
+  std::uint64_t analyze_one(const std::string& file, std::size_t n_files);
+  void write(const std::string& file, const io::RecordingResult& rec, const std::string& id);
+};
+
+// Writes the results of `file`, under the lock of OUTDIR so that the check that no other
+// recording owns its device_id and the rename into place are one step for concurrent runs.
+void Run::write(const std::string& file, const io::RecordingResult& rec, const std::string& id) {
+  const fs::path path = opt.outdir / (id + ".allan.h5");
+  if (const auto in = io::replaced_input(path, inputs))
+    throw io::Error(file, "", io::replaced_input_message(path, *in));
+  std::string hash;
+  for (const auto& [k, v] : rec.attributes)
+    if (k == "input_hash") hash = v;
+  const auto t0 = Clock::now();
+  const io::DirectoryLock lock(opt.outdir);
+  if (const std::string why = results_of_another_recording(path, file, hash); !why.empty())
+    throw io::Error(file, "", why);
+  io::write_results(path, rec);
+  times.write += seconds_since(t0);
+}
+
+// Analyses (or finds current) one recording; returns its samples for the progress line.
+std::uint64_t Run::analyze_one(const std::string& file, std::size_t n_files) {
+  const auto st = io::stat_input(file);
+  if (!opt.force && st) {
+    if (const auto cur = current_results(file, *st, options, opt)) {
+      claim_id(cur->second, file);
+      ++n_ok;
+      ++n_current;
+      return 0;
+    }
+  }
+  io::RecordingResult rec =
+      analyze_recording(file, opt, threads, memory_limit, times, err, channel_failed);
+  if (st) {
+    rec.attributes.emplace_back("input_size", st->size);
+    rec.attributes.emplace_back("input_mtime_ns", st->mtime_ns);
+  }
+  rec.attributes.emplace_back("options", options);
+  std::uint64_t samples = 0;
+  for (const auto& ch : rec.channels)
+    samples += static_cast<std::uint64_t>(ch.n_samples);
+  const std::string id = io::sanitize_device_id(rec.device_id);
+  claim_id(id, file);
+  write(file, rec, id);
+  ++n_ok;
+  if (!opt.quiet && (opt.table || n_files <= 10)) out << pipeline::fit_table(rec);
+  return samples;
+}
+
+// The lot summary of what OUTDIR holds; false when it could not be written.
+bool write_summary(const Run& run) {
+  // Another run writing into the same OUTDIR rebuilds the summary too: listing and writing
+  // under one lock, the summary written last has seen every results file (io::DirectoryLock).
+  const io::DirectoryLock summary_lock(run.opt.outdir);
+  std::vector<io::SummaryRow> rows = lot::rows_from_outdir(run.opt.outdir, run.err);
+  rows.insert(rows.end(), run.failed_rows.begin(), run.failed_rows.end());
+  try {
+    lot::LotOptions lot_opt;
+    lot_opt.spec_path = run.opt.spec_path;
+    lot_opt.quiet = run.opt.quiet;
+    lot::write_lot(run.opt.outdir, std::move(rows), lot_opt, run.out, run.err);
+  } catch (const std::exception& e) {
+    run.err << "allanlot: error: writing the lot summary: " << e.what() << "\n";
+    return false;
+  }
+  return true;
+}
+
+void print_closing(const Run& run, std::size_t n_inputs) {
+  const AnalyzeOptions& opt = run.opt;
+  const StageTimes& t = run.times;
+  if (opt.verbose)
+    run.err << "allanlot: stage seconds: read " << t.read << ", kernels " << t.kernels << ", psd "
+            << t.psd << ", fit " << t.fit << ", write " << t.write << ", analysis wall "
+            << t.analysis_wall << " (" << run.threads
+            << " threads; kernels, psd and fit summed over channels); peak memory "
+            << peak_rss_bytes() / (1 << 20) << " MiB (budget " << run.memory_limit / (1 << 20)
+            << " MiB)\n";
+  if (opt.quiet) return;
+  run.out << "analysed " << run.n_ok - run.n_current << " of " << n_inputs << " input(s)";
+  if (run.n_current)
+    run.out << ", " << run.n_current << " already up to date (--force redoes them)";
+  run.out << "; results in " << opt.outdir.string() << "\n";
+  if (opt.summary)
+    run.out << "lot summary: " << (opt.outdir / "lot_summary.csv").string() << " and "
+            << (opt.outdir / "lot_summary.h5").string() << "\n";
 }
 
 }  // namespace
@@ -369,105 +463,47 @@ int run_analyze(const AnalyzeOptions& opt, std::ostream& out, std::ostream& err)
       return 2;
     }
   }
-  const int threads = kernels::resolve_threads(opt.threads);
-  const std::uint64_t memory_limit = opt.memory_limit ? opt.memory_limit : physical_memory() / 2;
-  const InputList inputs = expand_inputs(opt.inputs);
-  std::vector<io::SummaryRow> failed_rows;
+  const InterruptGuard interrupts;
+  Run run(opt, out, err);
+  run.threads = kernels::resolve_threads(opt.threads);
+  run.memory_limit = opt.memory_limit ? opt.memory_limit : physical_memory() / 2;
+  run.options = options_stamp(opt);
+  // OUTDIR and the results in it are never inputs, also when OUTDIR lies inside an input.
+  const InputList inputs = expand_inputs(opt.inputs, opt.outdir);
+  run.inputs.assign(inputs.files.begin(), inputs.files.end());
   for (const auto& [what, reason] : inputs.failures) {
     err << "allanlot: error: " << what << ": " << reason << "\n";
-    failed_rows.push_back(
-        {fs::path(what).stem().string(), "", "", 0, io::ChannelStatus::failed(reason), what});
+    run.failed(what, "", reason);
   }
-
-  StageTimes times;
-  std::size_t n_ok = 0, n_current = 0;
-  bool channel_failed = false;
-  std::map<std::string, std::string> used_ids;  // sanitized device id -> file that has it
-  const std::string options = options_stamp(opt);
   Progress progress(opt.progress && !opt.quiet, inputs.files.size(), err);
   std::size_t n_done = 0;
   for (const std::string& file : inputs.files) {
+    if (stop_signal()) break;
     std::uint64_t samples = 0;
     try {
-      const auto st = io::stat_input(file);
-      if (!opt.force && st) {
-        if (const auto cur = current_results(file, *st, options, opt)) {
-          if (const auto it = used_ids.find(cur->second); it != used_ids.end())
-            throw io::Error(file, "",
-                            "device_id '" + cur->second + "' is also the device_id of " +
-                                it->second + "; its results would overwrite those");
-          used_ids.emplace(cur->second, file);
-          ++n_ok;
-          ++n_current;
-          progress.update(++n_done, 0);
-          continue;
-        }
-      }
-      io::RecordingResult rec =
-          analyze_recording(file, opt, threads, memory_limit, times, err, channel_failed);
-      if (st) {
-        rec.attributes.emplace_back("input_size", st->size);
-        rec.attributes.emplace_back("input_mtime_ns", st->mtime_ns);
-      }
-      rec.attributes.emplace_back("options", options);
-      for (const auto& ch : rec.channels)
-        samples += static_cast<std::uint64_t>(ch.n_samples);
-      const std::string id = io::sanitize_device_id(rec.device_id);
-      if (const auto it = used_ids.find(id); it != used_ids.end())
-        throw io::Error(file, "",
-                        "device_id '" + rec.device_id + "' is also the device_id of " + it->second +
-                            "; its results would overwrite those");
-      used_ids.emplace(id, file);
-      const auto t0 = Clock::now();
-      io::write_results(opt.outdir / (id + ".allan.h5"), rec);
-      times.write += seconds_since(t0);
-      ++n_ok;
-      if (!opt.quiet && (opt.table || inputs.files.size() <= 10)) out << pipeline::fit_table(rec);
+      samples = run.analyze_one(file, inputs.files.size());
     } catch (const io::Error& e) {
       err << "allanlot: error: " << e.what() << "\n";
-      failed_rows.push_back({fs::path(file).stem().string(), e.dataset(), "", 0,
-                             io::ChannelStatus::failed(e.reason()), file});
+      run.failed(file, e.dataset(), e.reason());
     } catch (const std::exception& e) {
       err << "allanlot: error: " << file << ": " << e.what() << "\n";
-      failed_rows.push_back(
-          {fs::path(file).stem().string(), "", "", 0, io::ChannelStatus::failed(e.what()), file});
+      run.failed(file, "", e.what());
     }
     progress.update(++n_done, samples);
   }
-
-  if (opt.summary) {
-    // Another run writing into the same OUTDIR rebuilds the summary too: listing and writing
-    // under one lock, the summary written last has seen every results file (io::DirectoryLock).
-    const io::DirectoryLock summary_lock(opt.outdir);
-    std::vector<io::SummaryRow> rows = lot::rows_from_outdir(opt.outdir, err);
-    rows.insert(rows.end(), failed_rows.begin(), failed_rows.end());
-    try {
-      lot::LotOptions lot_opt;
-      lot_opt.spec_path = opt.spec_path;
-      lot_opt.quiet = opt.quiet;
-      lot::write_lot(opt.outdir, std::move(rows), lot_opt, out, err);
-    } catch (const std::exception& e) {
-      err << "allanlot: error: writing the lot summary: " << e.what() << "\n";
-      return 2;
-    }
-  }
+  const bool summary_ok = !opt.summary || write_summary(run);
   const std::size_t n_inputs = inputs.files.size() + inputs.failures.size();
-  if (opt.verbose)
-    err << "allanlot: stage seconds: read " << times.read << ", kernels " << times.kernels
-        << ", psd " << times.psd << ", fit " << times.fit << ", write " << times.write
-        << ", analysis wall " << times.analysis_wall << " (" << threads
-        << " threads; kernels, psd and fit summed over channels); peak memory "
-        << peak_rss_bytes() / (1 << 20) << " MiB (budget " << memory_limit / (1 << 20) << " MiB)\n";
-  if (!opt.quiet) {
-    out << "analysed " << n_ok - n_current << " of " << n_inputs << " input(s)";
-    if (n_current) out << ", " << n_current << " already up to date (--force redoes them)";
-    out << "; results in " << opt.outdir.string() << "\n";
-    if (opt.summary)
-      out << "lot summary: " << (opt.outdir / "lot_summary.csv").string() << " and "
-          << (opt.outdir / "lot_summary.h5").string() << "\n";
+  print_closing(run, n_inputs);
+  if (const int sig = stop_signal()) {
+    err << "allanlot: stopped by " << signal_name(sig) << " after " << n_done << " of "
+        << inputs.files.size() << " recording(s); the results written are complete"
+        << (opt.summary ? " and in the lot summary" : "")
+        << "; the same command finishes the lot\n";
+    return 128 + sig;
   }
-  if (n_ok == 0) return 2;
-  return (n_ok < n_inputs || channel_failed) ? 1 : 0;
+  if (run.n_ok == 0) return 2;
+  // A summary that could not be written fails the run, not its usage: the results stand.
+  return (run.n_ok < n_inputs || run.channel_failed || !summary_ok) ? 1 : 0;
 }
 
 std::uint64_t parse_memory_size(const std::string& text) {
@@ -582,7 +618,7 @@ Command add_analyze_command(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--confidence", a->opt.confidence,
                   "Confidence level of the intervals dev_lo, dev_hi")
-      ->check(CLI::Range(0.001, 0.999))
+      ->check(finite_number() & CLI::Range(0.001, 0.999))
       ->capture_default_str();
   sub->add_option("--channels", a->opt.channels_glob,
                   "Only channels whose path or name matches this glob");

@@ -11,7 +11,16 @@
 
 #include <CLI/CLI.hpp>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
 #include <iostream>
+#include <thread>
 #include <vector>
 
 namespace allanlot::cli {
@@ -27,9 +36,29 @@ std::string join_args(int argc, char** argv) {
   return s;
 }
 
+// OMP_NUM_THREADS beyond what the machine can run is capped, as --threads is checked: libgomp
+// itself crashes creating a team of 100 000 threads and stalls at 20 000. The cap is four
+// threads per hardware thread, far beyond any speed-up (docs/cli.md "Threads").
+void cap_omp_threads(std::ostream& err) {
+#ifdef _OPENMP
+  const char* env = std::getenv("OMP_NUM_THREADS");
+  if (!env) return;
+  char* end = nullptr;
+  const long asked = std::strtol(env, &end, 10);  // the first level of a list "8,2"
+  const long cap = 4L * std::max(1u, std::thread::hardware_concurrency());
+  if (end == env || asked <= cap) return;
+  omp_set_num_threads(static_cast<int>(cap));
+  err << "allanlot: note: OMP_NUM_THREADS=" << env << " is more than this machine runs; using "
+      << cap << " threads\n";
+#else
+  (void)err;
+#endif
+}
+
 }  // namespace
 
 int run(int argc, char** argv) {
+  cap_omp_threads(std::cerr);
   CLI::App app{"allanlot: Allan-family noise characterization of sensor production lots"};
   app.set_version_flag("--version", std::string("allanlot ") + kVersion + " (" + kGitSha + ")");
   app.require_subcommand(1);
@@ -62,6 +91,29 @@ int run(int argc, char** argv) {
     return kExitUsage;
   }
   return kExitUsage;
+}
+
+CLI::Validator finite_number() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        return end != text.c_str() && std::isfinite(v) ? "" : "not a finite number: " + text;
+      },
+      "FINITE");
+}
+
+CLI::Validator seed_number() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        const bool digits = !text.empty() && text.size() <= 20 &&
+                            std::all_of(text.begin(), text.end(),
+                                        [](unsigned char c) { return std::isdigit(c) != 0; });
+        // 20 digits may still exceed 2^64 - 1 = 18446744073709551615.
+        const bool fits = digits && (text.size() < 20 || text <= "18446744073709551615");
+        return fits ? "" : "not a whole number from 0 to 18446744073709551615: " + text;
+      },
+      "UINT64");
 }
 
 }  // namespace allanlot::cli

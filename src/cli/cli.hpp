@@ -2,12 +2,10 @@
 // subcommands and turns exceptions into exit statuses.
 #pragma once
 
+#include <CLI/CLI.hpp>
+
 #include <functional>
 #include <string>
-
-namespace CLI {
-class App;
-}
 
 namespace allanlot::cli {
 
@@ -29,5 +27,11 @@ struct Command {
 
 /// The largest --threads any command accepts.
 inline constexpr int kMaxThreads = 4096;
+
+/// Validators the commands share, for what CLI11 lets through: a number that is neither NaN
+/// nor infinite (CLI::Range passes NaN), and a seed that is a whole number from 0 to 2^64 - 1
+/// (CLI11 turns "-1" into 2^64 - 1 and "1e23" into 2^64 - 1 without a word).
+CLI::Validator finite_number();
+CLI::Validator seed_number();
 
 }  // namespace allanlot::cli

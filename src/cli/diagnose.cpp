@@ -3,6 +3,7 @@
 #include "io/atomic_file.hpp"
 #include "io/diagnosis.hpp"
 #include "io/error.hpp"
+#include "io/paths.hpp"
 #include "io/recording.hpp"
 #include "kernels/diagnose/diagnose.hpp"
 #include "src/lot/model.hpp"
@@ -242,6 +243,12 @@ io::DiagnosisRecord make_record(const std::string& channel, const kernels::Diagn
 
 int run_diagnose(const DiagnoseOptions& opt, std::ostream& out, std::ostream& err) {
   try {
+    // The corrected model and -o never replace the recording or the model read (an existing
+    // -o results file is edited on purpose, in a copy: io::write_diagnosis).
+    const std::vector<std::filesystem::path> outputs = {opt.model_out, opt.output};
+    const std::vector<std::filesystem::path> read = {opt.input, opt.model_path};
+    if (const std::string clash = io::outputs_conflict(outputs, read); !clash.empty())
+      throw UsageError(clash);
     model::UnitModel model;
     try {
       model = model::load_model(opt.model_path);
@@ -346,7 +353,9 @@ Command add_diagnose_command(CLI::App& app) {
   sub->add_option("--replicas", opt->replicas, "Monte Carlo replicas per model")
       ->check(CLI::Range(0, 100000))
       ->capture_default_str();
-  sub->add_option("--seed", opt->seed, "Seed of the Monte Carlo replicas")->capture_default_str();
+  sub->add_option("--seed", opt->seed, "Seed of the Monte Carlo replicas")
+      ->check(seed_number())
+      ->capture_default_str();
   sub->add_option("--threads", opt->threads, "Threads (default: OMP_NUM_THREADS, else all cores)")
       ->check(CLI::Range(0, kMaxThreads));
   return {sub, [opt](const std::string&) { return run_diagnose(*opt, std::cout, std::cerr); }};

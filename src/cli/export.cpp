@@ -1,5 +1,6 @@
 #include "src/cli/export.hpp"
 
+#include "io/paths.hpp"
 #include "src/cli/inputs.hpp"
 
 #include "io/atomic_file.hpp"
@@ -111,6 +112,11 @@ int run_export(const ExportOptions& opt, std::ostream& out, std::ostream& err) {
       err << "allanlot: usage error: " << in.string() << ": no such file or directory\n";
       return kExitUsage;
     }
+  }
+  const std::vector<fs::path> outputs = {opt.output};
+  if (const std::string clash = io::outputs_conflict(outputs, files); !clash.empty()) {
+    err << "allanlot: usage error: " << clash << "\n";
+    return kExitUsage;
   }
 
   std::ostringstream text;

@@ -1,8 +1,12 @@
 #include "src/cli/inputs.hpp"
 
+#include "io/paths.hpp"
+
 #include <fnmatch.h>
+#include <sys/stat.h>
 
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -12,8 +16,19 @@ namespace fs = std::filesystem;
 namespace allanlot::cli {
 namespace {
 
+std::string lower(std::string s) {
+  for (char& c : s)
+    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// Recordings by extension, in any case (`UNIT.H5` as well). Results files and lot summaries
+// are HDF5 too, but outputs, never recordings: a directory holding earlier results (an OUTDIR
+// inside the input tree) must not have them analysed as units.
 bool is_recording_name(const fs::path& p) {
-  const std::string ext = p.extension().string();
+  const std::string name = lower(p.filename().string());
+  if (name.ends_with(".allan.h5") || name == "lot_summary.h5") return false;
+  const std::string ext = lower(p.extension().string());
   return ext == ".h5" || ext == ".hdf5";
 }
 
@@ -24,72 +39,107 @@ std::string trim(const std::string& s) {
   return s.substr(b, e - b + 1);
 }
 
-void add_file(InputList& out, std::set<std::string>& seen, const std::string& path) {
+struct Expansion {
+  InputList out;
+  std::set<std::string> seen;
+  fs::path exclude;  // OUTDIR: never searched
+};
+
+void add_file(Expansion& x, const std::string& path) {
+  // open(2) of a FIFO blocks until a writer comes: refuse anything but a regular file before
+  // any reader opens it.
+  if (const std::string problem = io::input_file_problem(path); !problem.empty()) {
+    x.out.failures.emplace_back(path, problem);
+    return;
+  }
   std::error_code ec;
   const fs::path canon = fs::weakly_canonical(path, ec);
   const std::string key = ec ? path : canon.string();
-  if (seen.insert(key).second) out.files.push_back(path);
+  if (x.seen.insert(key).second) x.out.files.push_back(path);
 }
 
-void add_directory(InputList& out, std::set<std::string>& seen, const std::string& dir) {
+// A directory to descend into: not hidden, not OUTDIR, and not one already visited (a link
+// back up the tree would otherwise be followed for ever).
+bool enter_directory(const fs::directory_entry& e, Expansion& x,
+                     std::set<std::pair<dev_t, ino_t>>& visited) {
+  struct stat st {};
+  if (::stat(e.path().c_str(), &st) != 0) return false;
+  if (!x.exclude.empty() && io::same_file(e.path(), x.exclude)) return false;
+  return visited.insert({st.st_dev, st.st_ino}).second;
+}
+
+void add_directory(Expansion& x, const std::string& dir) {
   std::vector<std::string> found;
+  std::set<std::pair<dev_t, ino_t>> visited;
   std::error_code ec;
-  fs::recursive_directory_iterator it(dir, fs::directory_options::skip_permission_denied, ec);
+  if (!x.exclude.empty() && io::same_file(dir, x.exclude)) {
+    x.out.failures.emplace_back(dir, "is the output directory; its results are never inputs");
+    return;
+  }
+  enter_directory(fs::directory_entry(dir, ec), x, visited);
+  const auto options = fs::directory_options::skip_permission_denied |
+                       fs::directory_options::follow_directory_symlink;
+  fs::recursive_directory_iterator it(dir, options, ec);
   if (ec) {
-    out.failures.emplace_back(dir, "cannot read directory: " + ec.message());
+    x.out.failures.emplace_back(dir, "cannot read directory: " + ec.message());
     return;
   }
   for (; it != fs::recursive_directory_iterator(); it.increment(ec)) {
     if (ec) {
-      out.failures.emplace_back(dir, "error while listing: " + ec.message());
+      x.out.failures.emplace_back(dir, "error while listing: " + ec.message());
       break;
     }
     const fs::path& p = it->path();
-    if (p.filename().string().starts_with(".")) {
-      if (it->is_directory(ec)) it.disable_recursion_pending();
+    const bool hidden = p.filename().string().starts_with(".");
+    if (it->is_directory(ec)) {
+      if (hidden || !enter_directory(*it, x, visited)) it.disable_recursion_pending();
       continue;
     }
-    if (it->is_regular_file(ec) && is_recording_name(p)) found.push_back(p.string());
+    if (!hidden && is_recording_name(p)) found.push_back(p.string());
   }
   std::sort(found.begin(), found.end());
-  if (found.empty()) out.failures.emplace_back(dir, "directory contains no *.h5 or *.hdf5 file");
+  if (found.empty()) x.out.failures.emplace_back(dir, "directory contains no *.h5 or *.hdf5 file");
   for (const auto& f : found)
-    add_file(out, seen, f);
+    add_file(x, f);
+}
+
+void add_manifest(Expansion& x, const std::string& in) {
+  std::ifstream manifest(in);
+  if (!manifest) {
+    x.out.failures.emplace_back(in, "cannot open manifest");
+    return;
+  }
+  const fs::path base = fs::path(in).parent_path();
+  std::string line;
+  std::size_t listed = 0;
+  for (bool first = true; std::getline(manifest, line); first = false) {
+    if (first && line.starts_with("\xEF\xBB\xBF")) line.erase(0, 3);  // a UTF-8 byte-order mark
+    line = trim(line);
+    if (line.empty() || line[0] == '#') continue;
+    const fs::path p(line);
+    add_file(x, (p.is_absolute() || base.empty() ? p : base / p).string());
+    ++listed;
+  }
+  // An empty manifest (a batch system's list that came out empty) is a failed input, not
+  // a silent "analysed 0 of 0".
+  if (listed == 0) x.out.failures.emplace_back(in, "manifest lists no recording");
 }
 
 }  // namespace
 
-InputList expand_inputs(const std::vector<std::string>& inputs) {
-  InputList out;
-  std::set<std::string> seen;
+InputList expand_inputs(const std::vector<std::string>& inputs, const fs::path& outdir) {
+  Expansion x;
+  x.exclude = outdir;
   for (const std::string& in : inputs) {
     std::error_code ec;
-    if (fs::is_directory(in, ec)) {
-      add_directory(out, seen, in);
-    } else if (fs::path(in).extension() == ".txt") {
-      std::ifstream manifest(in);
-      if (!manifest) {
-        out.failures.emplace_back(in, "cannot open manifest");
-        continue;
-      }
-      const fs::path base = fs::path(in).parent_path();
-      std::string line;
-      std::size_t listed = 0;
-      while (std::getline(manifest, line)) {
-        line = trim(line);
-        if (line.empty() || line[0] == '#') continue;
-        const fs::path p(line);
-        add_file(out, seen, (p.is_absolute() || base.empty() ? p : base / p).string());
-        ++listed;
-      }
-      // An empty manifest (a batch system's list that came out empty) is a failed input, not
-      // a silent "analysed 0 of 0".
-      if (listed == 0) out.failures.emplace_back(in, "manifest lists no recording");
-    } else {
-      add_file(out, seen, in);
-    }
+    if (fs::is_directory(in, ec))
+      add_directory(x, in);
+    else if (fs::path(in).extension() == ".txt")
+      add_manifest(x, in);
+    else
+      add_file(x, in);
   }
-  return out;
+  return std::move(x.out);
 }
 
 bool channel_matches(const std::string& glob, const std::string& path) {

@@ -2,6 +2,7 @@
 // directories searched for *.h5 / *.hdf5, and text manifests (*.txt, one path per line).
 #pragma once
 
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -13,10 +14,13 @@ struct InputList {
   std::vector<std::pair<std::string, std::string>> failures;
 };
 
-/// Directories are searched recursively (sorted, hidden entries skipped); manifest lines are
-/// trimmed, blank lines and lines starting with '#' are skipped, and relative paths are taken
-/// relative to the manifest's directory. A path given twice is analysed once.
-InputList expand_inputs(const std::vector<std::string>& inputs);
+/// Directories are searched recursively (sorted; hidden entries, `outdir` and results files
+/// skipped; links to directories followed once); manifest lines are trimmed, blank lines and
+/// lines starting with '#' are skipped, and relative paths are taken relative to the
+/// manifest's directory. A path given twice is analysed once. Anything but a regular file (a
+/// FIFO, a device) is a failure, never opened (docs/reliability.md "Inputs and outputs").
+InputList expand_inputs(const std::vector<std::string>& inputs,
+                        const std::filesystem::path& outdir = {});
 
 /// The --channels rule, shared by analyze, export and spec files: an empty glob selects every
 /// channel; otherwise the glob (fnmatch) must match the channel's path (`/imu/gyro_x`) or its

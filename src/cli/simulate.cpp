@@ -105,7 +105,7 @@ Command add_simulate_command(CLI::App& app) {
   sub->add_option("-o,--output", *output, "Output FILE.h5, or DIR with --lot")->required();
   sub->add_option("--model", opt->model_path, "Model file (JSON, see docs/formats.md)");
   sub->add_option("--duration", opt->duration_s, "Record length in seconds")->capture_default_str();
-  sub->add_option("--seed", opt->seed, "Random seed")->capture_default_str();
+  sub->add_option("--seed", opt->seed, "Random seed")->check(seed_number())->capture_default_str();
   sub->add_option("--channel", opt->channel, "Dataset name of a single-channel model")
       ->capture_default_str();
   sub->add_option("--lot", opt->lot, "Write N units into the directory -o")

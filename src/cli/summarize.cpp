@@ -21,8 +21,14 @@ int run_summarize(const SummarizeOptions& opt, std::ostream& out, std::ostream& 
     return 2;
   }
   const io::DirectoryLock summary_lock(opt.outdir);
-  std::vector<io::SummaryRow> rows = lot::rows_from_outdir(opt.outdir, err);
+  std::size_t unreadable = 0;
+  std::vector<io::SummaryRow> rows = lot::rows_from_outdir(opt.outdir, err, &unreadable);
   const std::size_t n_rows = rows.size();
+  if (n_rows == 0) {
+    err << "allanlot: error: " << opt.outdir.string()
+        << " holds no results (*.allan.h5); no summary written\n";
+    return 2;
+  }
   lot::LotOverview overview;
   try {
     lot::LotOptions lot_opt;
@@ -37,9 +43,9 @@ int run_summarize(const SummarizeOptions& opt, std::ostream& out, std::ostream& 
   if (!opt.quiet)
     out << "lot summary of " << n_rows
         << " channel(s): " << (opt.outdir / "lot_summary.csv").string() << "\n";
-  // Recordings of the manifest without results are failed inputs, as in analyze: status 1.
-  if (n_rows == 0) return 2;
-  return overview.n_missing > 0 ? 1 : 0;
+  // Recordings of the manifest without results, and results files that cannot be read, are
+  // failed inputs, as in analyze: status 1.
+  return overview.n_missing > 0 || unreadable > 0 ? 1 : 0;
 }
 
 Command add_summarize_command(CLI::App& app) {

@@ -76,7 +76,8 @@ void print_overview(const LotOverview& ov, const spec::Spec* sp, std::ostream& o
 
 }  // namespace
 
-std::vector<io::SummaryRow> rows_from_outdir(const fs::path& outdir, std::ostream& err) {
+std::vector<io::SummaryRow> rows_from_outdir(const fs::path& outdir, std::ostream& err,
+                                             std::size_t* unreadable) {
   std::vector<fs::path> files;
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(outdir, ec)) {
@@ -91,8 +92,16 @@ std::vector<io::SummaryRow> rows_from_outdir(const fs::path& outdir, std::ostrea
       for (auto& r : io::summary_rows(io::read_summary_results(f)))
         rows.push_back(std::move(r));
     } catch (const std::exception& e) {
-      err << "allanlot: warning: skipping unreadable results file " << f.string() << ": "
-          << e.what() << "\n";
+      // A damaged file is named and listed as a failed row (the morning's reader sees the
+      // unit), never trusted and never a crash (io/seal.hpp); analyze redoes it.
+      err << "allanlot: error: unreadable results file: " << e.what() << "\n";
+      std::string device = f.filename().string();
+      device.erase(device.size() - std::string(".allan.h5").size());
+      rows.push_back(
+          {device, "", "", 0,
+           io::ChannelStatus::failed("unreadable results file: " + std::string(e.what())),
+           f.string()});
+      if (unreadable) ++*unreadable;
     }
   }
   return rows;

@@ -40,10 +40,11 @@ struct LotOverview {
 };
 
 /// The summary rows of every complete results file (*.allan.h5, not hidden) in `outdir`, in
-/// file-name order, read with io::read_summary_results (no per-tau arrays). An unreadable
-/// results file is skipped with a warning on `err`.
-std::vector<io::SummaryRow> rows_from_outdir(const std::filesystem::path& outdir,
-                                             std::ostream& err);
+/// file-name order, read with io::read_summary_results (no per-tau arrays). An unreadable or
+/// damaged results file is named on `err` and becomes one failed row (counted in
+/// `*unreadable` when given).
+std::vector<io::SummaryRow> rows_from_outdir(const std::filesystem::path& outdir, std::ostream& err,
+                                             std::size_t* unreadable = nullptr);
 
 /// The rows `failed: no results file` for the manifest's entries (trimmed lines, blank and
 /// `#` lines skipped, relative paths relative to the manifest, as analyze reads a manifest)

@@ -97,6 +97,13 @@ std::optional<kernels::StatResult> compute_stats(io::ChannelResult& result,
   }
   if (!opt.fit && !opt.psd) return std::nullopt;
   if (!oadev) oadev = compute_stat(kernels::Stat::Oadev, phase, opt, caches, nullptr);
+  // Without one tau of the overlapping Allan curve there is nothing to fit or cross-check: a
+  // failure with its reason, not "ok" with empty tables.
+  if (oadev->size() == 0)
+    throw std::invalid_argument(
+        "too short for the fit and the PSD (" + std::to_string(result.n_samples) +
+        " samples: the overlapping Allan deviation has no tau; --no-fit --no-psd analyses the "
+        "other statistics alone)");
   return oadev;
 }
 

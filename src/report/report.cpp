@@ -2,6 +2,7 @@
 
 #include "io/atomic_file.hpp"
 #include "io/error.hpp"
+#include "io/paths.hpp"
 #include "io/report_data.hpp"
 #include "io/results.hpp"
 #include "src/report/parts.hpp"
@@ -216,6 +217,18 @@ void write_pages(const std::vector<Unit>& units, const ExtrasMap& extras,
 Outcome run_report(const ReportOptions& opt, std::ostream& out, std::ostream& err) {
   std::vector<fs::path> files, others;
   if (!list_outdir(opt.outdir, files, others, err)) return Outcome::UsageError;
+  // The report never replaces what it reads: a results file, a lot summary, a diagnosis.
+  std::vector<fs::path> read = files;
+  read.insert(read.end(), others.begin(), others.end());
+  read.insert(read.end(), opt.diagnosis_files.begin(), opt.diagnosis_files.end());
+  for (const char* name : {"lot_summary.h5", "lot_summary.csv", "lot_statistics.csv"})
+    read.push_back(opt.outdir / name);
+  const std::vector<fs::path> outputs = {opt.output.empty() ? opt.outdir / "report.html"
+                                                            : opt.output};
+  if (const std::string clash = io::outputs_conflict(outputs, read); !clash.empty()) {
+    err << "allanlot: usage error: " << clash << "\n";
+    return Outcome::UsageError;
+  }
   std::vector<std::string> problems;
   std::vector<Unit> units = read_units(files, problems, err);
   if (units.empty()) {

@@ -193,16 +193,23 @@ std::vector<Case> cases(const fs::path& dir) {
                "/imu/gyro_x",
                {"attribute 'sample_rate_hz' must be a single number"}});
   // Channels too short for any tau, empty, or of the wrong shape or type.
-  // Channels too short for any tau: fewer than 2 samples. (Two samples already give totdev at
-  // m = 1, a default statistic; a record too short for the statistics asked for fails with
-  // "too short for any tau", tests/cli/test_analyze.cpp.)
+  // Channels too short for any tau: fewer than 2 samples. Two samples give totdev at m = 1 but
+  // no tau of the overlapping Allan curve, so no fit and no PSD: a failure with its reason,
+  // not "ok" with empty tables (issue "Nothing lost on a bad night", item 13). Four samples
+  // give one tau of every default statistic. A record too short for the statistics asked for
+  // fails with "too short for any tau", tests/cli/test_analyze.cpp.
   for (const std::size_t n : {std::size_t{0}, std::size_t{1}})
     c.push_back({"short_" + std::to_string(n),
                  [n](const fs::path& p) { one_channel(p, std::vector<double>(n, 1.0), 10.0); },
                  Outcome::FileFails,
                  "/imu/gyro_x",
                  {"need at least 2 rate samples"}});
-  for (const std::size_t n : {std::size_t{2}, std::size_t{4}})
+  c.push_back({"short_2",
+               [](const fs::path& p) { one_channel(p, std::vector<double>(2, 1.0), 10.0); },
+               Outcome::FileFails,
+               "/imu/gyro_x",
+               {"too short for the fit and the PSD"}});
+  for (const std::size_t n : {std::size_t{4}})
     c.push_back({"short_" + std::to_string(n),
                  [n](const fs::path& p) { one_channel(p, std::vector<double>(n, 1.0), 10.0); },
                  Outcome::Ok,
