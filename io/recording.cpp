@@ -6,8 +6,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <sstream>
+#include <sys/stat.h>
 
 namespace allanlot::io {
 
@@ -79,6 +81,21 @@ herr_t collect(hid_t, const char* name, const H5O_info_t* info, void* data) {
 struct RecordingReader::Impl {
   std::string path;
   Handle file;
+
+  // The file must still hold all that its HDF5 layout addresses: HDF5 refuses to open a file
+  // shorter than that, but one truncated after it was opened reads as zeros past its new end
+  // without an error (a recording still being copied, a disk that filled up).
+  void check_whole(const std::string& object) const {
+    haddr_t eoa = 0;
+    if (H5Fget_eoa(file.get(), &eoa) < 0) return;
+    struct stat st {};
+    if (::stat(path.c_str(), &st) != 0)
+      throw Error(path, object, std::string("vanished while it was read: ") + std::strerror(errno));
+    if (static_cast<haddr_t>(st.st_size) < eoa)
+      throw Error(path, object,
+                  "truncated while it was read: " + std::to_string(st.st_size) +
+                      " bytes, its HDF5 layout needs " + std::to_string(eoa));
+  }
 
   // Looks `attr` up on `object` and its ancestors; returns the path where it was found, or
   // "" when absent everywhere.
@@ -214,6 +231,7 @@ std::vector<double> RecordingReader::read(const ChannelInfo& channel, std::size_
                   out.data() + start),
           file, channel.path, "H5Dread (truncated or corrupt data)");
   }
+  impl_->check_whole(channel.path);
   if (channel.scale != 1.0 || channel.offset != 0.0)
     for (double& v : out)
       v = v * channel.scale + channel.offset;

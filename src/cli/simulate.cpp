@@ -4,6 +4,7 @@
 #include "io/error.hpp"
 #include "io/recording.hpp"
 #include "kernels/simulate/simulate.hpp"
+#include "src/cli/interrupt.hpp"
 #include "src/lot/model.hpp"
 
 #include <CLI/CLI.hpp>
@@ -74,7 +75,14 @@ int run_simulate(const SimulateOptions& opt, std::ostream& out, std::ostream& er
     fs::create_directories(opt.output);
     std::string manifest = "# allanlot simulate --lot " + std::to_string(opt.lot) + " --seed " +
                            std::to_string(opt.seed) + "\n";
+    // A signal stops the lot after the unit in flight (complete, never a temporary left).
+    const InterruptGuard interrupts;
     for (int u = 1; u <= opt.lot; ++u) {
+      if (const int sig = stop_signal()) {
+        err << "allanlot: stopped by " << signal_name(sig) << " after " << u - 1 << " of "
+            << opt.lot << " units; the units written are complete\n";
+        return 128 + sig;
+      }
       char name[32];
       std::snprintf(name, sizeof name, "unit_%04d", u);
       const model::UnitModel unit = model::draw_unit(m, opt.seed, u);

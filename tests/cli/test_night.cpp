@@ -247,6 +247,24 @@ TEST(Night, SigtermAndSigintStopCleanlyWithASummaryOfWhatIsDone) {
   }
 }
 
+TEST(Night, SigtermStopsSimulateAfterTheUnitInFlight) {
+  const auto dir = test::fresh_dir("night_simulate_signal");
+  const fs::path lot = dir / "lot";
+  const pid_t pid = test::spawn({binary(), "simulate", "--lot", "40", "--duration", "60",
+                                 "--threads", "1", "-o", lot.string()});
+  ASSERT_GT(pid, 0);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (std::chrono::steady_clock::now() < deadline && !fs::exists(lot / "unit_0001.h5"))
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ::kill(pid, SIGTERM);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
+  EXPECT_EQ(WEXITSTATUS(status), 128 + SIGTERM);
+  for (const auto& e : fs::directory_iterator(lot))
+    EXPECT_FALSE(e.path().filename().string().starts_with(".")) << e.path() << " left behind";
+}
+
 TEST(Night, StaleTemporaryFilesOfAnEarlierRunAreRemoved) {
   const auto dir = test::fresh_dir("night_stale");
   const fs::path lot = make_lot(dir, "lot", 1, 5, 13);

@@ -101,6 +101,30 @@ TEST(Recording, ChunkedReadEqualsWholeRead) {
   EXPECT_EQ(r.info().device_id, "a");  // no device_id attribute: the file's stem
 }
 
+// A recording truncated after it was opened (still being copied, a full disk) reads as zeros
+// past its new end without an HDF5 error: the reader must say so, naming file and channel
+// (issue "Nothing lost on a bad night", item 12: before, the tail was analysed as zeros).
+TEST(Recording, TruncatedWhileItIsReadIsAnError) {
+  const auto file = test::fresh_dir("truncated_while_read") / "a.h5";
+  {
+    H5Fixture f(file);
+    f.dataset("/d/x", std::vector<double>(100000, 1.5), H5T_IEEE_F64LE);
+    f.attr("/d/x", "sample_rate_hz", 10.0);
+  }
+  io::RecordingReader r(file.string());
+  ASSERT_EQ(r.info().channels.size(), 1u);
+  EXPECT_NO_THROW(r.read(r.info().channels[0]));
+  std::filesystem::resize_file(file, std::filesystem::file_size(file) / 2);
+  try {
+    r.read(r.info().channels[0]);
+    ADD_FAILURE() << "a truncated recording was read";
+  } catch (const io::Error& e) {
+    EXPECT_EQ(e.dataset(), "/d/x");
+    EXPECT_NE(std::string(e.what()).find(file.string()), std::string::npos) << e.what();
+    EXPECT_NE(e.reason().find("truncated while it was read"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Recording, BadAttributesAndShapesAreNamedProblems) {
   const auto dir = test::fresh_dir("badattr");
   const auto file = dir / "bad.h5";
