@@ -2,10 +2,10 @@
 
 #include "io/atomic_file.hpp"
 
+#include <cctype>
 #include <cerrno>
 #include <csignal>
 #include <cstring>
-#include <regex>
 #include <sys/stat.h>
 
 namespace fs = std::filesystem;
@@ -66,21 +66,51 @@ std::string input_file_problem(const fs::path& path) {
   return "not a regular file";
 }
 
+namespace {
+
+bool all_of(const std::string& s, bool (*ok)(unsigned char)) {
+  for (const char c : s)
+    if (!ok(static_cast<unsigned char>(c))) return false;
+  return true;
+}
+
+// io::AtomicFile's names: '.', the final name (cut to fit), ".tmp.", host, '.', pid, '.', n.
+// Returns the host and pid of such a name, or nullopt. (Parsed by hand: libstdc++'s <regex>
+// trips GCC 12's -Wmaybe-uninitialized under ASan.)
+std::optional<std::pair<std::string, long>> temporary_writer(const std::string& name) {
+  const auto tmp = name.rfind(".tmp.");
+  if (!name.starts_with(".") || tmp == std::string::npos || tmp == 0) return std::nullopt;
+  const std::string tail = name.substr(tmp + 5);
+  const auto dot2 = tail.rfind('.');
+  const auto dot1 =
+      dot2 == std::string::npos || dot2 == 0 ? std::string::npos : tail.rfind('.', dot2 - 1);
+  if (dot1 == std::string::npos) return std::nullopt;
+  const std::string host = tail.substr(0, dot1);
+  const std::string pid = tail.substr(dot1 + 1, dot2 - dot1 - 1);
+  const std::string n = tail.substr(dot2 + 1);
+  const auto digit = [](unsigned char c) { return std::isdigit(c) != 0; };
+  const auto host_char = [](unsigned char c) {
+    return std::isalnum(c) != 0 || c == '-' || c == '_';
+  };
+  if (pid.empty() || pid.size() > 9 || n.empty() || !all_of(pid, digit) || !all_of(n, digit) ||
+      !all_of(host, host_char))
+    return std::nullopt;
+  return std::pair{host, std::stol(pid)};
+}
+
+}  // namespace
+
 std::size_t remove_stale_temporaries(const fs::path& dir, fs::file_time_type before) {
-  // io::AtomicFile's names: '.', the final name (cut to fit), ".tmp.", host, '.', pid, '.', n.
-  static const std::regex pattern(R"(^\..+\.tmp\.([A-Za-z0-9_-]*)\.([0-9]+)\.[0-9]+$)");
   const std::string this_host = host_tag();
   std::size_t removed = 0;
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(dir, ec)) {
-    const std::string name = e.path().filename().string();
-    std::smatch m;
-    if (!std::regex_match(name, m, pattern) || !e.is_regular_file(ec)) continue;
+    const auto writer = temporary_writer(e.path().filename().string());
+    if (!writer || !e.is_regular_file(ec)) continue;
     if (e.last_write_time(ec) >= before || ec) continue;
     // A writer on this host that is still alive (another run) keeps its file.
-    const long pid = std::stol(m[2].str());
-    if (m[1].str() == this_host && (::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM))
-      continue;
+    const auto pid = static_cast<pid_t>(writer->second);
+    if (writer->first == this_host && (::kill(pid, 0) == 0 || errno == EPERM)) continue;
     if (fs::remove(e.path(), ec)) ++removed;
   }
   return removed;
