@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <map>
 #include <sstream>
+#include <string_view>
 
 namespace allanlot::pipeline {
 namespace {
@@ -80,6 +81,18 @@ io::ReadoutRecord readout_record(const std::string& name, Term t, const kernels:
   return rec;
 }
 
+// The fields every fit record opens with, alike for the eq. (3) fit to the Allan variance
+// (kernels::FitResult) and the fit to the PSD (kernels::PsdFitResult).
+template <class Fit>
+io::FitRecord fit_record(std::string_view method, const Fit& f) {
+  io::FitRecord rec;
+  rec.method = std::string(method);
+  rec.status = f.status;
+  rec.rank = f.rank;
+  rec.chi2_dof = f.chi2_dof;
+  return rec;
+}
+
 }  // namespace
 
 io::FitRecord fit_channel(const kernels::StatResult& oadev, const kernels::PhaseData& p,
@@ -99,11 +112,7 @@ io::FitRecord fit_channel(const kernels::StatResult& oadev, const kernels::Phase
   }
   const kernels::FitResult f = fitter.fit(sub, p.tau0_s, p.n_points() - 1);
 
-  io::FitRecord rec;
-  rec.method = std::string(kernels::kFitMethod);
-  rec.status = f.status;
-  rec.rank = f.rank;
-  rec.chi2_dof = f.chi2_dof;
+  io::FitRecord rec = fit_record(kernels::kFitMethod, f);
   rec.tau = oadev.tau_s;
   if (f.status != kernels::FitStatus::Ok) return rec;
   if (terms_out) *terms_out = f.terms;
@@ -127,11 +136,7 @@ io::FitRecord psd_fit_channel(const kernels::PsdResult& psd, const std::string& 
   // length and the rate, which the channels of a lot share.
   thread_local kernels::WelchTermCache welch_terms;
   const kernels::PsdFitResult f = kernels::psd_fit(psd, {}, &welch_terms);
-  io::FitRecord rec;
-  rec.method = std::string(kernels::kPsdFitMethod);
-  rec.status = f.status;
-  rec.rank = f.rank;
-  rec.chi2_dof = f.chi2_dof;
+  io::FitRecord rec = fit_record(kernels::kPsdFitMethod, f);
   rec.f = f.f_hz;
   rec.psd_model = f.psd_model;
   if (f.status != kernels::FitStatus::Ok) return rec;

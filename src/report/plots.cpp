@@ -248,25 +248,22 @@ std::string diagnosis_plot(const std::string& id, const io::DiagnosisView& d,
     p.bands.push_back({d.tau, d.band_lo, d.band_hi, "#2ca02c", 0.20, false,
                        d.band_before_lo.empty() ? "Monte Carlo band" : "Monte Carlo band, after"});
   const auto gap = [](double g) { return std::isnan(g) ? std::string() : ", gap " + number(g, 3); };
-  if (!d.model_before.empty()) {
-    svg::Series b;
-    b.label = "model before" + gap(d.gap_before);
-    b.color = "#d62728";
-    b.dash = "7 4";
-    b.width = 2.0;
-    b.x = d.tau;
-    b.y = d.model_before;
-    p.series.push_back(std::move(b));
-  }
-  if (!d.model_after.empty()) {
-    svg::Series a;
-    a.label = "model after" + gap(d.gap_after);
-    a.color = "#000";
-    a.width = 2.0;
-    a.x = d.tau;
-    a.y = d.model_after;
-    p.series.push_back(std::move(a));
-  }
+  // The model before (dashed red) and after (solid black), each labelled with its gap.
+  const auto model = [&](const std::vector<double>& y, const char* label, double g,
+                         const char* color, const char* dash) {
+    svg::Series s;
+    s.label = label + gap(g);
+    s.color = color;
+    s.dash = dash;
+    s.width = 2.0;
+    s.x = d.tau;
+    s.y = y;
+    return s;
+  };
+  if (!d.model_before.empty())
+    p.series.push_back(model(d.model_before, "model before", d.gap_before, "#d62728", "7 4"));
+  if (!d.model_after.empty())
+    p.series.push_back(model(d.model_after, "model after", d.gap_after, "#000", ""));
   if (!d.measured.empty()) {
     svg::Series m;
     m.label = "measured";
