@@ -127,12 +127,8 @@ herr_t collect_diagnosis(hid_t, const char* name, const H5O_info_t* info, void* 
 }  // namespace
 
 std::vector<DiagnosisRecord> read_diagnoses(const std::filesystem::path& path) {
-  h5::quiet_library();
   const std::string file = path.string();
-  require_intact(path);
-  if (H5Fis_hdf5(file.c_str()) <= 0) throw Error(file, "", "not an HDF5 file");
-  Handle f =
-      check(H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, file, "", "H5Fopen");
+  Handle f = h5::open_sealed(path, "file");
   std::vector<std::string> groups;
   if (H5Ovisit2(f.get(), H5_INDEX_NAME, H5_ITER_INC, collect_diagnosis, &groups, H5O_INFO_BASIC) <
       0)

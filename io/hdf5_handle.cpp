@@ -125,17 +125,26 @@ bool read_attribute(hid_t obj, const std::string& name, std::string& out, const 
   return true;
 }
 
-namespace {
-
-void replace_attribute(hid_t obj, const std::string& name) {
-  if (has_attribute(obj, name)) H5Adelete(obj, name.c_str());
-}
-
 Handle utf8_string_type(const std::string& file, const std::string& object) {
   Handle t = check(H5Tcopy(H5T_C_S1), H5Tclose, file, object, "H5Tcopy");
   H5Tset_size(t.get(), H5T_VARIABLE);
   H5Tset_cset(t.get(), H5T_CSET_UTF8);
   return t;
+}
+
+Handle open_sealed(const std::filesystem::path& path, const std::string& kind) {
+  quiet_library();
+  const std::string file = path.string();
+  // Checked before HDF5 reads a byte: damaged bytes can crash the library (io/seal.hpp).
+  require_intact(path);
+  if (H5Fis_hdf5(file.c_str()) <= 0) throw Error(file, "", "not an HDF5 " + kind);
+  return check(H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, file, "", "H5Fopen");
+}
+
+namespace {
+
+void replace_attribute(hid_t obj, const std::string& name) {
+  if (has_attribute(obj, name)) H5Adelete(obj, name.c_str());
 }
 
 template <class T>

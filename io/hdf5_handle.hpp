@@ -7,6 +7,7 @@
 #include <hdf5.h>
 
 #include <cstdint>
+#include <filesystem>
 #include <string>
 #include <utility>
 #include <vector>
@@ -93,6 +94,14 @@ Handle dataset_create_plist(const std::string& file, const std::string& object);
 /// was reported (found by tests/cli/test_faults.cpp on a full tmpfs). Outside HDF5 the same
 /// failure is one checked write(2). `file` names the destination in messages.
 Handle create_memory_file(const std::string& file);
+
+/// A variable-length UTF-8 string type, as every string allanlot writes is stored.
+Handle utf8_string_type(const std::string& file, const std::string& object);
+
+/// Opens a file allanlot wrote (results, lot summary, diagnosis) read-only, after its seal was
+/// checked (io/seal.hpp); io::Error naming the file when it is damaged or not HDF5 (`kind`
+/// says what was expected: "results file", ...).
+Handle open_sealed(const std::filesystem::path& path, const std::string& kind);
 
 /// Writes the complete image of the in-memory file `f` to `path` (created, must not exist)
 /// with write(2), and closes `f`. Throws io::Error naming `file` with the system's reason

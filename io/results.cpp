@@ -143,13 +143,8 @@ void find_channel_groups(hid_t g, const std::string& path, const std::string& fi
 }
 
 RecordingResult read(const std::filesystem::path& path, Depth depth) {
-  h5::quiet_library();
   const std::string file = path.string();
-  // Checked before HDF5 reads a byte: damaged bytes can crash the library (io/seal.hpp).
-  require_intact(path);
-  if (H5Fis_hdf5(file.c_str()) <= 0) throw Error(file, "", "not an HDF5 results file");
-  Handle f =
-      check(H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, file, "", "H5Fopen");
+  Handle f = h5::open_sealed(path, "results file");
   Handle root = check(H5Gopen2(f.get(), "/", H5P_DEFAULT), H5Gclose, file, "/", "H5Gopen2");
   schema::check_version(root.get(), file);
   RecordingResult r;

@@ -138,17 +138,9 @@ hid_t memory_type(hid_t str) {
     return str;
 }
 
-// A variable-length UTF-8 string type (every string column of the summary files).
-Handle vlen_string_type(const std::string& file, const std::string& object) {
-  Handle str = check(H5Tcopy(H5T_C_S1), H5Tclose, file, object, "H5Tcopy");
-  H5Tset_size(str.get(), H5T_VARIABLE);
-  H5Tset_cset(str.get(), H5T_CSET_UTF8);
-  return str;
-}
-
 template <class Row>
 Handle compound_type(const Layout<Row>& l, const std::string& file, const std::string& object) {
-  Handle str = vlen_string_type(file, object);
+  Handle str = h5::utf8_string_type(file, object);
   Handle t = check(H5Tcreate(H5T_COMPOUND, l.record_size), H5Tclose, file, object, "H5Tcreate");
   const Row probe{};
   for (const FlatColumn<Row>& c : l.columns)
@@ -319,10 +311,7 @@ std::vector<Row> read_compound(hid_t f, const char* name,
 }
 
 Handle open_summary_file(const std::string& file) {
-  h5::quiet_library();
-  require_intact(file);
-  Handle f =
-      check(H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, file, "", "H5Fopen");
+  Handle f = h5::open_sealed(file, "lot summary");
   Handle root = check(H5Gopen2(f.get(), "/", H5P_DEFAULT), H5Gclose, file, "/", "H5Gopen2");
   schema::check_version(root.get(), file);
   return f;

@@ -197,12 +197,7 @@ FitResult Eq3Fit::fit(const FitInput& in) {
                                         options_.tolerance, 0.0};
   const detail::ReweightedNnls solved =
       detail::reweighted_nnls(x_, y_, edf_, model, reweighting, design_, masked_, qr_);
-  res.rank = solved.rank;
-  if (res.rank < kNumTerms) {
-    res.status = FitStatus::RankDeficient;
-    return res;
-  }
-  res.iterations = solved.iterations;
+  if (!detail::take_solution(res, solved, FitStatus::RankDeficient)) return res;
   const detail::Theta& theta = solved.theta;
 
   std::array<double, kNumTerms> th{};

@@ -119,6 +119,20 @@ ReweightedNnls reweighted_nnls(const Eigen::MatrixXd& x, const Eigen::VectorXd& 
                                const Reweighting& settings, WeightedDesign& design,
                                Eigen::MatrixXd& masked, Qr& qr);
 
+/// Copies the rank and the iterations of `solved` into a fit's result (the Allan fit's or the
+/// PSD fit's); false, with the result's status set to `rank_deficient`, when the weighted design
+/// did not have full rank and nothing was solved.
+template <class Result, class Status>
+bool take_solution(Result& res, const ReweightedNnls& solved, Status rank_deficient) {
+  res.rank = solved.rank;
+  if (res.rank < kNumTerms) {
+    res.status = rank_deficient;
+    return false;
+  }
+  res.iterations = solved.iterations;
+  return true;
+}
+
 /// The estimator matrix of the weighted fit on the columns marked in `use`,
 /// A = D (Xs_F^T Xs_F)^-1 Xs_F^T diag(sw) (D = diag(col_scale); rows of unused columns zero),
 /// so that theta_F = A y. Row i of A^T solves the least squares with right-hand side sw_i e_i;

@@ -284,12 +284,7 @@ PsdFitResult psd_fit(const PsdResult& psd, const PsdFitOptions& opt, WelchTermCa
                                         1e-300};
   const detail::ReweightedNnls solved =
       detail::reweighted_nnls(x, y, d.edf, model, reweighting, design, masked, qr);
-  res.rank = solved.rank;
-  if (res.rank < kNumTerms) {
-    res.status = FitStatus::RankDeficient;
-    return res;
-  }
-  res.iterations = solved.iterations;
+  if (!detail::take_solution(res, solved, FitStatus::RankDeficient)) return res;
   const detail::Theta& theta = solved.theta;
 
   const Eigen::MatrixXd sigma = binned_covariance(d, model, psd);
