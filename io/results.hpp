@@ -187,6 +187,10 @@ struct StatisticsRow {
 /// holds a comma, a quote or a line break.
 std::string csv_field(const std::string& s);
 
+/// A CSV number with `digits` significant digits ("%.*g"); empty for NaN, as pandas and
+/// spreadsheets read a missing value.
+std::string csv_number(double v, int digits);
+
 /// Writes OUTDIR/lot_summary.csv, OUTDIR/lot_statistics.csv and OUTDIR/lot_summary.h5
 /// (compound datasets /summary and /statistics; `attributes` become string attributes of the
 /// file's root, e.g. the spec file used, beside schema_version), each file atomically. The

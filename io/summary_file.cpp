@@ -152,14 +152,9 @@ Handle compound_type(const Layout<Row>& l, const std::string& file, const std::s
   return t;
 }
 
-// Numbers in the CSV with 7 significant digits (a datasheet needs 2 or 3, the uncertainty
-// another); empty where there is no value.
-std::string csv_number(double v) {
-  if (std::isnan(v)) return "";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.7g", v);
-  return buf;
-}
+// Numbers in the lot summary with 7 significant digits (a datasheet needs 2 or 3, the
+// uncertainty another).
+constexpr int kSummaryDigits = 7;
 
 template <class Row>
 std::string csv_text(const std::vector<Row>& rows, std::span<const schema::RowColumn<Row>> table) {
@@ -183,7 +178,7 @@ std::string csv_text(const std::vector<Row>& rows, std::span<const schema::RowCo
         else if constexpr (std::is_same_v<V, ChannelStatus>)
           csv << csv_field(to_string(v));
         else if constexpr (std::is_same_v<V, double>)
-          csv << csv_number(v);
+          csv << csv_number(v, kSummaryDigits);
         else
           csv << std::to_string(v);
       });
@@ -381,6 +376,13 @@ std::vector<StatisticsRow> read_lot_statistics(const std::filesystem::path& h5_p
   Handle f = open_summary_file(file);
   if (H5Lexists(f.get(), "statistics", H5P_DEFAULT) <= 0) return {};
   return read_compound(f.get(), "statistics", schema::statistics_columns(), file);
+}
+
+std::string csv_number(double v, int digits) {
+  if (std::isnan(v)) return "";
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+  return buf;
 }
 
 std::string csv_field(const std::string& s) {

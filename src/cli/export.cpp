@@ -44,12 +44,9 @@ std::string e4(double v) {
 }
 
 // Tidy CSV numbers: 12 significant digits (the dev values are exact to far fewer; more would
-// only show the last bits of the double), empty for NaN, as pandas reads missing values.
+// only show the last bits of the double).
 std::string csv_number(double v) {
-  if (std::isnan(v)) return "";
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.12g", v);
-  return buf;
+  return io::csv_number(v, 12);
 }
 
 template <class T>
