@@ -90,8 +90,9 @@ void write_diagnosis(const std::filesystem::path& out, const std::filesystem::pa
       f = check(H5Fopen(atomic.temp_path().c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose, file, "",
                 "H5Fopen (an existing -o must be an HDF5 file)");
     } else {
-      f = check(H5Fcreate(atomic.temp_path().c_str(), H5F_ACC_EXCL, H5P_DEFAULT, H5P_DEFAULT),
-                H5Fclose, file, "", "H5Fcreate (is the directory writable?)");
+      // A new file is built in memory and written by one checked write(2), sealed like a
+      // results file: on a full disk, a clean error instead of HDF5 crashing at exit.
+      f = h5::create_memory_file(file);
     }
     {
       const std::string object = r.channel + "/diagnosis";
@@ -106,7 +107,10 @@ void write_diagnosis(const std::filesystem::path& out, const std::filesystem::pa
         h5::check(H5Ldelete(ch.get(), "diagnosis", H5P_DEFAULT), file, object, "H5Ldelete");
       schema::write_diagnosis_group(ch.get(), r, file);
     }
-    if (f.close() < 0) throw Error(file, "", "H5Fclose failed while flushing (disk full?)");
+    if (!existing)
+      h5::write_memory_file(f, atomic.temp_path().string(), file);
+    else if (f.close() < 0)
+      throw Error(file, "", "H5Fclose failed while flushing (disk full?)");
   }
   // A sealed results file edited by HDF5 keeps its user block: the seal is written anew.
   if (existing) reseal_file(atomic.temp_path());

@@ -211,18 +211,19 @@ Handle dataset_create_plist(const std::string& file, const std::string& object) 
   return untimed_plist(H5P_DATASET_CREATE, file, object);
 }
 
-Handle create_memory_file(const std::string& file) {
+Handle create_memory_file(const std::string& file, Sealed sealed) {
   Handle fapl = check(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, file, "", "H5Pcreate");
   // Grow the image 1 MiB at a time; backing_store = false: nothing is written by HDF5.
   check(H5Pset_fapl_core(fapl.get(), std::size_t{1} << 20, false), file, "", "H5Pset_fapl_core");
   // The user block holds the seal (io/seal.hpp): write_memory_file writes it before the image.
   Handle fcpl = check(H5Pcreate(H5P_FILE_CREATE), H5Pclose, file, "", "H5Pcreate");
-  check(H5Pset_userblock(fcpl.get(), kSealBytes), file, "", "H5Pset_userblock");
+  if (sealed == Sealed::Yes)
+    check(H5Pset_userblock(fcpl.get(), kSealBytes), file, "", "H5Pset_userblock");
   return check(H5Fcreate(file.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get()), H5Fclose, file, "",
                "H5Fcreate (in memory)");
 }
 
-void write_memory_file(Handle& f, const std::string& path, const std::string& file) {
+void write_memory_file(Handle& f, const std::string& path, const std::string& file, Sealed sealed) {
   check(H5Fflush(f.get(), H5F_SCOPE_GLOBAL), file, "", "H5Fflush (in memory)");
   const ssize_t size = H5Fget_file_image(f.get(), nullptr, 0);
   if (size < 0) throw Error(file, "", "H5Fget_file_image failed");
@@ -230,8 +231,10 @@ void write_memory_file(Handle& f, const std::string& path, const std::string& fi
   if (H5Fget_file_image(f.get(), image.data(), image.size()) != size)
     throw Error(file, "", "H5Fget_file_image failed");
   if (f.close() < 0) throw Error(file, "", "H5Fclose (in memory) failed");
-  const auto seal = seal_block(image);
-  image.insert(image.begin(), seal.begin(), seal.end());
+  if (sealed == Sealed::Yes) {
+    const auto seal = seal_block(image);
+    image.insert(image.begin(), seal.begin(), seal.end());
+  }
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
   if (fd < 0) throw Error(file, "", std::string("cannot create file: ") + std::strerror(errno));
   std::size_t done = 0;

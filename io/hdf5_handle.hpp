@@ -93,7 +93,10 @@ Handle dataset_create_plist(const std::string& file, const std::string& object);
 /// half-closed and dereferences it at library shutdown, a segfault at exit after the error
 /// was reported (found by tests/cli/test_faults.cpp on a full tmpfs). Outside HDF5 the same
 /// failure is one checked write(2). `file` names the destination in messages.
-Handle create_memory_file(const std::string& file);
+/// Whether the file carries the seal of io/seal.hpp (results and summaries do; recordings, which
+/// other programs write too, do not).
+enum class Sealed { Yes, No };
+Handle create_memory_file(const std::string& file, Sealed sealed = Sealed::Yes);
 
 /// A variable-length UTF-8 string type, as every string allanlot writes is stored.
 Handle utf8_string_type(const std::string& file, const std::string& object);
@@ -107,7 +110,8 @@ Handle open_sealed(const std::filesystem::path& path, const std::string& kind);
 /// with write(2), and closes `f`. Throws io::Error naming `file` with the system's reason
 /// (e.g. "write: No space left on device"); `path` is then incomplete and the caller's
 /// AtomicFile removes it.
-void write_memory_file(Handle& f, const std::string& path, const std::string& file);
+void write_memory_file(Handle& f, const std::string& path, const std::string& file,
+                       Sealed sealed = Sealed::Yes);
 
 /// Creates every missing group along `path` ("/a/b/c") under `file_id` and returns the last.
 Handle ensure_groups(hid_t file_id, const std::string& path, const std::string& file);

@@ -251,9 +251,10 @@ RecordingWriter::RecordingWriter(const std::string& path, const std::string& dev
   h5::quiet_library();
   impl_->final_path = path;
   impl_->atomic = std::make_unique<AtomicFile>(path);
-  const std::string tmp = impl_->atomic->temp_path().string();
-  impl_->file = check(H5Fcreate(tmp.c_str(), H5F_ACC_EXCL, H5P_DEFAULT, H5P_DEFAULT), H5Fclose,
-                      path, "", "H5Fcreate (is the directory writable?)");
+  // Built in memory and written by one checked write(2), like results files: an HDF5 file on
+  // disk whose write fails (a full disk) stays open in the library, which then crashes
+  // flushing it at exit.
+  impl_->file = h5::create_memory_file(path, h5::Sealed::No);
   Handle root =
       check(H5Gopen2(impl_->file.get(), "/", H5P_DEFAULT), H5Gclose, path, "/", "H5Gopen2");
   h5::write_attribute(root.get(), "device_id", device_id, path, "/");
@@ -290,8 +291,8 @@ void RecordingWriter::add_root_attribute(const std::string& name, const std::str
 
 void RecordingWriter::commit() {
   impl_->group.close();
-  if (impl_->file.close() < 0)
-    throw Error(impl_->final_path, "", "H5Fclose failed while flushing (disk full?)");
+  h5::write_memory_file(impl_->file, impl_->atomic->temp_path().string(), impl_->final_path,
+                        h5::Sealed::No);
   impl_->atomic->commit();
 }
 

@@ -253,5 +253,37 @@ TEST(Faults, TwoRunsIntoTheSameOutdirAtOnce) {
   EXPECT_NE(text.find(std::to_string(n_units) + " already up to date"), std::string::npos) << text;
 }
 
+// A full disk while simulate writes a recording or diagnose writes its -o file: a clean
+// error naming the file and no file left, never a crash (issue "Nothing lost on a bad night",
+// item 3: before, HDF5 crashed at exit flushing the file that could not be written).
+TEST(Faults, DiskFullInSimulateAndDiagnoseIsACleanError) {
+  const fs::path dir = fresh_test_dir("faults_disk_full_writers");
+  std::string text;
+  std::ofstream(dir / "model.json")
+      << R"({"units": "deg/s", "sample_rate_hz": 100, "terms": {"N": 0.01}})";
+  ASSERT_EQ(run_command(binary() + " simulate -q --model " + (dir / "model.json").string() +
+                            " --duration 200 --channel gyro_z -o " + (dir / "meas.h5").string(),
+                        &text),
+            0)
+      << text;
+  const fs::path mnt = dir / "mnt";
+  const Tmpfs disk(mnt, "size=1m");
+  if (!disk.mounted()) GTEST_SKIP() << "cannot mount a tmpfs here";
+  EXPECT_EQ(run_command(binary() + " simulate --duration 600 -o " + (mnt / "u.h5").string(), &text),
+            2)
+      << text;
+  EXPECT_NE(text.find("No space left on device"), std::string::npos) << text;
+  // Fill the disk (dd stops when it is full), then ask diagnose for a new -o file there.
+  run_command("dd if=/dev/zero of=" + (mnt / "fill").string() + " bs=4k count=1000 2>/dev/null");
+  EXPECT_EQ(run_command(binary() + " diagnose --replicas 2 " + (dir / "meas.h5").string() +
+                            " --model " + (dir / "model.json").string() + " -o " +
+                            (mnt / "d.h5").string() + " > /dev/null",
+                        &text),
+            1)
+      << text;
+  for (const auto& e : fs::directory_iterator(mnt))
+    EXPECT_EQ(e.path().filename(), "fill") << e.path() << " left on the full disk";
+}
+
 }  // namespace
 }  // namespace allanlot
