@@ -82,6 +82,23 @@ struct RecordingReader::Impl {
   std::string path;
   Handle file;
 
+  // A dataset without filters stores every sample it declares; one that stores less was never
+  // (wholly) written, and HDF5 would return its fill value (zeros) for the rest: a 1.4 KB file
+  // may declare 3e8 samples. Refused before the samples are allocated. (Compressed datasets
+  // cannot be checked this way; their reads fail on a missing chunk.)
+  void check_stored(hid_t ds, hsize_t n, const std::string& object) const {
+    Handle dcpl = check(H5Dget_create_plist(ds), H5Pclose, path, object, "H5Dget_create_plist");
+    Handle type = check(H5Dget_type(ds), H5Tclose, path, object, "H5Dget_type");
+    if (H5Pget_nfilters(dcpl.get()) != 0) return;
+    const hsize_t need = n * H5Tget_size(type.get());
+    const hsize_t stored = H5Dget_storage_size(ds);
+    if (stored < need)
+      throw Error(path, object,
+                  "declares " + std::to_string(n) + " samples but stores only " +
+                      std::to_string(stored) + " of their " + std::to_string(need) +
+                      " bytes (never written?)");
+  }
+
   // The file must still hold all that its HDF5 layout addresses: HDF5 refuses to open a file
   // shorter than that, but one truncated after it was opened reads as zeros past its new end
   // without an error (a recording still being copied, a disk that filled up).
@@ -217,6 +234,7 @@ std::vector<double> RecordingReader::read(const ChannelInfo& channel, std::size_
   Handle fspace = check(H5Dget_space(ds.get()), H5Sclose, file, channel.path, "H5Dget_space");
   hsize_t n = 0;
   H5Sget_simple_extent_dims(fspace.get(), &n, nullptr);
+  impl_->check_stored(ds.get(), n, channel.path);
   std::vector<double> out(static_cast<std::size_t>(n));
   chunk = std::max<std::size_t>(chunk, 1);
   // Chunked hyperslab reads: HDF5 converts each block (int16, float32, ...) to double in a

@@ -125,6 +125,28 @@ TEST(Recording, TruncatedWhileItIsReadIsAnError) {
   }
 }
 
+// A dataset that declares more samples than it stores (never written) would read as zeros,
+// after allocating all it declares: refused first, naming file and channel.
+TEST(Recording, DeclaredButUnwrittenSamplesAreRefused) {
+  const auto file = test::fresh_dir("declared_unwritten") / "a.h5";
+  {
+    H5Fixture f(file);
+    f.dataset("/d/x", {}, H5T_IEEE_F32LE, {300000000});
+    f.attr("/d/x", "sample_rate_hz", 10.0);
+  }
+  EXPECT_LT(std::filesystem::file_size(file), 10000u);
+  io::RecordingReader r(file.string());
+  ASSERT_EQ(r.info().channels.size(), 1u);
+  try {
+    r.read(r.info().channels[0]);
+    ADD_FAILURE() << "an unwritten dataset was read";
+  } catch (const io::Error& e) {
+    EXPECT_EQ(e.dataset(), "/d/x");
+    EXPECT_NE(e.reason().find("declares 300000000 samples but stores only 0"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(Recording, BadAttributesAndShapesAreNamedProblems) {
   const auto dir = test::fresh_dir("badattr");
   const auto file = dir / "bad.h5";
