@@ -3,7 +3,7 @@
 # may point at a folder outside the checkout (the sibling folder of the first sessions, with its
 # reference data, notes and specification). Run from the repository root; in a copy without git every file is read.
 set -euo pipefail
-pattern='\.\./shared|shared/(CONTRACT|STYLE|reference|notes|seed|data|hooks)'
+pattern='shared[/]'
 if git rev-parse --is-inside-work-tree >/dev/null 2>&1; then
   hits=$(git grep -n -I -E "$pattern" || true)
 else
