@@ -77,7 +77,6 @@ std::string summary_table(const std::string& channel, const std::vector<Member>&
       const io::TermRecord* t = m.ch->fit ? find_term(*m.ch->fit, kTerms[j].name) : nullptr;
       std::string cls = x ? spec_class(x->term_spec[j]) : "";
       if (!t || !t->detected) cls += cls.empty() ? "nd" : " nd";
-      if (x && x->term_agree[j] == "no") cls += cls.empty() ? "bad" : " bad";
       h << "<td" << (cls.empty() ? "" : " class=\"" + cls + "\"") << ">";
       if (t) {
         h << (t->detected ? value_pm(t->value_datasheet, t->sigma_datasheet)

@@ -42,31 +42,17 @@ int term_index(const std::string& name) {
   return -1;
 }
 
-namespace {
-
-std::string lower(std::string s) {
-  for (char& c : s)
-    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
-}  // namespace
-
+// The spellings the lot summary's writer uses (io/schema.cpp), and no others: a value it never
+// writes is shown uncoloured rather than guessed at.
 std::string spec_class(const std::string& v) {
-  const std::string l = lower(v);
-  if (l == "pass" || l == "passed" || l == "ok") return "pass";
-  if (l == "fail" || l == "failed") return "fail";
-  if (l == "undecided" || l == "unknown" || l == "marginal") return "undecided";
-  return "";
+  return v == "pass" || v == "fail" || v == "undecided" ? v : "";
 }
 
 namespace {
 
+// fits_agree as read_summary_columns prints the stored i8: 1 agree, 0 not, -1 not compared.
 std::string agree_value(const std::string& v) {
-  const std::string l = lower(v);
-  if (l == "1" || l == "true" || l == "yes" || l == "agree") return "yes";
-  if (l == "0" || l == "false" || l == "no" || l == "disagree") return "no";
-  return "";
+  return v == "1" ? "yes" : v == "0" ? "no" : "";
 }
 
 }  // namespace
@@ -78,12 +64,9 @@ void read_lot_extras(const io::SummaryColumns& c, ExtrasMap& map,
   const int source = c.find("source_file");
   const auto col = [&](const std::string& a) { return c.find(a); };
   const int spec = col("spec_status"), agree = col("fits_agree");
-  std::array<int, 5> tspec{}, tagree{};
-  for (std::size_t t = 0; t < 5; ++t) {
-    const std::string n = kTerms[t].name;
-    tspec[t] = std::max(col(n + "_spec_status"), col("spec_status_" + n));
-    tagree[t] = std::max(col(n + "_fits_agree"), col("fits_agree_" + n));
-  }
+  std::array<int, 5> tspec{};
+  for (std::size_t t = 0; t < 5; ++t)
+    tspec[t] = col(std::string(kTerms[t].name) + "_spec_status");
   for (std::size_t r = 0; r < c.rows; ++r) {
     const std::string& d = c.values[static_cast<std::size_t>(dev)][r];
     const std::string& ch = c.values[static_cast<std::size_t>(chan)][r];
@@ -96,12 +79,9 @@ void read_lot_extras(const io::SummaryColumns& c, ExtrasMap& map,
     RowExtras x;
     if (spec >= 0) x.spec = spec_class(c.values[static_cast<std::size_t>(spec)][r]);
     if (agree >= 0) x.agree = agree_value(c.values[static_cast<std::size_t>(agree)][r]);
-    for (std::size_t t = 0; t < 5; ++t) {
+    for (std::size_t t = 0; t < 5; ++t)
       if (tspec[t] >= 0)
         x.term_spec[t] = spec_class(c.values[static_cast<std::size_t>(tspec[t])][r]);
-      if (tagree[t] >= 0)
-        x.term_agree[t] = agree_value(c.values[static_cast<std::size_t>(tagree[t])][r]);
-    }
     map[{d, ch}] = x;
   }
 }

@@ -52,7 +52,6 @@ struct RowExtras {
   std::string spec;  // whole-row spec status: pass, fail, undecided, or ""
   std::array<std::string, 5> term_spec;
   std::string agree;  // "yes", "no" or ""
-  std::array<std::string, 5> term_agree;
 };
 
 using ExtrasMap = std::map<std::pair<std::string, std::string>, RowExtras>;
@@ -94,7 +93,7 @@ std::string sanitize(std::string_view s);
 // Distinct colours per statistic, the same on every plot so that a reader learns them once.
 std::string stat_color(const std::string& s);
 int term_index(const std::string& name);
-// "pass", "fail", "undecided" or "" (no colouring) for the spellings a lot summary may use.
+// "pass", "fail", "undecided" as the lot summary writes them, or "" (no colouring).
 std::string spec_class(const std::string& v);
 // The spec and fits_agree columns of a lot summary by (device, channel), and its failed inputs.
 void read_lot_extras(const io::SummaryColumns& c, ExtrasMap& map, std::vector<FailedInput>& failed);

@@ -76,9 +76,7 @@ std::string coefficient_table(const io::ChannelResult& ch, const io::FitRecord* 
     h << "</td>";
     if (psd_fit) {
       const io::TermRecord* q = find_term(*psd_fit, kTerms[j].name);
-      const std::string agree = x ? x->term_agree[j] : "";
-      h << "<td" << (agree == "no" ? " class=\"bad\" title=\"the two fits disagree\"" : "") << ">"
-        << (q ? value_pm(q->value_datasheet, q->sigma_datasheet) : std::string("&ndash;"))
+      h << "<td>" << (q ? value_pm(q->value_datasheet, q->sigma_datasheet) : std::string("&ndash;"))
         << "</td>";
     }
     h << "</tr>\n";
