@@ -21,7 +21,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (!(s.confidence > 0 && s.confidence < 1) || !std::isfinite(s.k) || s.rules.empty())
     std::abort();
   for (const char* units : {"deg/s", "m/s^2", "s"}) {
-    io::SummaryRow row("unit", "/imu/gyro_x", units, 1000, "ok", "u.h5");
+    io::SummaryRow row("unit", "/imu/gyro_x", units, 1000, io::ChannelStatus::ok(), "u.h5");
     // Datasheet values as the summary holds them, each in its term's primary datasheet unit.
     for (std::size_t t = 0; t < row.value.size(); ++t) {
       row.unit[t] =
