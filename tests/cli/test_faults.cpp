@@ -34,13 +34,6 @@ fs::path make_lot(const fs::path& dir, int n, int seconds = 20) {
   return lot;
 }
 
-std::map<fs::path, std::string> snapshot(const fs::path& dir) {
-  std::map<fs::path, std::string> m;
-  for (const auto& e : fs::recursive_directory_iterator(dir))
-    if (e.is_regular_file()) m[e.path()] = test::file_bytes(e.path());
-  return m;
-}
-
 // Checks the invariants of an OUTDIR after any run, finished, failed or killed: every visible
 // results file reads back complete, no temporary file is left under a visible name, and when a
 // lot summary exists, its ok rows are exactly the channels of the results files present.
@@ -119,7 +112,7 @@ fs::path fresh_test_dir(const std::string& name) {
 TEST(Faults, OutputDirectoryThatCannotHoldResultsIsAUsageError) {
   const fs::path dir = fresh_test_dir("faults_outdir");
   const fs::path lot = make_lot(dir, 1, 5);
-  const auto inputs = snapshot(lot);
+  const auto inputs = test::snapshot(lot);
   { std::ofstream(dir / "a_file") << "x"; }
   std::string text;
   // A regular file, a path below a regular file, and a directory that cannot be created.
@@ -146,7 +139,7 @@ TEST(Faults, OutputDirectoryThatCannotHoldResultsIsAUsageError) {
               2);
     EXPECT_NE(text.find("cannot create output directory"), std::string::npos) << text;
   }
-  EXPECT_EQ(snapshot(lot), inputs);
+  EXPECT_EQ(test::snapshot(lot), inputs);
   if (!ro.mounted()) GTEST_SKIP() << "cannot mount a tmpfs here: read-only case not run";
 }
 
@@ -158,7 +151,7 @@ TEST(Faults, DiskFullNeverLeavesAHalfWrittenFileAndTheRerunCompletes) {
   const fs::path dir = fresh_test_dir("faults_disk_full");
   const int n_units = 4;
   const fs::path lot = make_lot(dir, n_units);
-  const auto inputs = snapshot(lot);
+  const auto inputs = test::snapshot(lot);
   // How large one unit's results are, measured on a real disk.
   std::string text;
   ASSERT_EQ(run_command(binary() + " analyze -q -o " + (dir / "ref").string() + " " +
@@ -202,7 +195,7 @@ TEST(Faults, DiskFullNeverLeavesAHalfWrittenFileAndTheRerunCompletes) {
               static_cast<std::size_t>(n_units * kChannels));
   }
   EXPECT_EQ(faults, 4);
-  EXPECT_EQ(snapshot(lot), inputs);
+  EXPECT_EQ(test::snapshot(lot), inputs);
 }
 
 int wait_status(pid_t pid) {

@@ -36,14 +36,6 @@ fs::path make_lot(const fs::path& dir, const std::string& name, int n, int secon
   return lot;
 }
 
-// Every regular file below `dir` with its bytes.
-std::map<fs::path, std::string> snapshot(const fs::path& dir) {
-  std::map<fs::path, std::string> m;
-  for (const auto& e : fs::recursive_directory_iterator(dir))
-    if (e.is_regular_file()) m[e.path()] = test::file_bytes(e.path());
-  return m;
-}
-
 int count_results(const fs::path& dir) {
   int n = 0;
   for (const auto& e : fs::directory_iterator(dir))
@@ -61,7 +53,7 @@ TEST(Night, OutdirInsideTheInputDirectoryIsNeverReadAsInput) {
   const fs::path in = make_lot(dir, "in", 2, 10, 3);
   std::string out;
   ASSERT_EQ(run("analyze -q -o " + (in / "results").string() + " " + in.string(), &out), 0) << out;
-  const auto first = snapshot(in / "results");
+  const auto first = test::snapshot(in / "results");
   for (int rerun = 0; rerun < 2; ++rerun) {
     EXPECT_EQ(run("analyze -o " + (in / "results").string() + " " + in.string(), &out), 0) << out;
     EXPECT_NE(out.find("2 already up to date"), std::string::npos) << out;

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <spawn.h>
 #include <stdexcept>
 #include <string>
@@ -204,6 +205,14 @@ inline std::string binary() {
 inline std::string file_bytes(const std::filesystem::path& p) {
   std::ifstream in(p, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+/// Every regular file below `dir` with its bytes, to prove a command changed none of them.
+inline std::map<std::filesystem::path, std::string> snapshot(const std::filesystem::path& dir) {
+  std::map<std::filesystem::path, std::string> m;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(dir))
+    if (e.is_regular_file()) m[e.path()] = file_bytes(e.path());
+  return m;
 }
 
 }  // namespace allanlot::test
