@@ -3,6 +3,7 @@
 #include "io/atomic_file.hpp"
 #include "io/error.hpp"
 #include "io/hdf5_handle.hpp"
+#include "io/paths.hpp"
 #include "io/schema_h5.hpp"
 #include "io/seal.hpp"
 
@@ -75,9 +76,10 @@ void write_diagnosis(const std::filesystem::path& out, const std::filesystem::pa
                      const DiagnosisRecord& r) {
   h5::quiet_library();
   const std::string file = out.string();
+  const std::filesystem::path inputs[] = {input};
+  if (const auto in = replaced_input(out, inputs))
+    throw Error(file, "", replaced_input_message(out, *in));
   std::error_code ec;
-  if (std::filesystem::exists(out, ec) && std::filesystem::equivalent(out, input, ec))
-    throw Error(file, "", "is the input recording; the input is never written (choose another -o)");
   const bool existing = std::filesystem::exists(out, ec);
   AtomicFile atomic(out);
   {

@@ -2,6 +2,7 @@
 
 #include "io/atomic_file.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <csignal>
@@ -43,17 +44,6 @@ std::string replaced_input_message(const fs::path& output, const fs::path& input
          (output == input ? "" : " (the same file)") + "; it would be overwritten";
 }
 
-bool is_within(const fs::path& path, const fs::path& dir) {
-  std::error_code ec1, ec2;
-  const fs::path p = fs::canonical(path, ec1);
-  const fs::path d = fs::canonical(dir, ec2);
-  if (ec1 || ec2) return false;
-  auto pi = p.begin();
-  for (auto di = d.begin(); di != d.end(); ++di, ++pi)
-    if (pi == p.end() || *pi != *di) return false;
-  return true;
-}
-
 std::string input_file_problem(const fs::path& path) {
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0)
@@ -67,12 +57,6 @@ std::string input_file_problem(const fs::path& path) {
 }
 
 namespace {
-
-bool all_of(const std::string& s, bool (*ok)(unsigned char)) {
-  for (const char c : s)
-    if (!ok(static_cast<unsigned char>(c))) return false;
-  return true;
-}
 
 // io::AtomicFile's names: '.', the final name (cut to fit), ".tmp.", host, '.', pid, '.', n.
 // Returns the host and pid of such a name, or nullopt. (Parsed by hand: libstdc++'s <regex>
@@ -88,13 +72,14 @@ std::optional<std::pair<std::string, long>> temporary_writer(const std::string& 
   const std::string host = tail.substr(0, dot1);
   const std::string pid = tail.substr(dot1 + 1, dot2 - dot1 - 1);
   const std::string n = tail.substr(dot2 + 1);
-  const auto digit = [](unsigned char c) { return std::isdigit(c) != 0; };
-  const auto host_char = [](unsigned char c) {
-    return std::isalnum(c) != 0 || c == '-' || c == '_';
+  const auto digits = [](const std::string& s) {
+    return !s.empty() &&
+           std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isdigit(c) != 0; });
   };
-  if (pid.empty() || pid.size() > 9 || n.empty() || !all_of(pid, digit) || !all_of(n, digit) ||
-      !all_of(host, host_char))
-    return std::nullopt;
+  const bool host_ok = std::all_of(host.begin(), host.end(), [](unsigned char c) {
+    return std::isalnum(c) != 0 || c == '-' || c == '_';
+  });
+  if (pid.size() > 9 || !digits(pid) || !digits(n) || !host_ok) return std::nullopt;
   return std::pair{host, std::stol(pid)};
 }
 

@@ -30,9 +30,6 @@ std::string outputs_conflict(std::span<const std::filesystem::path> outputs,
 std::string replaced_input_message(const std::filesystem::path& output,
                                    const std::filesystem::path& input);
 
-/// True when `path` is `dir` or lies below it (both resolved; false when either is missing).
-bool is_within(const std::filesystem::path& path, const std::filesystem::path& dir);
-
 /// Empty when `path` may be opened as an input file; otherwise why not ("not a regular file
 /// (a FIFO)", "no such file", ...). Does not open it.
 std::string input_file_problem(const std::filesystem::path& path);

@@ -20,6 +20,11 @@ std::uint64_t fnv1a(const char* p, std::size_t n) {
   return h;
 }
 
+bool has_magic(const std::vector<char>& bytes) {
+  return bytes.size() >= sizeof kMagic - 1 &&
+         std::memcmp(bytes.data(), kMagic, sizeof kMagic - 1) == 0;
+}
+
 std::string header(std::size_t size, std::uint64_t hash) {
   std::ostringstream s;
   s << kMagic << "bytes " << size << "\nhash " << std::hex << hash << "\n";
@@ -39,8 +44,7 @@ SealCheck check_seal(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return {SealState::Damaged, "cannot be read"};
   std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (bytes.size() < sizeof kMagic - 1 ||
-      std::memcmp(bytes.data(), kMagic, sizeof kMagic - 1) != 0) {
+  if (!has_magic(bytes)) {
     // Only sealed files have a user block, so an HDF5 signature at byte 512 means that the
     // seal itself was overwritten; an earlier version's file has its signature at byte 0.
     constexpr char kHdf5Signature[] = "\x89HDF\r\n\x1a\n";
@@ -68,8 +72,7 @@ void reseal_file(const std::filesystem::path& path) {
   std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
   std::vector<char> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
   if (!f.eof() && !f) throw Error(path.string(), "", "cannot read to seal it");
-  if (bytes.size() < kSealBytes || std::memcmp(bytes.data(), kMagic, sizeof kMagic - 1) != 0)
-    return;
+  if (bytes.size() < kSealBytes || !has_magic(bytes)) return;
   const auto block = seal_block({bytes.data() + kSealBytes, bytes.size() - kSealBytes});
   f.clear();
   f.seekp(0);
