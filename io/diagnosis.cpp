@@ -83,19 +83,10 @@ void write_diagnosis(const std::filesystem::path& out, const std::filesystem::pa
   const bool existing = std::filesystem::exists(out, ec);
   AtomicFile atomic(out);
   {
-    Handle f;
-    if (existing) {
-      require_intact(out);
-      // Copy, then edit the copy: the original stays intact until the rename.
-      std::filesystem::copy_file(out, atomic.temp_path(), ec);
-      if (ec) throw Error(file, "", "cannot copy to a temporary file: " + ec.message());
-      f = check(H5Fopen(atomic.temp_path().c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose, file, "",
-                "H5Fopen (an existing -o must be an HDF5 file)");
-    } else {
-      // A new file is built in memory and written by one checked write(2), sealed like a
-      // results file: on a full disk, a clean error instead of HDF5 crashing at exit.
-      f = h5::create_memory_file(file);
-    }
+    // Both a new file and an existing results file are edited in memory and written by one
+    // checked write(2), sealed: on a full disk, a clean error instead of HDF5 crashing at exit,
+    // and the existing file stays as it was until the rename.
+    Handle f = existing ? h5::open_memory_copy(out, file) : h5::create_memory_file(file);
     {
       const std::string object = r.channel + "/diagnosis";
       H5O_info_t oi{};
@@ -109,13 +100,8 @@ void write_diagnosis(const std::filesystem::path& out, const std::filesystem::pa
         h5::check(H5Ldelete(ch.get(), "diagnosis", H5P_DEFAULT), file, object, "H5Ldelete");
       schema::write_diagnosis_group(ch.get(), r, file);
     }
-    if (!existing)
-      h5::write_memory_file(f, atomic.temp_path().string(), file);
-    else if (f.close() < 0)
-      throw Error(file, "", "H5Fclose failed while flushing (disk full?)");
+    h5::write_memory_file(f, atomic.temp_path().string(), file);
   }
-  // A sealed results file edited by HDF5 keeps its user block: the seal is written anew.
-  if (existing) reseal_file(atomic.temp_path());
   atomic.commit();
 }
 

@@ -223,6 +223,14 @@ Handle create_memory_file(const std::string& file, Sealed sealed) {
                "H5Fcreate (in memory)");
 }
 
+Handle open_memory_copy(const std::filesystem::path& path, const std::string& file) {
+  require_intact(path);
+  Handle fapl = check(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, file, "", "H5Pcreate");
+  check(H5Pset_fapl_core(fapl.get(), std::size_t{1} << 20, false), file, "", "H5Pset_fapl_core");
+  return check(H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl.get()), H5Fclose, file, "",
+               "H5Fopen (in memory)");
+}
+
 void write_memory_file(Handle& f, const std::string& path, const std::string& file, Sealed sealed) {
   check(H5Fflush(f.get(), H5F_SCOPE_GLOBAL), file, "", "H5Fflush (in memory)");
   const ssize_t size = H5Fget_file_image(f.get(), nullptr, 0);

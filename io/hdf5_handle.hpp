@@ -98,6 +98,11 @@ Handle dataset_create_plist(const std::string& file, const std::string& object);
 enum class Sealed { Yes, No };
 Handle create_memory_file(const std::string& file, Sealed sealed = Sealed::Yes);
 
+/// A sealed file allanlot wrote, checked (io/seal.hpp) and read whole into memory for editing
+/// (core driver, no backing store): the edits reach the disk only through write_memory_file, for
+/// the reason given above. io::Error naming `file` when it is damaged or not HDF5.
+Handle open_memory_copy(const std::filesystem::path& path, const std::string& file);
+
 /// A variable-length UTF-8 string type, as every string allanlot writes is stored.
 Handle utf8_string_type(const std::string& file, const std::string& object);
 

@@ -266,16 +266,32 @@ TEST(Faults, DiskFullInSimulateAndDiagnoseIsACleanError) {
             2)
       << text;
   EXPECT_NE(text.find("No space left on device"), std::string::npos) << text;
-  // Fill the disk (dd stops when it is full), then ask diagnose for a new -o file there.
-  run_command("dd if=/dev/zero of=" + (mnt / "fill").string() + " bs=4k count=1000 2>/dev/null");
-  EXPECT_EQ(run_command(binary() + " diagnose --replicas 2 " + (dir / "meas.h5").string() +
-                            " --model " + (dir / "model.json").string() + " -o " +
-                            (mnt / "d.h5").string() + " > /dev/null",
+  // A results file on that disk, for diagnose -o to add its group to.
+  ASSERT_EQ(run_command(binary() + " analyze -q --no-psd -o " + (mnt / "res").string() + " " +
+                            (dir / "meas.h5").string(),
                         &text),
-            1)
+            0)
       << text;
+  const auto results = test::snapshot(mnt / "res");
+  // Fill the disk (dd stops when it is full), then ask diagnose for a new -o file there.
+  const fs::path fill = mnt / "fill";
+  run_command("dd if=/dev/zero of=" + fill.string() + " bs=4k count=1000 2>/dev/null");
+  const std::string diagnose = binary() + " diagnose --replicas 2 " + (dir / "meas.h5").string() +
+                               " --model " + (dir / "model.json").string() + " -o ";
+  EXPECT_EQ(run_command(diagnose + (mnt / "d.h5").string() + " > /dev/null", &text), 1) << text;
+  // Leave room for a copy of the results file and a block, not for the diagnosis group, and
+  // ask diagnose to add its group to the results file: a clean error (not a crash of HDF5 at
+  // exit), the file as it was.
+  fs::remove(fill);
+  const auto room = fs::file_size(mnt / "res" / "meas.allan.h5") / 4096 + 2;
+  run_command("dd if=/dev/zero of=" + fill.string() + " bs=4k count=" +
+              std::to_string(fs::space(mnt).available / 4096 - room) + " 2>/dev/null");
+  EXPECT_EQ(run_command(diagnose + (mnt / "res" / "meas.allan.h5").string(), &text), 1) << text;
+  EXPECT_NE(text.find("No space left on device"), std::string::npos) << text;
+  EXPECT_EQ(test::snapshot(mnt / "res"), results);
   for (const auto& e : fs::directory_iterator(mnt))
-    EXPECT_EQ(e.path().filename(), "fill") << e.path() << " left on the full disk";
+    EXPECT_TRUE(e.path().filename() == "fill" || e.path().filename() == "res")
+        << e.path() << " left on the full disk";
 }
 
 }  // namespace
