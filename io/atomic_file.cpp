@@ -74,9 +74,15 @@ AtomicFile::~AtomicFile() {
   }
 }
 
+void AtomicFile::sync() {
+  if (synced_) return;
+  fsync_path(temp_, false, final_.string());
+  synced_ = true;
+}
+
 void AtomicFile::commit() {
   try {
-    fsync_path(temp_, false, final_.string());
+    sync();
     std::error_code ec;
     std::filesystem::rename(temp_, final_, ec);
     if (ec) throw Error(final_.string(), "", "rename from temporary file: " + ec.message());
@@ -109,16 +115,25 @@ DirectoryLock::~DirectoryLock() {
   if (fd_ >= 0) ::close(fd_);  // closing the last descriptor releases the flock
 }
 
+void commit_together(std::initializer_list<AtomicFile*> files) {
+  for (AtomicFile* f : files)
+    f->sync();
+  for (AtomicFile* f : files)
+    f->commit();
+}
+
+void write_text(const AtomicFile& f, const std::string& text) {
+  const std::string path = f.final_path().string();
+  std::ofstream out(f.temp_path(), std::ios::binary | std::ios::trunc);
+  if (!out) throw Error(path, "", "cannot create file: " + std::string(std::strerror(errno)));
+  out << text;
+  out.close();  // a write that fails only when the buffer is flushed at close (a full disk)
+  if (!out) throw Error(path, "", std::string("write: ") + std::strerror(errno));
+}
+
 void write_text_atomic(const std::filesystem::path& path, const std::string& text) {
   AtomicFile f(path);
-  {
-    std::ofstream out(f.temp_path(), std::ios::binary | std::ios::trunc);
-    if (!out)
-      throw Error(path.string(), "", "cannot create file: " + std::string(std::strerror(errno)));
-    out << text;
-    out.close();  // a write that fails only when the buffer is flushed at close (a full disk)
-    if (!out) throw Error(path.string(), "", std::string("write: ") + std::strerror(errno));
-  }
+  write_text(f, text);
   f.commit();
 }
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <filesystem>
+#include <initializer_list>
 #include <string>
 
 namespace allanlot::io {
@@ -20,14 +21,23 @@ public:
 
   const std::filesystem::path& temp_path() const { return temp_; }
   const std::filesystem::path& final_path() const { return final_; }
+  /// fsyncs the temporary file (once; commit() does it when not done yet). Throws io::Error
+  /// naming the final path on failure.
+  void sync();
   /// fsyncs the temporary file, renames it to the final path and fsyncs the directory.
   /// Throws io::Error naming the final path on failure (the temporary is then removed).
   void commit();
 
 private:
   std::filesystem::path final_, temp_;
-  bool committed_ = false;
+  bool synced_ = false, committed_ = false;
 };
+
+/// Commits files that belong together (lot_summary.csv, lot_statistics.csv, lot_summary.h5):
+/// every temporary is synced before the first rename, so a failure of any write or sync
+/// leaves every final file as it was; only a failing rename(2) between two renames could leave
+/// them apart.
+void commit_together(std::initializer_list<AtomicFile*> files);
 
 /// An exclusive advisory lock (flock) on a directory, held until destruction. Two `analyze`
 /// runs sharing an OUTDIR each rebuild the lot summary from the results files present; under
@@ -51,7 +61,11 @@ private:
 /// This host's name as temporary file names carry it (letters, digits, '-'; others '_').
 std::string host_tag();
 
-/// Writes `text` to `path` atomically (CSV summaries, model files).
+/// Writes `text` to the temporary file of `f` (not committed). Throws io::Error naming the
+/// final path with the system's reason.
+void write_text(const AtomicFile& f, const std::string& text);
+
+/// Writes `text` to `path` atomically (model files, exports).
 void write_text_atomic(const std::filesystem::path& path, const std::string& text);
 
 }  // namespace allanlot::io

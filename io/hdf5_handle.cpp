@@ -1,6 +1,7 @@
 #include "io/hdf5_handle.hpp"
 
 #include "io/seal.hpp"
+#include "io/utf8.hpp"
 
 #include <cerrno>
 #include <cmath>
@@ -168,7 +169,8 @@ void write_attribute(hid_t obj, const std::string& name, const std::string& valu
   Handle attr =
       check(H5Acreate2(obj, name.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT),
             H5Aclose, file, object, "H5Acreate2(" + name + ")");
-  const char* p = value.c_str();
+  const std::string text = valid_utf8(value);
+  const char* p = text.c_str();
   check(H5Awrite(attr.get(), type.get(), &p), file, object, "H5Awrite(" + name + ")");
 }
 
@@ -343,9 +345,13 @@ void write_dataset(hid_t loc, const std::string& name, const std::vector<int>& v
 void write_dataset(hid_t loc, const std::string& name, const std::vector<std::string>& v,
                    const std::string& file, const std::string& object) {
   Handle type = utf8_string_type(file, object);
+  std::vector<std::string> texts;
+  texts.reserve(v.size());
+  for (const auto& s : v)
+    texts.push_back(valid_utf8(s));
   std::vector<const char*> ptrs;
   ptrs.reserve(v.size());
-  for (const auto& s : v)
+  for (const auto& s : texts)
     ptrs.push_back(s.c_str());
   const hsize_t n = v.size();
   Handle space =

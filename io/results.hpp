@@ -184,8 +184,8 @@ struct StatisticsRow {
 };
 
 /// A CSV field (RFC 4180): as it is, or in double quotes with inner quotes doubled when it
-/// holds a comma, a quote or a line break.
-std::string csv_field(const std::string& s);
+/// holds a comma, a quote or a line break; bytes that are not UTF-8 as `\xNN` (io/utf8.hpp).
+std::string csv_field(const std::string& text);
 
 /// A CSV number with `digits` significant digits ("%.*g"); empty for NaN, as pandas and
 /// spreadsheets read a missing value.

@@ -7,6 +7,7 @@
 #include "io/results.hpp"
 #include "io/schema_h5.hpp"
 #include "io/seal.hpp"
+#include "io/utf8.hpp"
 
 #include <algorithm>
 #include <array>
@@ -196,7 +197,7 @@ void write_compound(hid_t f, const char* name, const std::vector<Row>& rows,
   const Layout<Row> l = layout(table);
   Handle type = compound_type(l, file, object);
   std::vector<unsigned char> buf(rows.size() * l.record_size, 0);
-  std::deque<std::string> texts;  // statuses as text, alive until H5Dwrite
+  std::deque<std::string> texts;  // strings as written (valid UTF-8), alive until H5Dwrite
   for (std::size_t r = 0; r < rows.size(); ++r)
     for (const FlatColumn<Row>& c : l.columns)
       with_element(rows[r], c, [&](const auto& v) {
@@ -204,7 +205,7 @@ void write_compound(hid_t f, const char* name, const std::vector<Row>& rows,
         unsigned char* at = buf.data() + r * l.record_size + c.offset;
         const char* p = nullptr;
         if constexpr (std::is_same_v<V, std::string>) {
-          p = v.c_str();
+          p = texts.emplace_back(valid_utf8(v)).c_str();
         } else if constexpr (std::is_same_v<V, ChannelStatus>) {
           p = texts.emplace_back(to_string(v)).c_str();
         } else {
@@ -343,10 +344,11 @@ void write_lot_summary(const std::filesystem::path& outdir, const std::vector<Su
                        const std::vector<StatisticsRow>& statistics,
                        const std::vector<std::pair<std::string, std::string>>& attributes) {
   h5::quiet_library();
-  write_text_atomic(outdir / "lot_summary.csv", csv_text(rows, schema::summary_columns()));
-  write_text_atomic(outdir / "lot_statistics.csv",
-                    csv_text(statistics, schema::statistics_columns()));
-
+  // The three files are one summary: each is written to its temporary, and none replaces the
+  // earlier summary unless all three were written (io::commit_together).
+  AtomicFile csv(outdir / "lot_summary.csv"), stats(outdir / "lot_statistics.csv");
+  write_text(csv, csv_text(rows, schema::summary_columns()));
+  write_text(stats, csv_text(statistics, schema::statistics_columns()));
   const std::filesystem::path h5path = outdir / "lot_summary.h5";
   const std::string file = h5path.string();
   AtomicFile atomic(h5path);
@@ -362,7 +364,7 @@ void write_lot_summary(const std::filesystem::path& outdir, const std::vector<Su
     }
     h5::write_memory_file(f, atomic.temp_path().string(), file);
   }
-  atomic.commit();
+  commit_together({&csv, &stats, &atomic});
 }
 
 std::vector<SummaryRow> read_lot_summary(const std::filesystem::path& h5_path) {
@@ -385,7 +387,8 @@ std::string csv_number(double v, int digits) {
   return buf;
 }
 
-std::string csv_field(const std::string& s) {
+std::string csv_field(const std::string& text) {
+  const std::string s = valid_utf8(text);
   if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
   std::string q = "\"";
   for (const char c : s) {

@@ -611,8 +611,10 @@ TEST(BadInputs, DeviceIdsNeverLeaveTheOutputDirectory) {
   EXPECT_EQ(io::read_results(out / "_._.._.._outside.allan.h5").device_id, "../../../outside");
 }
 
-// Names that are not UTF-8 (file, group, dataset, device id): HDF5 stores bytes, and so does
-// allanlot; the unit is analysed and its names come back byte for byte.
+// Names that are not UTF-8 (file, group, dataset, device id): the unit is analysed; group names
+// keep their bytes (HDF5 names are bytes, and the input is read by them), every string allanlot
+// writes is UTF-8 as its type declares, with the other bytes as \xNN (io/utf8.hpp), so that
+// h5py, pandas and spreadsheets read the results and summaries.
 TEST(BadInputs, NonUtf8NamesAreAnalysedAndKeptAsBytes) {
   const fs::path dir = test::fresh_dir("bad_non_utf8");
   const fs::path file = dir / "unit_\xff\xfe.h5";
@@ -635,20 +637,21 @@ TEST(BadInputs, NonUtf8NamesAreAnalysedAndKeptAsBytes) {
       << text;
   EXPECT_EQ(test::file_bytes(file), bytes);
   const auto r = io::read_results(dir / "out" / "unit___.allan.h5");
-  EXPECT_EQ(r.device_id, "unit_\xff\xfe");
+  EXPECT_EQ(r.device_id, "unit_\\xFF\\xFE");
   ASSERT_EQ(r.channels.size(), 2u);
   bool found = false;
   for (const auto& ch : r.channels)
     if (ch.path == "/imu_\xe9/gyro_\xc3\x28") {
       found = true;
       EXPECT_EQ(io::to_string(ch.status), "ok");
-      EXPECT_EQ(ch.units, "deg/\xb0s");
+      EXPECT_EQ(ch.units, "deg/\\xB0s");
     }
   EXPECT_TRUE(found);
   const auto rows = io::read_lot_summary(dir / "out" / "lot_summary.h5");
   ASSERT_EQ(rows.size(), 2u);
-  EXPECT_NE(test::file_bytes(dir / "out" / "lot_summary.csv").find("/imu_\xe9/gyro_\xc3\x28"),
+  EXPECT_NE(test::file_bytes(dir / "out" / "lot_summary.csv").find("/imu_\\xE9/gyro_\\xC3("),
             std::string::npos);
+  EXPECT_EQ(rows[0].channel, "/imu_\\xE9/bad_\\xFF");
 }
 
 // Model and spec files with unknown keys (or otherwise wrong) are usage errors (status 2)

@@ -198,6 +198,34 @@ TEST(Faults, DiskFullNeverLeavesAHalfWrittenFileAndTheRerunCompletes) {
   EXPECT_EQ(test::snapshot(lot), inputs);
 }
 
+// summarize on a disk with room for the two CSV files but not for lot_summary.h5: the
+// summary of the earlier run stays whole (its CSV and HDF5 files agree), none half replaced.
+TEST(Faults, ASummaryThatCannotBeWrittenWholeLeavesTheEarlierOne) {
+  const fs::path dir = fresh_test_dir("faults_summary_pair");
+  const fs::path lot = make_lot(dir, 3, 5);
+  const fs::path mnt = dir / "mnt";
+  Tmpfs disk(mnt, "size=4m");
+  if (!disk.mounted()) GTEST_SKIP() << "cannot mount a tmpfs here";
+  const fs::path out = mnt / "out";
+  std::string text;
+  ASSERT_EQ(
+      run_command(binary() + " analyze -q --no-psd -o " + out.string() + " " + lot.string(), &text),
+      0)
+      << text;
+  // One unit's results go: the next summary has other rows than the one on disk.
+  fs::remove(out / "unit_0002.allan.h5");
+  const auto before = test::snapshot(out);
+  const auto csv_blocks = (fs::file_size(out / "lot_summary.csv") + 4095) / 4096 +
+                          (fs::file_size(out / "lot_statistics.csv") + 4095) / 4096;
+  ASSERT_GT(fs::file_size(out / "lot_summary.h5"), 3 * 4096u);
+  run_command("dd if=/dev/zero of=" + (mnt / "fill").string() + " bs=4k count=" +
+              std::to_string(fs::space(mnt).available / 4096 - csv_blocks) + " 2>/dev/null");
+  EXPECT_EQ(run_command(binary() + " summarize " + out.string(), &text), 2) << text;
+  EXPECT_NE(text.find("No space left on device"), std::string::npos) << text;
+  EXPECT_TRUE(test::snapshot(out) == before) << "a summary file of " << out << " changed";
+  EXPECT_EQ(hidden_files(out), 0);
+}
+
 int wait_status(pid_t pid) {
   int status = 0;
   waitpid(pid, &status, 0);

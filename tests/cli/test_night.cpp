@@ -3,6 +3,7 @@
 // input, damaged results files are detected (never trusted by resume, never a crash in a
 // reader), a second recording with the same device_id never replaces the first one's results,
 // a FIFO never hangs the lot, signals leave a clean OUTDIR with the summary of what is done.
+#include "io/results.hpp"
 #include "support/h5_fixture.hpp"
 
 #include <gtest/gtest.h>
@@ -312,6 +313,25 @@ TEST(Night, SmallerFailuresAreNamed) {
   EXPECT_EQ(run("analyze -q -o " + (dir / "o3").string() + " " + (dir / "long.h5").string(), &out),
             0)
       << out;
+  // A device_id that is not UTF-8: written as \xNN into the CSV and the HDF5 summary, whose
+  // string type says UTF-8, so that spreadsheets and h5py read them.
+  {
+    test::H5Fixture f(dir / "latin1.h5");
+    f.dataset("/x", std::vector<double>(2000, 1.0), H5T_NATIVE_DOUBLE);
+    f.attr("/x", "sample_rate_hz", 100.0);
+    f.attr("/", "device_id",
+           std::string("unit\xE9"
+                       "7"));
+  }
+  EXPECT_EQ(
+      run("analyze -q -o " + (dir / "o5").string() + " " + (dir / "latin1.h5").string(), &out), 0)
+      << out;
+  std::ifstream csv(dir / "o5" / "lot_summary.csv");
+  const std::string text((std::istreambuf_iterator<char>(csv)), {});
+  EXPECT_NE(text.find("\nunit\\xE97,"), std::string::npos) << text;
+  const auto rows = io::read_lot_summary(dir / "o5" / "lot_summary.h5");
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_EQ(rows[0].device_id, "unit\\xE97");
   // A 2-sample channel is a failure with its reason, not "ok" with empty tables.
   {
     test::H5Fixture f(dir / "two.h5");
