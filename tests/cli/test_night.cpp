@@ -344,5 +344,44 @@ TEST(Night, SmallerFailuresAreNamed) {
   EXPECT_NE(out.find("two.h5:/x"), std::string::npos) << out;
 }
 
+// A filter that only this test process has (identity, id 40123): the recording it writes is
+// what a file compressed with a plugin allanlot's HDF5 lacks looks like to allanlot.
+std::size_t identity_filter(unsigned, std::size_t, const unsigned[], std::size_t nbytes,
+                            std::size_t*, void**) {
+  return nbytes;
+}
+
+TEST(Night, AnUnavailableCompressionFilterIsNamed) {
+  const auto dir = test::fresh_dir("night_filter");
+  const H5Z_class2_t filter{H5Z_CLASS_T_VERS,       40123,   1,       1,
+                            "test-identity-filter", nullptr, nullptr, identity_filter};
+  ASSERT_GE(H5Zregister(&filter), 0);
+  {
+    test::H5Fixture f(dir / "plugin.h5");
+    f.group("/imu");
+    const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+    const hsize_t n = 4000, chunk = 1000;
+    H5Pset_chunk(dcpl, 1, &chunk);
+    H5Pset_filter(dcpl, 40123, H5Z_FLAG_MANDATORY, 0, nullptr);
+    const hid_t space = H5Screate_simple(1, &n, nullptr);
+    const hid_t ds =
+        H5Dcreate2(f.id(), "/imu/gyro", H5T_IEEE_F64LE, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+    const std::vector<double> v(n, 1.0);
+    ASSERT_GE(H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), 0);
+    H5Dclose(ds);
+    H5Sclose(space);
+    H5Pclose(dcpl);
+    f.attr("/imu/gyro", "sample_rate_hz", 100.0);
+  }
+  std::string out;
+  EXPECT_EQ(run("analyze -q -o " + (dir / "o").string() + " " + (dir / "plugin.h5").string(), &out),
+            2)
+      << out;
+  EXPECT_NE(out.find("plugin.h5:/imu/gyro: compressed with HDF5 filter 40123 "
+                     "(test-identity-filter), which this HDF5 library does not have"),
+            std::string::npos)
+      << out;
+}
+
 }  // namespace
 }  // namespace allanlot
