@@ -87,16 +87,27 @@ constexpr std::uint64_t kBytesPerSampleInFlight = 32;
 // HDF5 calls one at a time, in channel order so that the hash is that of the sequential
 // read). On failure, `result` is the channel's description with the reason in its status.
 bool read_channel(io::RecordingReader& reader, const std::string& file, const io::ChannelInfo& ch,
-                  std::vector<double>& samples, std::uint64_t& hash, io::ChannelResult& result) {
+                  std::uint64_t memory_limit, std::vector<double>& samples, std::uint64_t& hash,
+                  io::ChannelResult& result) {
   try {
-    // A chunked dataset whose chunks were never written declares any length in a few
-    // kilobytes; refuse one that could not be analysed in this machine's memory before
-    // allocating it, rather than fail the whole run on the allocation.
-    if (static_cast<std::uint64_t>(ch.n_samples) > physical_memory() / kBytesPerSampleInFlight)
+    // A channel that alone needs more than the memory limit is refused before anything is
+    // allocated (a chunked dataset whose chunks were never written declares any length in a
+    // few kilobytes), rather than fail the run on the allocation or drive the node into swap.
+    if (static_cast<std::uint64_t>(ch.n_samples) > memory_limit / kBytesPerSampleInFlight) {
+      const auto mib = [](std::uint64_t bytes) {
+        const bool gib = bytes >= (std::uint64_t{1} << 30);
+        const double v = static_cast<double>(bytes) / static_cast<double>(gib ? 1 << 30 : 1 << 20);
+        char text[48];
+        std::snprintf(text, sizeof text, v < 100 ? "%.3g %s" : "%.0f %s", v, gib ? "GiB" : "MiB");
+        return std::string(text);
+      };
       throw io::Error(file, ch.path,
-                      std::to_string(ch.n_samples) +
-                          " samples: more than this machine's memory holds for analysis (" +
-                          std::to_string(kBytesPerSampleInFlight) + " bytes per sample)");
+                      std::to_string(ch.n_samples) + " samples need about " +
+                          mib(kBytesPerSampleInFlight * static_cast<std::uint64_t>(ch.n_samples)) +
+                          " to analyse (" + std::to_string(kBytesPerSampleInFlight) +
+                          " bytes a sample), more than the memory limit of " + mib(memory_limit) +
+                          " (--memory-limit; default half of this machine's memory)");
+    }
     samples = reader.read(ch);
     hash = io::hash_channel(hash, ch.path, samples);
     return true;
@@ -115,7 +126,7 @@ bool read_channel(io::RecordingReader& reader, const std::string& file, const io
 // recorded in the channel's status and reported on `err`. At most
 // min(threads, memory_limit / (32 bytes x samples)) channels (at least one) are in memory at
 // once, each freed as soon as it is analysed; every kernel is thread-invariant, so neither
-// number changes a result.
+// number changes a result. A channel that alone exceeds the limit fails, unread.
 io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOptions& opt,
                                       int threads, std::uint64_t memory_limit, StageTimes& times,
                                       std::ostream& err, bool& channel_failed) {
@@ -199,7 +210,8 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
       if (next == n_selected) break;
       i = next++;
       const auto t_read = Clock::now();
-      read_ok = read_channel(reader, file, *selected[i], samples, hash, done[i].result);
+      read_ok =
+          read_channel(reader, file, *selected[i], memory_limit, samples, hash, done[i].result);
       times.read += seconds_since(t_read);
     }
     if (read_ok) done[i] = pipeline::analyze_channel(*selected[i], std::move(samples), copt);

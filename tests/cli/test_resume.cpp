@@ -122,8 +122,10 @@ TEST(MemoryLimit, WavesOfOneChannelGiveTheSameNumbers) {
   int st = 0;
   std::string text = analyze(dir / "a", (lot / "unit_0001.h5").string(), "", &st);
   ASSERT_EQ(st, 0) << text;
-  // 1 KiB holds less than one channel: one channel per wave.
-  text = analyze(dir / "b", (lot / "unit_0001.h5").string(), "--memory-limit 1K -v", &st);
+  // A limit that holds one 60 s channel at 1 kHz (60 000 samples, 32 bytes a sample in flight,
+  // 1.9 MB) but not two: one channel per wave, on two threads.
+  text = analyze(dir / "b", (lot / "unit_0001.h5").string(), "--threads 2 --memory-limit 2500K -v",
+                 &st);
   ASSERT_EQ(st, 0) << text;
   EXPECT_NE(text.find("peak memory"), std::string::npos) << text;
   const auto a = io::read_results(dir / "a" / "unit_0001.allan.h5");
@@ -137,6 +139,14 @@ TEST(MemoryLimit, WavesOfOneChannelGiveTheSameNumbers) {
     for (std::size_t t = 0; t < a.channels[i].fit->terms.size(); ++t)
       EXPECT_EQ(a.channels[i].fit->terms[t].value, b.channels[i].fit->terms[t].value);
   }
+  // A limit below one channel's need: every channel fails, unread, naming the need and the
+  // limit; nothing could be analysed (status 2).
+  text = analyze(dir / "d", (lot / "unit_0001.h5").string(), "--memory-limit 1M", &st);
+  EXPECT_EQ(st, 2) << text;
+  EXPECT_NE(text.find(":/imu/gyro_x: 60000 samples need about 1.83 MiB to analyse (32 bytes a "
+                      "sample), more than the memory limit of 1 MiB (--memory-limit"),
+            std::string::npos)
+      << text;
   for (const char* bad : {"0", "-5G", "12X", "150%", "lots"}) {
     std::string out;
     EXPECT_EQ(test::run_command(test::binary() + " analyze --memory-limit " + bad + " -o " +
