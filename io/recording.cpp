@@ -3,6 +3,7 @@
 #include "io/atomic_file.hpp"
 #include "io/error.hpp"
 #include "io/hdf5_handle.hpp"
+#include "kernels/model/units.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -30,6 +31,17 @@ std::string sanitize_device_id(const std::string& id) {
 }
 
 namespace {
+
+// The channel's unit in the one vocabulary (kernels/model/units.hpp): "dps" is deg/s, "m/s2"
+// m/s^2; a clock's phase in ns or frequency in ppb is scaled to s or 1. Units outside the
+// vocabulary stay as written (analyze warns about them).
+void in_canonical_units(ChannelInfo& ch) {
+  const auto known = kernels::units::parse_channel_units(ch.units);
+  if (!known) return;
+  ch.units = known->canonical;
+  ch.scale *= known->scale;
+  ch.offset *= known->scale;
+}
 
 std::string describe_type(hid_t type) {
   const H5T_class_t cls = H5Tget_class(type);
@@ -221,6 +233,7 @@ RecordingReader::RecordingReader(const std::string& path) : impl_(std::make_uniq
       impl_->find_attribute(ds_path, "units", ch.units);
       ch.has_scale = !impl_->find_attribute(ds_path, "scale", ch.scale).empty();
       impl_->find_attribute(ds_path, "offset", ch.offset);
+      in_canonical_units(ch);
       if (!std::isfinite(ch.scale) || ch.scale == 0.0 || !std::isfinite(ch.offset)) {
         info_.problems.push_back({ds_path, "scale must be finite and non-zero, offset finite"});
         continue;

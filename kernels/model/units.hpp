@@ -44,10 +44,30 @@ using kernels::parse_term;
 using kernels::Term;
 using kernels::term_name;
 
+/// A unit as written (a CSV header, an HDF5 attribute, a spec, a datasheet), spelled as allanlot
+/// does: no blanks; the degree sign as deg, micro (µ or μ) as u, the square-root sign as sqrt,
+/// ² as ^2; each '/'-separated piece in one spelling (sec/second(s) → s, hr/hour(s) → h,
+/// degree(s) → deg, rtHz/√Hz/Hz^0.5/Hz^(1/2) → sqrt(Hz), √h/sqrt(hr) → sqrt(h), s2 → s^2).
+/// "deg/sec" → "deg/s", "°/hr/√Hz" → "deg/h/sqrt(Hz)", "µg/√Hz" → "ug/sqrt(Hz)".
+std::string normalize_spelling(std::string_view spelled);
+
+/// A channel's unit in the vocabulary: the canonical unit and the factor from the unit as
+/// written to it (1 but for the clock units below).
+struct ChannelUnits {
+  std::string canonical;
+  double scale = 1;
+};
+/// The channel units allanlot knows, in any spelling normalize_spelling reduces to one of:
+/// gyros deg/s (dps, °/s, deg/sec), deg/h (dph, °/hr), rad/s; accelerometers m/s^2 (m/s2,
+/// m/s/s, m/s²), g, mg (milli-g), ug (µg, μg); clocks s (time error; also ms, us, ns, ps,
+/// scaled to s) and 1 (fractional frequency; also ppm, ppb, ppt, scaled to 1). nullopt for
+/// any other string.
+std::optional<ChannelUnits> parse_channel_units(std::string_view spelled);
+
 /// What kind of sensor a channel unit string denotes.
 enum class Family {
   Gyro,           // deg/s, deg/h, rad/s
-  Accelerometer,  // m/s^2, g, mg
+  Accelerometer,  // m/s^2, g, mg, ug
   Clock,          // s (time error; its rate is dimensionless), 1 (fractional frequency)
   Other           // anything else: kept as it is
 };
@@ -76,10 +96,14 @@ std::string channel_unit(Term t, std::string_view channel_units);
 Datasheet to_datasheet(Term t, double value, std::string_view channel_units);
 
 /// The unit strings from_datasheet accepts for this term and channel: the datasheet forms of
-/// to_datasheet and channel_unit(t, channel_units).
+/// to_datasheet, the other forms datasheets use (deg/s/sqrt(Hz) and rad/s/sqrt(Hz) beside
+/// deg/h/sqrt(Hz), ug/sqrt(Hz) and m/s^2/sqrt(Hz) beside mg/sqrt(Hz), ug beside mg, rad and
+/// arcsec beside urad, ...) and channel_unit(t, channel_units); each in any spelling that
+/// normalize_spelling reduces to it.
 std::vector<std::string> accepted_units(Term t, std::string_view channel_units);
 
-/// Inverse of to_datasheet: `value` in `unit` (one of accepted_units) to channel units.
+/// Inverse of to_datasheet: `value` in `unit` (one of accepted_units, in any spelling) to
+/// channel units.
 /// Throws std::invalid_argument naming the term, the unit and the accepted units otherwise.
 double from_datasheet(Term t, double value, std::string_view unit, std::string_view channel_units);
 

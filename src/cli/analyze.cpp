@@ -7,6 +7,7 @@
 #include "io/recording.hpp"
 #include "io/results.hpp"
 #include "kernels/common/parallel.hpp"
+#include "kernels/model/units.hpp"
 #include "src/cli/inputs.hpp"
 #include "src/cli/interrupt.hpp"
 #include "src/cli/resume.hpp"
@@ -121,6 +122,23 @@ bool read_channel(io::RecordingReader& reader, const std::string& file, const io
   return false;
 }
 
+// Units outside the one vocabulary (kernels/model/units.hpp), once per file and unit: the
+// channel keeps them, and its coefficients have no datasheet forms.
+void warn_unknown_units(const std::string& file, const std::vector<const io::ChannelInfo*>& chs,
+                        std::ostream& err) {
+  std::map<std::string, std::string> unknown;  // unit -> its channels
+  for (const io::ChannelInfo* ch : chs)
+    if (!ch->units.empty() && !kernels::units::parse_channel_units(ch->units)) {
+      std::string& list = unknown[ch->units];
+      list += list.empty() ? "" : ", ";
+      list += ch->path;
+    }
+  for (const auto& [unit, channels] : unknown)
+    err << "allanlot: warning: " << file << ": unit '" << unit << "' (" << channels
+        << ") is not in allanlot's vocabulary (docs/formats.md#units): its coefficients stay in '"
+        << unit << "' and seconds, without datasheet units\n";
+}
+
 // Analyses one recording. Throws io::Error when the input as a whole cannot be analysed
 // (unreadable, no channel, every channel failed); channel failures inside a readable file are
 // recorded in the channel's status and reported on `err`. At most
@@ -163,6 +181,7 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
       max_samples = std::max(max_samples, ch.n_samples);
     }
   times.read += seconds_since(t0);
+  warn_unknown_units(file, selected, err);
   if (selected.empty() && rec.channels.empty())
     throw io::Error(file, "",
                     opt.channels_glob.empty()

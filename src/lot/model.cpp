@@ -167,6 +167,10 @@ void parse_channel_body(const Json& j, double rate_hz, Channel& ch, const std::s
   if (!u.is_string() || u.get<std::string>().empty())
     fail(source, join(path, "units"), "must be a non-empty string");
   ch.units = u.get<std::string>();
+  // "dps" is deg/s (the one vocabulary, kernels/model/units.hpp); units that scale (ppb, ns)
+  // stay as written, as the terms are given in them, and are scaled when a recording is read.
+  if (const auto known = units::parse_channel_units(ch.units); known && known->scale == 1)
+    ch.units = known->canonical;
   if (j.contains("terms")) ch.terms = parse_terms(j["terms"], source, join(path, "terms"));
   if (j.contains("effects"))
     parse_effects(j["effects"], rate_hz, ch, source, join(path, "effects"));

@@ -62,14 +62,15 @@ private:
 // The channel units whose datasheet forms a spec may use (kernels/model/units.hpp and
 // docs/formats.md "Input recordings"). A unit string outside these is not knowable before the data
 // are seen.
-constexpr std::string_view kKnownChannelUnits[] = {"deg/s", "deg/h", "rad/s", "m/s^2",
-                                                   "g",     "mg",    "s",     "1"};
+constexpr std::string_view kKnownChannelUnits[] = {"deg/s", "deg/h", "rad/s", "m/s^2", "g",
+                                                   "mg",    "ug",    "s",     "1"};
 
+// In any spelling of the one vocabulary (units::normalize_spelling): "deg/√hr" is deg/sqrt(h).
 bool is_unit_of(units::Term t, const std::string& unit) {
-  for (std::string_view cu : kKnownChannelUnits) {
-    const auto ok = units::accepted_units(t, cu);
-    if (std::find(ok.begin(), ok.end(), unit) != ok.end()) return true;
-  }
+  const std::string spelled = units::normalize_spelling(unit);
+  for (std::string_view cu : kKnownChannelUnits)
+    for (const std::string& ok : units::accepted_units(t, cu))
+      if (units::normalize_spelling(ok) == spelled) return true;
   return false;
 }
 

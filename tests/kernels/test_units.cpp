@@ -110,7 +110,7 @@ TEST(Units, ClocksAndUnknownUnitsPassThrough) {
 }
 
 TEST(Units, RoundTripEveryUnitTermAndForm) {
-  for (const char* u : {"deg/s", "deg/h", "rad/s", "m/s^2", "g", "mg", "s", "1", "V"}) {
+  for (const char* u : {"deg/s", "deg/h", "rad/s", "m/s^2", "g", "mg", "ug", "s", "1", "V"}) {
     for (Term t : units::all_terms()) {
       const double v = 3.217e-5;
       const auto d = units::to_datasheet(t, v, u);
@@ -155,6 +155,82 @@ TEST(Units, WrongUnitIsRejectedWithTheAcceptedList) {
   EXPECT_THROW(units::from_datasheet(Term::B, 1.0, "deg/sqrt(h)", "deg/s"), std::invalid_argument);
   EXPECT_EQ(units::parse_term("K"), Term::K);
   EXPECT_FALSE(units::parse_term("X").has_value());
+}
+
+// The one vocabulary: the spellings of IMU logs, datasheets and clock files, each reduced to
+// the unit allanlot computes with and the factor into it.
+TEST(Units, ChannelUnitSpellings) {
+  struct Case {
+    const char* spelled;
+    const char* canonical;
+    double scale;
+  };
+  for (const Case& c : std::initializer_list<Case>{{"deg/s", "deg/s", 1},
+                                                   {"dps", "deg/s", 1},
+                                                   {"\xC2\xB0/s", "deg/s", 1},
+                                                   {"deg/sec", "deg/s", 1},
+                                                   {"deg / s", "deg/s", 1},
+                                                   {"degrees/second", "deg/s", 1},
+                                                   {"deg/h", "deg/h", 1},
+                                                   {"deg/hr", "deg/h", 1},
+                                                   {"\xC2\xB0/h", "deg/h", 1},
+                                                   {"dph", "deg/h", 1},
+                                                   {"rad/s", "rad/s", 1},
+                                                   {"rad/sec", "rad/s", 1},
+                                                   {"m/s^2", "m/s^2", 1},
+                                                   {"m/s2", "m/s^2", 1},
+                                                   {"m/s/s", "m/s^2", 1},
+                                                   {"m/s\xC2\xB2", "m/s^2", 1},
+                                                   {"g", "g", 1},
+                                                   {"mg", "mg", 1},
+                                                   {"ug", "ug", 1},
+                                                   {"\xC2\xB5g", "ug", 1},
+                                                   {"\xCE\xBCg", "ug", 1},
+                                                   {"s", "s", 1},
+                                                   {"ns", "s", 1e-9},
+                                                   {"ps", "s", 1e-12},
+                                                   {"1", "1", 1},
+                                                   {"ppm", "1", 1e-6},
+                                                   {"ppb", "1", 1e-9}}) {
+    const auto u = units::parse_channel_units(c.spelled);
+    ASSERT_TRUE(u.has_value()) << c.spelled;
+    EXPECT_EQ(u->canonical, c.canonical) << c.spelled;
+    EXPECT_EQ(u->scale, c.scale) << c.spelled;
+    // Canonical units are their own spelling, with no scale.
+    EXPECT_EQ(units::parse_channel_units(u->canonical)->canonical, u->canonical);
+  }
+  for (const char* unknown : {"", "V", "furlong/fortnight", "G", "deg", "m/s", "counts", "LSB"})
+    EXPECT_FALSE(units::parse_channel_units(unknown).has_value()) << unknown;
+  EXPECT_EQ(units::family_of("ug"), units::Family::Accelerometer);
+}
+
+TEST(Units, DatasheetSpellingsAndForms) {
+  // ARW: 0.3 deg/sqrt(h) = 0.005 deg/sqrt(s) (units.hpp), however it is written.
+  for (const char* arw : {"deg/sqrt(h)", "deg/\xE2\x88\x9Ah", "\xC2\xB0/\xE2\x88\x9Ahr",
+                          "deg/sqrt(hr)", "deg/rt(h)", "deg/h^0.5", "deg/hr^(1/2)"})
+    EXPECT_NEAR(units::from_datasheet(Term::N, 0.3, arw, "deg/s") / 0.005, 1.0, kRel) << arw;
+  // The same N as a rate density: 18 deg/h/sqrt(Hz) = 0.005 deg/s/sqrt(Hz).
+  for (const char* d :
+       {"deg/h/sqrt(Hz)", "deg/hr/rtHz", "\xC2\xB0/h/\xE2\x88\x9AHz", "deg/hr/Hz^0.5"})
+    EXPECT_NEAR(units::from_datasheet(Term::N, 18.0, d, "deg/s") / 0.005, 1.0, kRel) << d;
+  EXPECT_NEAR(units::from_datasheet(Term::N, 0.005, "deg/s/\xE2\x88\x9AHz", "deg/s"), 0.005, 1e-18);
+  EXPECT_NEAR(
+      units::from_datasheet(Term::N, 0.005 * std::numbers::pi / 180, "rad/s/sqrt(Hz)", "deg/s") /
+          0.005,
+      1.0, kRel);
+  // Accelerometers: 1000 ug = 1 mg, in any micro sign; m/s^2/sqrt(Hz) is the channel's own N.
+  for (const char* ug : {"ug/sqrt(Hz)", "\xC2\xB5g/\xE2\x88\x9AHz", "\xCE\xBCg/rtHz"})
+    EXPECT_NEAR(units::from_datasheet(Term::N, 1000.0, ug, "m/s^2") /
+                    units::from_datasheet(Term::N, 1.0, "mg/sqrt(Hz)", "m/s^2"),
+                1.0, kRel)
+        << ug;
+  EXPECT_NEAR(units::from_datasheet(Term::B, 50.0, "ug", "mg"), 0.05, 1e-15);
+  EXPECT_NEAR(units::from_datasheet(Term::B, 1.0, "g", "m/s^2"), 9.80665, 1e-12);
+  // Quantization: 1 rad = 180/pi deg = 206264.8 arcsec.
+  EXPECT_NEAR(units::from_datasheet(Term::Q, 1.0, "rad", "deg/s"), 180 / std::numbers::pi, 1e-12);
+  EXPECT_NEAR(units::from_datasheet(Term::Q, 3600.0, "arcsec", "deg/s"), 1.0, 1e-12);
+  // A ug channel's datasheet form is mg: 1 ug = 1e-3 mg.
+  EXPECT_NEAR(primary(Term::B, 1.0, "ug"), 1e-3, 1e-15);
 }
 
 }  // namespace
