@@ -67,10 +67,10 @@ TauGridSpec parse_tau_grid(std::string_view text) {
 
 std::int64_t stable32_step_constant(std::int64_t n_points) {
   const std::int64_t freq_points = n_points - 1;
-  if (freq_points < 2) return 1'000'000'000;  // every m
-  const auto k =
-      static_cast<std::int64_t>(std::floor(215.0 / std::log10(static_cast<double>(freq_points))));
-  return std::max<std::int64_t>(1, k);
+  if (freq_points < 10) return 1'000'000'000;  // below one decade: every m
+  // Whole decades of the number of frequency points: see tau_grid.hpp for the evidence.
+  const double decades = std::floor(std::log10(static_cast<double>(freq_points)));
+  return std::max<std::int64_t>(1, static_cast<std::int64_t>(std::floor(215.0 / decades)));
 }
 
 std::vector<std::int64_t> make_m_list(const TauGridSpec& spec, std::int64_t m_max) {

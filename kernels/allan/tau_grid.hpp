@@ -25,12 +25,15 @@ struct TauGridSpec {
   std::int64_t stable32_k = 0;          // Stable32: step constant K; 0 = Stable32's own, from N
 };
 
-/// Stable32's "all tau" step constant K for N phase points: floor(215 / log10(N - 1)), at
-/// least 1 (every m when N - 1 < 2). Fitted, not documented by Stable32: PHASE.DAT (N - 1 =
-/// 1000 frequency points) gives K = 71 and the pink_frequency ADEV/HDEV runs (10000) give 53;
-/// the constant must lie in [213.1, 216), and 215 is inside. Stable32's overlapping runs on
+/// Stable32's "all tau" step constant K for N phase points: floor(215 / floor(log10(N - 1))),
+/// at least 1 (every m when N - 1 < 10). Inferred, not documented by Stable32, from three runs
+/// of Stable32 1.60: PHASE.DAT (N - 1 = 1000 frequency points) gives K = 71, the
+/// pink_frequency ADEV/HDEV runs (10000) give 53, and an OCXO record of 19982 frequency points
+/// gives 273 OADEV taus, i.e. K = 53 as well (every m up to 53). The earlier fit
+/// floor(215 / log10(N - 1)) gave 49 there (256 taus, diverging at m = 50): K changes with the
+/// whole number of decades of N, not with log10(N). Stable32's overlapping runs on
 /// pink_frequency use K = 42 instead, a choice no rule of N alone reproduces together with the
-/// other two (see tests/kernels/test_tau_stable32.cpp); select it with "stable32:42".
+/// others (see tests/kernels/test_tau_stable32.cpp); select it with "stable32:42".
 std::int64_t stable32_step_constant(std::int64_t n_points);
 
 /// Parses "octave", "decade", "all", "stable32", "stable32:K" (1 <= K <= 10^9), "log:K"

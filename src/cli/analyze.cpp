@@ -645,7 +645,9 @@ Command add_analyze_command(CLI::App& app) {
   sub->add_option("inputs", a->opt.inputs, "HDF5 files, directories, or *.txt manifests")
       ->required();
   sub->add_option("--stats", a->stats_text, "Comma-separated statistics")->capture_default_str();
-  sub->add_option("--taus", a->taus_text, "Tau grid: octave, decade, all, log:K or m:LIST")
+  sub->add_option("--taus", a->taus_text,
+                  "Tau grid: octave, decade, all, stable32 (Stable32's all-tau list), "
+                  "stable32:K, log:K (K per decade) or m:LIST")
       ->capture_default_str();
   sub->add_option("--confidence", a->opt.confidence,
                   "Confidence level of the intervals dev_lo, dev_hi")

@@ -44,6 +44,16 @@ std::vector<std::int64_t> grid(const char* text, std::int64_t m_max, std::int64_
 TEST(TauStable32, StepConstantFromN) {
   EXPECT_EQ(kernels::stable32_step_constant(kPhaseDatPoints), 71);
   EXPECT_EQ(kernels::stable32_step_constant(kPinkPoints), 53);
+  // An OCXO record of 19982 frequency points: Stable32 1.60 lists 273 OADEV taus, every m up
+  // to 53 (AF 50, 51, 52, 53 and then 55), up to its m_max = 19982 / 4.
+  constexpr std::int64_t kOcxoPoints = 19983;
+  EXPECT_EQ(kernels::stable32_step_constant(kOcxoPoints), 53);
+  const auto ms = grid("stable32", kernels::max_m(Stat::Oadev, kOcxoPoints), kOcxoPoints);
+  EXPECT_EQ(ms.size(), 273u);
+  EXPECT_EQ(ms[52], 53);
+  EXPECT_EQ(ms[53], 55);
+  // Fewer than 10 frequency points: every m.
+  EXPECT_EQ(kernels::stable32_step_constant(9), 1'000'000'000);
 }
 
 // PHASE.DAT: every statistic's all-tau run uses K = 71 and stops at the statistic's max_m.
