@@ -87,8 +87,13 @@ struct ChannelResult {
   std::int64_t n_samples = 0;
   std::int64_t n_gaps = 0;
   std::string data_type = "rate";  // "rate" or "phase"
-  ChannelStatus status;            // ok, or failed and why
-  std::string notes;               // what was not computed and why, e.g. a skipped statistic
+  // The samples as analysed (after scale and offset; gaps left out), as Stable32 heads its
+  // tables: largest, smallest and mean. NaN when not known (files of earlier versions).
+  double data_max = std::numeric_limits<double>::quiet_NaN();
+  double data_min = std::numeric_limits<double>::quiet_NaN();
+  double data_mean = std::numeric_limits<double>::quiet_NaN();
+  ChannelStatus status;  // ok, or failed and why
+  std::string notes;     // what was not computed and why, e.g. a skipped statistic
   /// (statistic name, result) in the order computed; written to allan/<name>/.
   std::vector<std::pair<std::string, kernels::StatResult>> stats;
   std::optional<FitRecord> fit;                // fit/: the equation (3) fit of the oadev curve

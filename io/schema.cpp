@@ -25,12 +25,19 @@ std::span<const Field<RecordingResult>> root_fields() {
 
 std::span<const Field<ChannelResult>> channel_fields() {
   using C = ChannelResult;
+  const auto data_known = [](const C& c) { return std::isfinite(c.data_mean); };
   static const Field<C> t[] = {
       {"units", A, &C::units, "the channel's rate units", nullptr, Need::Required, true},
       {"sample_rate_hz", A, &C::sample_rate_hz, "Hz", nullptr, Need::Required, true},
       {"n_samples", A, &C::n_samples, "samples analysed", nullptr, Need::Required, true},
       {"n_gaps", A, &C::n_gaps, "gaps in the samples", nullptr, Need::Required, true},
       {"data_type", A, &C::data_type, "rate or phase", nullptr, Need::Required, true},
+      {"data_max", A, &C::data_max, "largest sample as analysed, channel units", data_known,
+       Need::IfPresent, true},
+      {"data_min", A, &C::data_min, "smallest sample as analysed, channel units", data_known,
+       Need::IfPresent, true},
+      {"data_mean", A, &C::data_mean, "mean of the samples as analysed, channel units", data_known,
+       Need::IfPresent, true},
       {"status", A, &C::status, "ok or failed: <reason>", nullptr, Need::Required, true},
       {"notes", A, &C::notes, "what was not computed and why",
        [](const C& c) { return !c.notes.empty(); }, Need::IfPresent, true},

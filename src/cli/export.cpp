@@ -4,7 +4,9 @@
 #include "src/cli/inputs.hpp"
 
 #include "io/atomic_file.hpp"
+#include "io/recording.hpp"
 #include "io/results.hpp"
+#include "io/stable32_table.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -25,24 +27,6 @@ namespace fs = std::filesystem;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// Stable32's names of the statistics, as its "Sigma Type:" header line prints them.
-std::string sigma_type(const std::string& stat) {
-  static const std::map<std::string, std::string> names = {
-      {"adev", "Allan"},  {"oadev", "Overlapping Allan"}, {"mdev", "Modified Allan"},
-      {"tdev", "Time"},   {"hdev", "Hadamard"},           {"ohdev", "Overlapping Hadamard"},
-      {"totdev", "Total"}};
-  const auto it = names.find(stat);
-  return it == names.end() ? stat : it->second;
-}
-
-// Stable32 prints 5 significant digits ("%.4e"); a value that is not a number is printed as
-// 0, which is what Stable32 shows for a quantity it did not compute.
-std::string e4(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.4e", std::isfinite(v) ? v : 0.0);
-  return buf;
-}
-
 // Tidy CSV numbers: 12 significant digits (the dev values are exact to far fewer; more would
 // only show the last bits of the double).
 std::string csv_number(double v) {
@@ -54,39 +38,36 @@ T at(const std::vector<T>& v, std::size_t i, T fallback) {
   return i < v.size() ? v[i] : fallback;
 }
 
-}  // namespace
-
-std::string stable32_block(const std::string& device_id, const std::string& channel,
-                           const std::string& units, const std::string& stat,
-                           const kernels::StatResult& s) {
-  std::ostringstream o;
-  o << "# allanlot " << stat << " (Stable32 1.60 table format)\n"
-    << "# Device: " << device_id << "\n# Channel: " << channel << "\n# Units: " << units << "\n"
-    << "# Sigma Type: " << sigma_type(stat) << "\n";
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "# Confidence Factor = %.3f\n", s.confidence);
-  o << buf << "#\n"
-    << "#  AF        Tau        #    Alpha  Min Sigma      Sigma         Max Sigma\n";
-  const bool ci = s.confidence > 0.0;
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    const double lo = ci ? at(s.dev_lo, i, 0.0) : 0.0;
-    const double hi = ci ? at(s.dev_hi, i, 0.0) : 0.0;
-    std::snprintf(buf, sizeof buf, "%5lld   %s%9lld%6d   %s    %s     %s\n",
-                  static_cast<long long>(s.m[i]), e4(s.tau_s[i]).c_str(),
-                  static_cast<long long>(s.n[i]), at(s.alpha, i, 0), e4(lo).c_str(),
-                  e4(s.dev[i]).c_str(), e4(hi).c_str());
-    o << buf;
-  }
-  return o.str();
+// What Stable32 prints above a table of this channel, and allanlot's own line below it.
+io::Stable32Head stable32_head(const io::RecordingResult& r, const io::ChannelResult& ch) {
+  io::Stable32Head h;
+  h.file = fs::path(r.source_file).filename().string();
+  h.phase = ch.data_type == "phase";
+  h.n_points = ch.n_samples;
+  h.max = ch.data_max;
+  h.min = ch.data_min;
+  h.mean = ch.data_mean;
+  h.trailer = "# allanlot: device " + r.device_id + ", channel " + ch.path + ", units " +
+              (ch.units.empty() ? std::string("none") : ch.units) + "\n";
+  return h;
 }
 
-int run_export(const ExportOptions& opt, std::ostream& out, std::ostream& err) {
-  for (const std::string& s : opt.stats)
-    if (!kernels::parse_stat(s)) {
-      err << "allanlot: usage error: --stats: unknown statistic '" << s << "'\n";
-      return kExitUsage;
-    }
-  std::vector<fs::path> files;
+void csv_rows(std::ostream& text, const io::RecordingResult& r, const io::ChannelResult& ch,
+              const std::string& name, const kernels::StatResult& s) {
+  const std::string prefix = io::csv_field(r.device_id) + "," + io::csv_field(ch.path) + "," +
+                             io::csv_field(ch.units) + "," + name + ",";
+  const bool ci = s.confidence > 0.0;
+  for (std::size_t i = 0; i < s.size(); ++i)
+    text << prefix << s.m[i] << "," << csv_number(s.tau_s[i]) << "," << s.n[i] << ","
+         << (i < s.alpha.size() ? std::to_string(s.alpha[i]) : std::string()) << ","
+         << csv_number(ci ? at(s.dev_lo, i, kNaN) : kNaN) << "," << csv_number(s.dev[i]) << ","
+         << csv_number(ci ? at(s.dev_hi, i, kNaN) : kNaN) << ","
+         << csv_number(ci ? at(s.edf, i, kNaN) : kNaN) << ","
+         << (ci ? csv_number(s.confidence) : std::string()) << "\n";
+}
+
+// The results files named (directories expanded, sorted); false after a usage error on `err`.
+bool results_files(const ExportOptions& opt, std::vector<fs::path>& files, std::ostream& err) {
   for (const fs::path& in : opt.inputs) {
     std::error_code ec;
     if (fs::is_directory(in, ec)) {
@@ -99,7 +80,7 @@ int run_export(const ExportOptions& opt, std::ostream& out, std::ostream& err) {
       }
       if (found.empty()) {
         err << "allanlot: usage error: " << in.string() << ": no results files (*.allan.h5)\n";
-        return kExitUsage;
+        return false;
       }
       std::sort(found.begin(), found.end());
       files.insert(files.end(), found.begin(), found.end());
@@ -107,19 +88,50 @@ int run_export(const ExportOptions& opt, std::ostream& out, std::ostream& err) {
       files.push_back(in);
     } else {
       err << "allanlot: usage error: " << in.string() << ": no such file or directory\n";
-      return kExitUsage;
+      return false;
     }
   }
-  const std::vector<fs::path> outputs = {opt.output};
-  if (const std::string clash = io::outputs_conflict(outputs, files); !clash.empty()) {
-    err << "allanlot: usage error: " << clash << "\n";
+  return true;
+}
+
+}  // namespace
+
+std::string stable32_file_name(const std::string& device_id, const std::string& channel,
+                               const std::string& stat) {
+  std::string c = channel;
+  while (!c.empty() && c.front() == '/')
+    c.erase(c.begin());
+  std::string name = device_id;
+  name += '.';
+  name += c;
+  name += '.';
+  name += stat;
+  return io::sanitize_device_id(name) + ".txt";
+}
+
+int run_export(const ExportOptions& opt, std::ostream& out, std::ostream& err) {
+  for (const std::string& s : opt.stats)
+    if (!kernels::parse_stat(s)) {
+      err << "allanlot: usage error: --stats: unknown statistic '" << s << "'\n";
+      return kExitUsage;
+    }
+  std::vector<fs::path> files;
+  if (!results_files(opt, files, err)) return kExitUsage;
+  std::error_code ec;
+  const bool to_dir = !opt.output.empty() && fs::is_directory(opt.output, ec);
+  if (to_dir && opt.format != ExportFormat::Stable32) {
+    err << "allanlot: usage error: -o " << opt.output.string()
+        << " is a directory: one file per table is for --format stable32; give a file\n";
     return kExitUsage;
   }
 
+  // Every output (a file, or one file per table) and its text, checked against the inputs
+  // before anything is written.
+  std::map<fs::path, std::string> outputs;
   std::ostringstream text;
   if (opt.format == ExportFormat::Csv)
     text << "device_id,channel,units,stat,m,tau,n,alpha,dev_lo,dev,dev_hi,edf,confidence\n";
-  std::size_t read_ok = 0, unreadable = 0, blocks = 0;
+  std::size_t read_ok = 0, unreadable = 0, tables = 0;
   for (const fs::path& f : files) {
     io::RecordingResult r;
     try {
@@ -136,23 +148,16 @@ int run_export(const ExportOptions& opt, std::ostream& out, std::ostream& err) {
         if (!opt.stats.empty() &&
             std::find(opt.stats.begin(), opt.stats.end(), name) == opt.stats.end())
           continue;
-        ++blocks;
-        if (opt.format == ExportFormat::Stable32) {
-          text << (blocks > 1 ? "\n" : "")
-               << stable32_block(r.device_id, ch.path, ch.units, name, s);
+        if (opt.format == ExportFormat::Csv) {
+          csv_rows(text, r, ch, name, s);
           continue;
         }
-        const std::string prefix = io::csv_field(r.device_id) + "," + io::csv_field(ch.path) + "," +
-                                   io::csv_field(ch.units) + "," + name + ",";
-        for (std::size_t i = 0; i < s.size(); ++i) {
-          const bool ci = s.confidence > 0.0;
-          text << prefix << s.m[i] << "," << csv_number(s.tau_s[i]) << "," << s.n[i] << ","
-               << (i < s.alpha.size() ? std::to_string(s.alpha[i]) : std::string()) << ","
-               << csv_number(ci ? at(s.dev_lo, i, kNaN) : kNaN) << "," << csv_number(s.dev[i])
-               << "," << csv_number(ci ? at(s.dev_hi, i, kNaN) : kNaN) << ","
-               << csv_number(ci ? at(s.edf, i, kNaN) : kNaN) << ","
-               << (ci ? csv_number(s.confidence) : std::string()) << "\n";
-        }
+        const std::string table = io::stable32_table(stable32_head(r, ch), name, s);
+        if (to_dir)
+          outputs[opt.output / stable32_file_name(r.device_id, ch.path, name)] = table;
+        else  // tables one after the other, parted by a comment line (no blank line)
+          text << (tables > 0 ? "#\n" : "") << table;
+        ++tables;
       }
     }
   }
@@ -160,16 +165,23 @@ int run_export(const ExportOptions& opt, std::ostream& out, std::ostream& err) {
     err << "allanlot: error: no results file could be read\n";
     return kExitUsage;
   }
-  if (opt.output.empty()) {
-    out << text.str();
-  } else {
-    try {
-      io::write_text_atomic(opt.output, text.str());
-    } catch (const std::exception& e) {
-      err << "allanlot: error: " << e.what() << "\n";
-      return kExitUsage;
-    }
+  if (!to_dir && !opt.output.empty()) outputs[opt.output] = text.str();
+  std::vector<fs::path> planned;
+  for (const auto& [path, body] : outputs)
+    planned.push_back(path);
+  if (const std::string clash = io::outputs_conflict(planned, files); !clash.empty()) {
+    err << "allanlot: usage error: " << clash << "\n";
+    return kExitUsage;
   }
+  if (opt.output.empty()) out << text.str();
+  try {
+    for (const auto& [path, body] : outputs)
+      io::write_text_atomic(path, body);
+  } catch (const std::exception& e) {
+    err << "allanlot: error: " << e.what() << "\n";
+    return kExitUsage;
+  }
+  if (to_dir) out << outputs.size() << " Stable32 table(s) in " << opt.output.string() << "\n";
   return unreadable ? kExitSomeFailed : kExitOk;
 }
 
@@ -186,7 +198,9 @@ Command add_export_command(CLI::App& app) {
   sub->add_option("--format", *format, "stable32 (Stable32 1.60 run tables) or csv (tidy)")
       ->check(CLI::IsMember({"stable32", "csv"}))
       ->capture_default_str();
-  sub->add_option("-o,--output", *output, "File to write (default: standard output)");
+  sub->add_option("-o,--output", *output,
+                  "File to write (default: standard output); with --format stable32 an existing "
+                  "directory gets one file per table");
   sub->add_option("--stats", *stats, "Only these statistics (comma-separated)");
   sub->add_option("--channels", opt->channels_glob,
                   "Only channels whose path or name matches this glob");

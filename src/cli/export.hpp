@@ -1,8 +1,8 @@
-// `allanlot export RESULTS... --format stable32|csv [-o FILE]`: the Allan-family tables of
-// results files for other tools. `stable32` prints, per unit, channel and statistic, a block
-// with the columns and number format of Stable32 1.60's run tables (AF, Tau, #, Alpha,
-// Min Sigma, Sigma, Max Sigma; header lines start with '#'), so that the two can be compared
-// line by line; `csv` is one tidy table (one row per tau) for spreadsheets and pandas.
+// `allanlot export RESULTS... --format stable32|csv [-o FILE|DIR]`: the Allan-family tables of
+// results files for other tools. `stable32` prints, per unit, channel and statistic, the table
+// Stable32 1.60 prints for a run (io/stable32_table.hpp), one file per table when -o is a
+// directory, so that the two can be diffed; `csv` is one tidy table (one row per tau) for
+// spreadsheets and pandas.
 #pragma once
 
 #include "kernels/allan/stats.hpp"
@@ -20,7 +20,7 @@ enum class ExportFormat { Stable32, Csv };
 struct ExportOptions {
   std::vector<std::filesystem::path> inputs;  // results files, or directories of them
   ExportFormat format = ExportFormat::Csv;
-  std::filesystem::path output;    // "" = standard output
+  std::filesystem::path output;    // "" = standard output; a directory: one file per table
   std::vector<std::string> stats;  // only these statistics (empty = all)
   std::string channels_glob;       // only channels whose path or name matches ("" = all)
 };
@@ -30,12 +30,10 @@ struct ExportOptions {
 /// error (no results file, none readable, unknown statistic, output not writable).
 int run_export(const ExportOptions& opt, std::ostream& out, std::ostream& err);
 
-/// The Stable32-style table of one statistic (header lines and rows), exposed for tests.
-/// Without confidence intervals (confidence 0) Min and Max Sigma are printed as 0, as
-/// Stable32 does for a run without them.
-std::string stable32_block(const std::string& device_id, const std::string& channel,
-                           const std::string& units, const std::string& stat,
-                           const kernels::StatResult& s);
+/// The name of one table's file in an -o directory: device, channel and statistic, e.g.
+/// "phasedat.clock_x.oadev.txt", reduced to [A-Za-z0-9._-] like results file names.
+std::string stable32_file_name(const std::string& device_id, const std::string& channel,
+                               const std::string& stat);
 
 /// Adds the `export` subcommand to `app` (see cli.hpp, struct Command).
 Command add_export_command(CLI::App& app);

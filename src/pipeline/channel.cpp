@@ -6,10 +6,12 @@
 #include "src/pipeline/channel_fit.hpp"
 #include "src/pipeline/spectrum.hpp"
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -107,10 +109,31 @@ std::optional<kernels::StatResult> compute_stats(io::ChannelResult& result,
   return oadev;
 }
 
+// Largest, smallest and mean of the samples (gaps left out), for the head of a Stable32 table
+// (docs/formats.md); the mean summed in long double, in sample order, so that it does not
+// depend on the thread count.
+void summarize_samples(io::ChannelResult& r, const std::vector<double>& samples) {
+  long double sum = 0;
+  std::int64_t n = 0;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const double v : samples) {
+    if (std::isnan(v)) continue;
+    sum += v;
+    ++n;
+    lo = std::min(lo, v);
+    hi = std::max(hi, v);
+  }
+  if (n == 0) return;
+  r.data_min = lo;
+  r.data_max = hi;
+  r.data_mean = static_cast<double>(sum / static_cast<long double>(n));
+}
+
 // The stages after the samples are read; throws std::exception on a numerical precondition.
 void run_stages(ChannelAnalysis& a, const io::ChannelInfo& channel, std::vector<double>& samples,
                 const ChannelOptions& opt) {
   const auto t_kernels = Clock::now();
+  summarize_samples(a.result, samples);
   kernels::PhaseData phase =
       kernels::make_phase(samples, channel.data_type, channel.sample_rate_hz, opt.threads);
   a.result.n_gaps = phase.n_gaps;

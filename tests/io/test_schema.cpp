@@ -118,6 +118,9 @@ io::RecordingResult every_field() {
   ch.n_samples = 5400000;
   ch.n_gaps = 3;
   ch.data_type = "phase";
+  ch.data_max = 2.5;
+  ch.data_min = -1.5;
+  ch.data_mean = 0.25;
   ch.status = io::ChannelStatus::failed("partly: a note");
   ch.notes = "totdev skipped";
   ch.stats.emplace_back("oadev", stat());

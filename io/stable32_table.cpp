@@ -1,0 +1,120 @@
+#include "io/stable32_table.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <string_view>
+
+namespace allanlot::io {
+namespace {
+
+// Stable32 1.60's sigma type and column title line for each statistic, as its tables in
+// tests/data/stable32 print them (spacing included); PDEV, which Stable32 lacks, gets the
+// Allan layout.
+struct Layout {
+  std::string_view stat, sigma_type, title;
+};
+constexpr std::string_view kAllanTitle =
+    "#  AF        Tau        #    Alpha  Min Sigma      Sigma         Max Sigma";
+constexpr std::string_view kHadamardTitle =
+    "#  AF        Tau         #    Alpha  Min Sigma   Hadamard Sig     Max Sigma";
+constexpr std::string_view kTheoTitle =
+    "#  AF   Th\xC3\xAAo1 Tau   Th\xC3\xAAo1 #    Alpha   Min Th\xC3\xAAo1    Th\xC3\xAAo1    Max "
+    "Th\xC3\xAAo1";
+constexpr Layout kLayouts[] = {
+    {"adev", "Allan", kAllanTitle},
+    {"oadev", "Overlapping Allan", kAllanTitle},
+    {"mdev", "Modified Allan",
+     "#  AF        Tau         #    Alpha  Min Sigma     Mod Sigma      Max Sigma"},
+    {"tdev", "Time", "#  AF        Tau         #    Alpha  Min Sigma    Time Sigma      Max Sigma"},
+    {"hdev", "Hadamard", kHadamardTitle},
+    {"ohdev", "Overlapping Hadamard", kHadamardTitle},
+    {"totdev", "Total",
+     "#  AF        Tau         #    Alpha  Min Sigma    Total Sigma     Max Sigma"},
+    {"mtotdev", "Modified Total",
+     "# AF          Tau        #     Alpha  Min Sigma     Mod Totdev      Max Sigma"},
+    {"ttotdev", "Time Total",
+     "#AF          Tau       #      Alpha  Min Sigma    Time Totdev    Max Sigma"},
+    {"htotdev", "Hadamard Total", kHadamardTitle},
+    {"theo1", "Th\xC3\xAAo1", kTheoTitle},
+    {"theoh", "Th\xC3\xAAoH", kTheoTitle},
+    {"mtie", "MTIE", "#  AF      Tau           #       MTIE"},
+    {"tierms", "TIE rms", "#  AF      Tau           #      TIE rms"},
+    {"pdev", "Parabolic", kAllanTitle},
+};
+
+Layout layout_of(const std::string& stat) {
+  for (const Layout& l : kLayouts)
+    if (l.stat == stat) return l;
+  return {stat, stat, kAllanTitle};
+}
+
+// Stable32 prints 5 significant digits ("%.4e"); a value that is not a number is printed as
+// 0, which is what Stable32 shows for a quantity it did not compute.
+std::string e4(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4e", std::isfinite(v) ? v : 0.0);
+  return buf;
+}
+
+template <class T>
+T at(const std::vector<T>& v, std::size_t i, T fallback) {
+  return i < v.size() ? v[i] : fallback;
+}
+
+// One row, with Stable32's widths for the statistic's kind of table.
+std::string row(std::string_view stat, const kernels::StatResult& s, std::size_t i) {
+  char buf[200];
+  const auto m = static_cast<long long>(s.m[i]);
+  const auto n = static_cast<long long>(s.n[i]);
+  if (stat == "mtie" || stat == "tierms") {
+    std::snprintf(buf, sizeof buf, "%5lld   %s%9lld   %s\n", m, e4(s.tau_s[i]).c_str(), n,
+                  e4(s.dev[i]).c_str());
+    return buf;
+  }
+  const bool ci = s.confidence > 0.0;
+  const std::string lo = e4(ci ? at(s.dev_lo, i, 0.0) : 0.0);
+  const std::string hi = e4(ci ? at(s.dev_hi, i, 0.0) : 0.0);
+  const int alpha = at(s.alpha, i, 0);
+  if (stat == "theo1" || stat == "theoh") {
+    // Thêo1's "#" is a weighted count, printed as a number (phase_dat_theo1.txt).
+    std::snprintf(buf, sizeof buf, "%4lld  %s  %s%7d  %s %s %s\n", m, e4(s.tau_s[i]).c_str(),
+                  e4(static_cast<double>(s.n[i])).c_str(), alpha, lo.c_str(), e4(s.dev[i]).c_str(),
+                  hi.c_str());
+    return buf;
+  }
+  std::snprintf(buf, sizeof buf, "%5lld   %s%9lld%6d   %s    %s     %s\n", m,
+                e4(s.tau_s[i]).c_str(), n, alpha, lo.c_str(), e4(s.dev[i]).c_str(), hi.c_str());
+  return buf;
+}
+
+}  // namespace
+
+std::string stable32_table(const Stable32Head& head, const std::string& stat,
+                           const kernels::StatResult& s) {
+  const Layout l = layout_of(stat);
+  std::ostringstream o;
+  char buf[160];
+  o << "# STATISTICS FOR FILE: " << head.file << "\n";
+  std::snprintf(buf, sizeof buf, "# %s Data Points 1 thru %lld of %lld\n",
+                head.phase ? "Phase" : "Frequency", static_cast<long long>(head.n_points),
+                static_cast<long long>(head.n_points));
+  o << buf;
+  if (std::isfinite(head.mean)) {
+    std::snprintf(buf, sizeof buf, "# Maximum = %.6e\n# Minimum = %.6e\n# Average = %.6e\n",
+                  head.max, head.min, head.mean);
+    o << buf;
+  }
+  o << "# Sigma Type: " << l.sigma_type << "\n";
+  if (stat != "mtie" && stat != "tierms") {
+    std::snprintf(buf, sizeof buf, "# Confidence Factor = %.3f\n", s.confidence);
+    o << buf;
+  }
+  o << "# Deadtime T/Tau = 1.000000\n#\n" << l.title << "\n";
+  for (std::size_t i = 0; i < s.size(); ++i)
+    o << row(stat, s, i);
+  o << head.trailer;
+  return o.str();
+}
+
+}  // namespace allanlot::io
