@@ -186,6 +186,16 @@ RecordingResult read_summary_results(const std::filesystem::path& path) {
   return read(path, Depth::Summary);
 }
 
+std::string fit_status_text(const FitRecord& f) {
+  std::string text = to_string(f.status);
+  if (f.status == kernels::FitStatus::PoorFit) {
+    char buf[48];
+    std::snprintf(buf, sizeof buf, " (chi2/dof = %.3g)", f.chi2_dof);
+    text += buf;
+  }
+  return text;
+}
+
 std::vector<SummaryRow> summary_rows(const RecordingResult& r) {
   std::vector<SummaryRow> rows;
   for (const ChannelResult& ch : r.channels) {
@@ -201,6 +211,7 @@ std::vector<SummaryRow> summary_rows(const RecordingResult& r) {
           row.upper[i] = t.upper_datasheet;
         }
       row.chi2_dof = ch.fit->chi2_dof;
+      row.fit_status = fit_status_text(*ch.fit);
     }
     if (ch.crosscheck) {
       row.max_abs_log10_ratio = ch.crosscheck->max_abs_log10_ratio;

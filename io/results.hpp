@@ -61,6 +61,10 @@ struct FitRecord {
   int agree = -1;
 };
 
+/// The fit's status as people read it: "ok", "poor fit (chi2/dof = 5974)" (the model misses
+/// part of the curve: `allanlot diagnose` names what), "rank deficient", ...
+std::string fit_status_text(const FitRecord& f);
+
 /// The psd/ group: the Welch PSD, log-binned for compact storage and plots.
 struct PsdRecord {
   std::string method;  // e.g. "welch hann 50% overlap, L=131072, 81 segments"
@@ -137,6 +141,7 @@ struct SummaryRow {
   std::array<std::string, 5> unit;
   std::array<std::uint8_t, 5> detected{};
   double chi2_dof = nan();
+  std::string fit_status;               // fit_status_text of fit/; "" without a fit
   double max_abs_log10_ratio = nan();   // the eq. (2) cross-check (crosscheck/)
   double crosscheck_worst_tau = nan();  // the tau where |log10 ratio| is largest [s]
   // Allan fit (fit/) against PSD fit (psd_fit/): 1 the five terms agree within their

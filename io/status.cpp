@@ -33,8 +33,8 @@ std::string to_string(kernels::FitStatus s) {
 kernels::FitStatus parse_fit_status(std::string_view text, const std::string& file,
                                     const std::string& object) {
   using kernels::FitStatus;
-  constexpr std::array kAll = {FitStatus::Ok, FitStatus::NoData, FitStatus::RankDeficient,
-                               FitStatus::NoConvergence};
+  constexpr std::array kAll = {FitStatus::Ok, FitStatus::PoorFit, FitStatus::NoData,
+                               FitStatus::RankDeficient, FitStatus::NoConvergence};
   for (const FitStatus s : kAll)
     if (kernels::fit_status_name(s) == text) return s;
   throw Error(file, object, "unknown fit status '" + std::string(text) + "'");

@@ -115,7 +115,7 @@ double effective_taus(const Curve& cv) {
   in.n_samples = cv.n_samples;
   const FitResult r = fit.fit(in);
   const Eigen::MatrixXd& s = fit.covariance();
-  if (r.status == FitStatus::Ok && s.rows() == static_cast<Eigen::Index>(p) && s.allFinite()) {
+  if (has_terms(r.status) && s.rows() == static_cast<Eigen::Index>(p) && s.allFinite()) {
     double sum = 0.0;
     bool ok = true;
     for (Eigen::Index i = 0; i < s.rows(); ++i)

@@ -1,6 +1,7 @@
 #include "kernels/model/fit.hpp"
 
 #include "kernels/model/least_squares.hpp"
+#include "kernels/uncertainty/chi2.hpp"
 #include "kernels/uncertainty/confidence.hpp"
 
 #include <Eigen/Cholesky>
@@ -73,6 +74,8 @@ std::string_view fit_status_name(FitStatus s) {
   switch (s) {
   case FitStatus::Ok:
     return "ok";
+  case FitStatus::PoorFit:
+    return "poor fit";
   case FitStatus::NoData:
     return "no data";
   case FitStatus::RankDeficient:
@@ -81,6 +84,11 @@ std::string_view fit_status_name(FitStatus s) {
     return "no convergence";
   }
   return "unknown";
+}
+
+FitStatus judge_fit(double chi2, double dof) {
+  if (!(dof > 0.0) || !std::isfinite(chi2)) return FitStatus::Ok;
+  return chi2 > chi2_quantile(1.0 - kPoorFitProbability, dof) ? FitStatus::PoorFit : FitStatus::Ok;
 }
 
 Eq3Fit::Eq3Fit(std::size_t max_taus, FitOptions options) : options_(options) {
@@ -232,7 +240,9 @@ FitResult Eq3Fit::fit(const FitInput& in) {
     res.adev_model[i] = std::sqrt(res.avar_model[i]);
   }
   readouts(in, th, model, res);
-  res.status = solved.converged ? FitStatus::Ok : FitStatus::NoConvergence;
+  // chi2's expectation under the model is its effective degrees of freedom (the residual is
+  // correlated and weighted, see goodness_of_fit).
+  res.status = solved.converged ? judge_fit(res.chi2, res.chi2_expected) : FitStatus::NoConvergence;
   return res;
 }
 

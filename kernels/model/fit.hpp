@@ -128,14 +128,27 @@ private:
   std::array<Eigen::MatrixXd, 14> basis_;
 };
 
-/// Numerical outcome of a fit (Eigen's ComputationInfo style; broken preconditions throw).
+/// Outcome of a fit (Eigen's ComputationInfo style; broken preconditions throw).
 enum class FitStatus {
-  Ok,             // fitted
+  Ok,             // fitted, and the model explains the curve within its noise
+  PoorFit,        // fitted, but chi2 beyond its 99.9 % quantile: the model misses something
   NoData,         // no tau, or every avar estimate is zero
   RankDeficient,  // fewer than 5 independent regressors on the taus given (see FitResult::rank)
   NoConvergence   // the reweighting did not settle within FitOptions::max_iterations
 };
 std::string_view fit_status_name(FitStatus s);
+/// True when the fit produced coefficients (Ok or PoorFit): they are what the data gave, and
+/// a poor fit says they do not describe the whole curve.
+inline bool has_terms(FitStatus s) {
+  return s == FitStatus::Ok || s == FitStatus::PoorFit;
+}
+/// The probability below which chi2 is too large for the fitted model: a clean channel is
+/// called a poor fit once in 1000. chi2 is compared with the chi-square quantile of its
+/// expectation's degrees of freedom (fit.cpp goodness_of_fit, psd_fit.cpp).
+inline constexpr double kPoorFitProbability = 1e-3;
+/// Ok, or PoorFit when chi2 exceeds the 1 - kPoorFitProbability quantile of a chi-square with
+/// `dof` degrees of freedom (dof <= 0: Ok, nothing to judge by).
+FitStatus judge_fit(double chi2, double dof);
 
 /// For the results file's fit/ `method` attribute.
 inline constexpr std::string_view kFitMethod =

@@ -314,7 +314,7 @@ PsdFitResult psd_fit(const PsdResult& psd, const PsdFitOptions& opt, WelchTermCa
     res.edf[i] = d.edf(static_cast<Eigen::Index>(i));
     res.psd_model[i] = fitted(static_cast<Eigen::Index>(i));
   }
-  res.status = solved.converged ? FitStatus::Ok : FitStatus::NoConvergence;
+  res.status = solved.converged ? judge_fit(res.chi2, res.dof) : FitStatus::NoConvergence;
   return res;
 }
 

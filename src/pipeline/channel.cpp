@@ -146,7 +146,7 @@ void run_stages(ChannelAnalysis& a, const io::ChannelInfo& channel, std::vector<
   if (opt.fit) {
     const auto t_fit = Clock::now();
     a.result.fit = fit_channel(*oadev, phase, a.result.units, &allan_terms);
-    have_allan_terms = a.result.fit->status == kernels::FitStatus::Ok;
+    have_allan_terms = kernels::has_terms(a.result.fit->status);
     a.times.fit += seconds_since(t_fit);
   }
   if (opt.psd) {

@@ -114,7 +114,7 @@ io::FitRecord fit_channel(const kernels::StatResult& oadev, const kernels::Phase
 
   io::FitRecord rec = fit_record(kernels::kFitMethod, f);
   rec.tau = oadev.tau_s;
-  if (f.status != kernels::FitStatus::Ok) return rec;
+  if (!kernels::has_terms(f.status)) return rec;
   if (terms_out) *terms_out = f.terms;
   std::array<double, kernels::kNumTerms> theta{};
   for (const Term t : kernels::units::all_terms()) {
@@ -139,7 +139,7 @@ io::FitRecord psd_fit_channel(const kernels::PsdResult& psd, const std::string& 
   io::FitRecord rec = fit_record(kernels::kPsdFitMethod, f);
   rec.f = f.f_hz;
   rec.psd_model = f.psd_model;
-  if (f.status != kernels::FitStatus::Ok) return rec;
+  if (!kernels::has_terms(f.status)) return rec;
   for (const Term t : kernels::units::all_terms())
     rec.terms.push_back(term_record(t, f[t], units));
   if (allan_terms) {
@@ -190,6 +190,7 @@ std::string fit_table(const io::RecordingResult& r) {
   std::ostringstream out;
   out << r.device_id << ": noise coefficients of eq. (3), value ± 1 sigma ('<': not detected, "
       << "95 % upper bound)\n";
+  bool poor = false;
   for (const auto& [family, chans] : groups) {
     std::vector<std::string> header = {"term", "unit"};
     for (const auto* ch : chans)
@@ -202,6 +203,12 @@ std::string fit_table(const io::RecordingResult& r) {
         row.push_back(format_term(ch->fit->terms[t]));
       rows.push_back(row);
     }
+    std::vector<std::string> status = {"fit", ""};
+    for (const auto* ch : chans) {
+      status.push_back(io::fit_status_text(*ch->fit));
+      poor = poor || ch->fit->status == kernels::FitStatus::PoorFit;
+    }
+    rows.push_back(status);
     std::vector<std::size_t> width(header.size(), 0);
     for (const auto& row : rows)
       for (std::size_t c = 0; c < row.size(); ++c)
@@ -213,6 +220,10 @@ std::string fit_table(const io::RecordingResult& r) {
       out << "\n";
     }
   }
+  if (poor)
+    out << "  poor fit: the five terms do not explain the measured curve within its noise; "
+           "`allanlot diagnose "
+        << r.source_file << " --model MODEL.json` names what they miss\n";
   return out.str();
 }
 

@@ -71,7 +71,7 @@ std::string summary_table(const std::string& channel, const std::vector<Member>&
     h << "<td class=\"l" << (m.ch->status.is_ok() ? "" : " bad") << "\">"
       << escape(io::to_string(m.ch->status));
     if (m.ch->fit && m.ch->fit->status != kernels::FitStatus::Ok)
-      h << " <span class=\"bad\">(fit: " << escape(io::to_string(m.ch->fit->status)) << ")</span>";
+      h << " <span class=\"bad\">(fit: " << escape(io::fit_status_text(*m.ch->fit)) << ")</span>";
     h << "</td>";
     for (std::size_t j = 0; j < 5; ++j) {
       const io::TermRecord* t = m.ch->fit ? find_term(*m.ch->fit, kTerms[j].name) : nullptr;

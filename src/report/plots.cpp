@@ -45,7 +45,7 @@ std::string adev_plot(const std::string& id, const io::ChannelResult& ch) {
   const auto [x0, x1] = decade_range(all_tau);
   p.x_min = x0;
   p.x_max = x1;
-  if (ch.fit && !ch.fit->terms.empty() && ch.fit->status == kernels::FitStatus::Ok) {
+  if (ch.fit && !ch.fit->terms.empty() && kernels::has_terms(ch.fit->status)) {
     const auto th = theta_of(*ch.fit);
     // The fitted curve on the oadev taus where it was fitted, then each detected term as its
     // straight-line asymptote over the whole axis, labelled with its slope where it dominates.
@@ -163,7 +163,7 @@ std::string psd_plot(const std::string& id, const io::ChannelResult& ch,
       }
     return s;
   };
-  if (ch.fit && ch.fit->status == kernels::FitStatus::Ok && !ch.fit->terms.empty()) {
+  if (ch.fit && kernels::has_terms(ch.fit->status) && !ch.fit->terms.empty()) {
     svg::Series s = model_curve(*ch.fit, "eq. (3) fit (Allan)", "#000", "");
     ys.insert(ys.end(), s.y.begin(), s.y.end());
     p.series.push_back(std::move(s));

@@ -149,8 +149,10 @@ std::string channel_section(const Unit& u, const io::ChannelResult& ch, const Ex
     << number(ch.n_samples / std::max(ch.sample_rate_hz, 1e-300), 4) << " s), " << ch.n_gaps
     << " gaps, " << escape(ch.data_type) << " data";
   if (ch.fit)
-    h << "; fit " << escape(io::to_string(ch.fit->status)) << ", &chi;&sup2;/dof "
+    h << "; fit " << escape(io::fit_status_text(*ch.fit)) << ", &chi;&sup2;/dof "
       << number(ch.fit->chi2_dof, 3);
+  if (ch.fit->status == kernels::FitStatus::PoorFit)
+    h << " (the model misses part of the curve: <code>allanlot diagnose</code> names what)";
   if (ch.crosscheck)
     h << "; eq. (2) max |log&#8321;&#8320; ratio| "
       << number(ch.crosscheck->max_abs_log10_ratio, 3);

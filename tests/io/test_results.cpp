@@ -155,7 +155,7 @@ TEST(Results, LotSummaryRoundTripAndCsv) {
   const std::string csv = test::file_bytes(dir / "lot_summary.csv");
   EXPECT_EQ(csv.rfind("device_id,channel,units,n_samples,status,source_file,R,R_sigma,R_unit,"
                       "R_detected,K,K_sigma,K_unit,K_detected,B,B_sigma,B_unit,B_detected,N,"
-                      "N_sigma,N_unit,N_detected,Q,Q_sigma,Q_unit,Q_detected,chi2_dof,"
+                      "N_sigma,N_unit,N_detected,Q,Q_sigma,Q_unit,Q_detected,chi2_dof,fit_status,"
                       "max_abs_log10_ratio,crosscheck_worst_tau,fits_agree,fits_max_abs_z,"
                       "R_upper,K_upper,B_upper,N_upper,Q_upper,spec_status,spec_detail,outlier,"
                       "outlier_terms,R_spec_status,K_spec_status,B_spec_status,N_spec_status,"
@@ -163,7 +163,7 @@ TEST(Results, LotSummaryRoundTripAndCsv) {
                       0),
             0u);
   EXPECT_NE(csv.find("SN 1,/imu/gyro_x,deg/s,5400000,ok,/data/sn1.h5,,,,,,,,,,,,,18,0.036,deg/h/"
-                     "sqrt(Hz),1,0,1.7,urad,0,0.97,,,0,4.5,,,,18.4,3.5,,,0,,,,,,\n"),
+                     "sqrt(Hz),1,0,1.7,urad,0,0.97,ok,,,0,4.5,,,,18.4,3.5,,,0,,,,,,\n"),
             std::string::npos)
       << csv;
   EXPECT_NE(csv.find("\"failed: not an HDF5 file, \"\"really\"\"\""), std::string::npos);

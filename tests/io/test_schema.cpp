@@ -242,6 +242,7 @@ TEST(Schema, LotSummaryColumnsRoundTrip) {
     row.spec_term_status[i] = "pass";
   }
   row.chi2_dof = 1.02;
+  row.fit_status = "poor fit (chi2/dof = 1.02)";
   row.max_abs_log10_ratio = 0.03;
   row.crosscheck_worst_tau = 2.5;
   row.fits_agree = 1;
@@ -330,8 +331,8 @@ TEST(Status, PrintAndParseBothWays) {
     EXPECT_EQ(io::parse_channel_status(io::to_string(s), "f.h5", "/c"), s);
   EXPECT_EQ(io::to_string(io::ChannelStatus::ok()), "ok");
   EXPECT_EQ(io::to_string(io::ChannelStatus::failed("too short")), "failed: too short");
-  for (const FitStatus s :
-       {FitStatus::Ok, FitStatus::NoData, FitStatus::RankDeficient, FitStatus::NoConvergence}) {
+  for (const FitStatus s : {FitStatus::Ok, FitStatus::PoorFit, FitStatus::NoData,
+                            FitStatus::RankDeficient, FitStatus::NoConvergence}) {
     EXPECT_EQ(io::parse_fit_status(io::to_string(s), "f.h5", "/c/fit"), s);
     EXPECT_EQ(io::to_string(s), kernels::fit_status_name(s));
   }

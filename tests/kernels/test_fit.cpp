@@ -304,7 +304,10 @@ TEST(Eq3Fit, QrAgreesWithCodAndSvd) {
     c.avar[i] *= 1.0 + 0.01 * std::sin(1.7 * i);
   Eq3Fit fit;
   const FitResult r = fit.fit(c.input());
-  ASSERT_EQ(r.status, FitStatus::Ok);
+  // A 1 % ripple is far beyond the noise of a 5.4 M-sample curve: the fit says so, and its
+  // coefficients are still the weighted least-squares solution compared below.
+  ASSERT_EQ(r.status, FitStatus::PoorFit);
+  EXPECT_GT(r.chi2_dof, 10.0);
   for (int j = 0; j < kNumTerms; ++j)
     ASSERT_FALSE(r.terms[static_cast<std::size_t>(j)].at_bound);
   const auto p = static_cast<Eigen::Index>(c.tau.size());
