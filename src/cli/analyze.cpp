@@ -297,21 +297,25 @@ std::string hms(double s) {
   return buf;
 }
 
-// The progress line: on a terminal, one line rewritten in place after every recording; in a
-// log (stderr not a terminal: batch jobs, Slurm), a plain line at most every 30 s and at the
-// end, so that logs stay short.
+// The progress line, on a terminal only (stderr a terminal): one line rewritten in place after
+// every recording, erased before anything else is printed, so that it never runs into a
+// coefficient table or a message. Logs (batch jobs, Slurm) get the closing lines alone.
 class Progress {
 public:
   Progress(bool enabled, std::size_t total, std::ostream& err)
-      : enabled_(enabled && total > 1), total_(total), err_(err), tty_(isatty(2) == 1),
-        start_(Clock::now()), last_(start_) {}
+      : enabled_(enabled && total > 1 && isatty(2) == 1), total_(total), err_(err),
+        start_(Clock::now()) {}
+  // Erases the line (carriage return, erase to the end of the line: ECMA-48 EL).
+  void clear() {
+    if (!showing_) return;
+    err_ << "\r\x1b[K" << std::flush;
+    showing_ = false;
+  }
   void update(std::size_t done, std::uint64_t samples) {
     samples_ += samples;
     if (!enabled_) return;
     const auto now = Clock::now();
     const double el = std::chrono::duration<double>(now - start_).count();
-    if (!tty_ && done < total_ && std::chrono::duration<double>(now - last_).count() < 30) return;
-    last_ = now;
     const double left =
         done > 0 ? el / static_cast<double>(done) * static_cast<double>(total_ - done) : 0;
     char buf[160];
@@ -319,16 +323,18 @@ public:
                   "allanlot: %zu/%zu recordings, %.1f M samples/s, elapsed %s, left ~%s", done,
                   total_, el > 0 ? static_cast<double>(samples_) / el / 1e6 : 0.0, hms(el).c_str(),
                   hms(left).c_str());
-    err_ << (tty_ ? "\r" : "") << buf << (tty_ && done < total_ ? "" : "\n") << std::flush;
+    clear();
+    err_ << buf << (done < total_ ? "" : "\n") << std::flush;
+    showing_ = done < total_;
   }
 
 private:
   bool enabled_;
   std::size_t total_;
   std::ostream& err_;
-  bool tty_;
-  Clock::time_point start_, last_;
+  Clock::time_point start_;
   std::uint64_t samples_ = 0;
+  bool showing_ = false;
 };
 
 // Fails with a usage-level message when OUTDIR cannot hold results.
@@ -511,6 +517,7 @@ int run_analyze(const AnalyzeOptions& opt, std::ostream& out, std::ostream& err)
   for (const std::string& file : inputs.files) {
     if (stop_signal()) break;
     std::uint64_t samples = 0;
+    progress.clear();
     try {
       samples = run.analyze_one(file, inputs.files.size());
     } catch (const io::Error& e) {
