@@ -33,7 +33,8 @@ FitRecord read_fit(hid_t channel_group, const char* name, Depth depth, const std
   FitRecord fit;
   fit.terms = schema::read_columns(g.get(), schema::term_columns(), depth, file, object);
   schema::read_fields(g.get(), fit, schema::fit_fields(), depth, file, object);
-  if (depth == Depth::Full && schema::has_link(g.get(), schema::kReadouts)) {
+  // The read-outs are in the lot summary too: read at either depth (three rows).
+  if (schema::has_link(g.get(), schema::kReadouts)) {
     const std::string ro = object + "/" + schema::kReadouts;
     Handle r = schema::open_group(g.get(), schema::kReadouts, file, ro);
     fit.readouts = schema::read_columns(r.get(), schema::readout_columns(), depth, file, ro);
@@ -77,7 +78,7 @@ void write_channel(hid_t f, const ChannelResult& ch, const std::string& file) {
   if (ch.diagnosis) schema::write_diagnosis_group(g.get(), *ch.diagnosis, file);
 }
 
-// One channel group. The summary depth never opens allan/, psd/, the readouts or a diagnosis,
+// One channel group. The summary depth never opens allan/, psd/ or a diagnosis,
 // and reads of fit/, psd_fit/ and crosscheck/ only the fields marked `summary`: a lot of
 // thousands of units is summarized quickly.
 ChannelResult read_channel(hid_t f, const std::string& gp, Depth depth, const std::string& file) {
@@ -196,6 +197,39 @@ std::string fit_status_text(const FitRecord& f) {
   return text;
 }
 
+namespace {
+
+// fit/readouts into the row's read-out columns.
+void add_readouts(SummaryRow& row, const FitRecord& fit) {
+  for (const ReadoutRecord& x : fit.readouts) {
+    const char* term = x.name == "N_1s" ? "N" : x.name == "bias_instability" ? "B" : "K";
+    if (x.valid) {
+      if (!row.readouts_valid.empty()) row.readouts_valid += ' ';
+      row.readouts_valid += term;
+    }
+    if (x.name == "N_1s") {
+      row.readout_n = x.value_datasheet;
+      row.readout_n_sigma = x.sigma_datasheet;
+      row.readout_n_unit = x.unit_datasheet;
+      row.readout_n_alt = x.value_datasheet_alt;
+      row.readout_n_alt_sigma = x.sigma_datasheet_alt;
+      row.readout_n_alt_unit = x.unit_datasheet_alt;
+    } else if (x.name == "bias_instability") {
+      row.readout_b = x.value_datasheet;
+      row.readout_b_sigma = x.sigma_datasheet;
+      row.readout_b_unit = x.unit_datasheet;
+      row.readout_b_tau = x.tau_s;
+    } else if (x.name == "K_3s") {
+      row.readout_k = x.value_datasheet;
+      row.readout_k_sigma = x.sigma_datasheet;
+      row.readout_k_unit = x.unit_datasheet;
+      row.readout_k_tau = x.tau_s;
+    }
+  }
+}
+
+}  // namespace
+
 std::vector<SummaryRow> summary_rows(const RecordingResult& r) {
   std::vector<SummaryRow> rows;
   for (const ChannelResult& ch : r.channels) {
@@ -212,6 +246,7 @@ std::vector<SummaryRow> summary_rows(const RecordingResult& r) {
         }
       row.chi2_dof = ch.fit->chi2_dof;
       row.fit_status = fit_status_text(*ch.fit);
+      add_readouts(row, *ch.fit);
     }
     if (ch.crosscheck) {
       row.max_abs_log10_ratio = ch.crosscheck->max_abs_log10_ratio;

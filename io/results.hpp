@@ -39,6 +39,11 @@ struct ReadoutRecord {
   double value = 0, sigma = 0, tau_s = 0, model = 0;  // channel units; model: same on the fit
   double value_datasheet = 0, sigma_datasheet = 0;
   std::string unit_datasheet;
+  // The other datasheet form where there is one (N at 1 s as ARW deg/sqrt(h) or VRW
+  // m/s/sqrt(h)); NaN and "" otherwise.
+  double value_datasheet_alt = std::numeric_limits<double>::quiet_NaN();
+  double sigma_datasheet_alt = std::numeric_limits<double>::quiet_NaN();
+  std::string unit_datasheet_alt;
 };
 
 /// The fit/ (or psd_fit/) group.
@@ -141,7 +146,20 @@ struct SummaryRow {
   std::array<std::string, 5> unit;
   std::array<std::uint8_t, 5> detected{};
   double chi2_dof = nan();
-  std::string fit_status;               // fit_status_text of fit/; "" without a fit
+  std::string fit_status;  // fit_status_text of fit/; "" without a fit
+  // The read-outs of fit/readouts (IEEE Std 952 annex C) in datasheet units, given whether or
+  // not the fit detects their term (readouts_valid names the terms it detects): N at 1 s (and
+  // its ARW/VRW form), bias instability (min deviation / 0.664) and K at 3 s, each with its
+  // uncertainty and, for B and K, the tau it was read at. NaN without a fit.
+  double readout_n = nan(), readout_n_sigma = nan();
+  std::string readout_n_unit;
+  double readout_n_alt = nan(), readout_n_alt_sigma = nan();
+  std::string readout_n_alt_unit;
+  double readout_b = nan(), readout_b_sigma = nan(), readout_b_tau = nan();
+  std::string readout_b_unit;
+  double readout_k = nan(), readout_k_sigma = nan(), readout_k_tau = nan();
+  std::string readout_k_unit;
+  std::string readouts_valid;           // e.g. "N B": the read-outs whose term the fit detects
   double max_abs_log10_ratio = nan();   // the eq. (2) cross-check (crosscheck/)
   double crosscheck_worst_tau = nan();  // the tau where |log10 ratio| is largest [s]
   // Allan fit (fit/) against PSD fit (psd_fit/): 1 the five terms agree within their

@@ -110,15 +110,21 @@ std::span<const Field<FitRecord>> fit_fields() {
 std::span<const Column<ReadoutRecord>> readout_columns() {
   using X = ReadoutRecord;
   static const Column<X> t[] = {
-      {"name", &X::name, "N_1s, bias_instability, K_3s"},
-      {"valid", &X::valid, "u8"},
+      // Marked `summary`: the lot summary's read-out columns come from them.
+      {"name", &X::name, "N_1s, bias_instability, K_3s", Need::Required, true},
+      {"valid", &X::valid, "u8", Need::Required, true},
       {"value", &X::value, "channel units"},
       {"sigma", &X::sigma, "channel units"},
-      {"tau", &X::tau_s, "s"},
+      {"tau", &X::tau_s, "s", Need::Required, true},
       {"model", &X::model, "the fit's value there"},
-      {"value_datasheet", &X::value_datasheet, "datasheet units"},
-      {"sigma_datasheet", &X::sigma_datasheet, "datasheet units"},
-      {"unit_datasheet", &X::unit_datasheet, "e.g. deg/h"},
+      {"value_datasheet", &X::value_datasheet, "datasheet units", Need::Required, true},
+      {"sigma_datasheet", &X::sigma_datasheet, "datasheet units", Need::Required, true},
+      {"unit_datasheet", &X::unit_datasheet, "e.g. deg/h", Need::Required, true},
+      {"value_datasheet_alt", &X::value_datasheet_alt, "ARW/VRW form of N; NaN otherwise",
+       Need::IfPresent, true},
+      {"sigma_datasheet_alt", &X::sigma_datasheet_alt, "its uncertainty", Need::IfPresent, true},
+      {"unit_datasheet_alt", &X::unit_datasheet_alt, "e.g. deg/sqrt(h); empty otherwise",
+       Need::IfPresent, true},
   };
   return t;
 }
@@ -223,6 +229,23 @@ std::span<const RowColumn<SummaryRow>> summary_columns() {
       {"outlier", &S::outlier, "u8: 1 a term is a lot outlier"},
       {"outlier_terms", &S::outlier_terms, "which, with their modified z-scores"},
       {"_spec_status", &S::spec_term_status, "pass, fail, undecided; empty", 3},
+      {"readout_N", &S::readout_n, "N read at 1 s (IEEE 952), datasheet units"},
+      {"readout_N_sigma", &S::readout_n_sigma, "its uncertainty"},
+      {"readout_N_unit", &S::readout_n_unit, "e.g. deg/h/sqrt(Hz)"},
+      {"readout_N_alt", &S::readout_n_alt, "the same as ARW or VRW"},
+      {"readout_N_alt_sigma", &S::readout_n_alt_sigma, "its uncertainty"},
+      {"readout_N_alt_unit", &S::readout_n_alt_unit, "deg/sqrt(h) or m/s/sqrt(h)"},
+      {"readout_B", &S::readout_b, "bias instability: min deviation / 0.664"},
+      {"readout_B_sigma", &S::readout_b_sigma, "its uncertainty"},
+      {"readout_B_unit", &S::readout_b_unit, "e.g. deg/h"},
+      {"readout_B_tau", &S::readout_b_tau, "s, the tau of the minimum"},
+      {"readout_K", &S::readout_k, "K read at 3 s on the +1/2 line touching the curve"},
+      {"readout_K_sigma", &S::readout_k_sigma, "its uncertainty"},
+      {"readout_K_unit", &S::readout_k_unit, "e.g. deg/h/sqrt(h)"},
+      {"readout_K_tau", &S::readout_k_tau, "s, where the line touches"},
+      {"readouts_valid", &S::readouts_valid,
+       "the read-outs whose term the fit detects, e.g. 'N B'; the others read a branch the "
+       "curve may not have"},
   };
   return t;
 }

@@ -78,6 +78,11 @@ io::ReadoutRecord readout_record(const std::string& name, Term t, const kernels:
   rec.value_datasheet = ds.primary.value;
   rec.unit_datasheet = ds.primary.unit;
   rec.sigma_datasheet = u::to_datasheet(t, r.sigma, units).primary.value;
+  if (ds.secondary && t == Term::N) {  // ARW or VRW, as datasheets quote N
+    rec.value_datasheet_alt = ds.secondary->value;
+    rec.sigma_datasheet_alt = u::to_datasheet(t, r.sigma, units).secondary->value;
+    rec.unit_datasheet_alt = ds.secondary->unit;
+  }
   return rec;
 }
 
@@ -164,6 +169,49 @@ std::size_t display_width(const std::string& s) {
   return w;
 }
 
+// A read-out cell: value ± sigma in its datasheet form (ARW/VRW for N when there is one), the
+// tau it was read at for B and K, '*' when the fit does not detect the term; '-' when the
+// curve does not reach the read-out's tau.
+std::string format_readout(const io::ReadoutRecord& x, bool* undetected) {
+  const bool alt = !x.unit_datasheet_alt.empty();
+  const double v = alt ? x.value_datasheet_alt : x.value_datasheet;
+  const double sd = alt ? x.sigma_datasheet_alt : x.sigma_datasheet;
+  if (!(x.tau_s > 0.0) || !std::isfinite(v)) return "-";
+  char buf[96];
+  if (x.name == "N_1s")
+    std::snprintf(buf, sizeof buf, "%.3g ± %.2g", v, sd);
+  else
+    std::snprintf(buf, sizeof buf, "%.3g ± %.2g @ %.3g s", v, sd, x.tau_s);
+  std::string cell = buf;
+  if (!x.valid) {
+    cell += " *";
+    *undetected = true;
+  }
+  return cell;
+}
+
+// The read-out rows under a group's coefficients (IEEE Std 952 annex C).
+void add_readout_rows(const std::vector<const io::ChannelResult*>& chans,
+                      std::vector<std::vector<std::string>>& rows, bool* undetected) {
+  static constexpr std::pair<const char*, const char*> kRows[] = {
+      {"N_1s", "N at 1 s"}, {"bias_instability", "B: min/0.664"}, {"K_3s", "K at 3 s"}};
+  const auto& first = chans.front()->fit->readouts;
+  for (const auto& [name, label] : kRows) {
+    const auto it = std::find_if(first.begin(), first.end(),
+                                 [&](const io::ReadoutRecord& x) { return x.name == name; });
+    if (it == first.end()) continue;
+    std::vector<std::string> row = {label, it->unit_datasheet_alt.empty() ? it->unit_datasheet
+                                                                          : it->unit_datasheet_alt};
+    for (const auto* ch : chans) {
+      const auto& xs = ch->fit->readouts;
+      const auto x = std::find_if(xs.begin(), xs.end(),
+                                  [&](const io::ReadoutRecord& r) { return r.name == name; });
+      row.push_back(x == xs.end() ? "-" : format_readout(*x, undetected));
+    }
+    rows.push_back(row);
+  }
+}
+
 std::string format_term(const io::TermRecord& t) {
   char buf[64];
   if (t.detected)
@@ -190,7 +238,7 @@ std::string fit_table(const io::RecordingResult& r) {
   std::ostringstream out;
   out << r.device_id << ": noise coefficients of eq. (3), value ± 1 sigma ('<': not detected, "
       << "95 % upper bound)\n";
-  bool poor = false;
+  bool poor = false, undetected = false;
   for (const auto& [family, chans] : groups) {
     std::vector<std::string> header = {"term", "unit"};
     for (const auto* ch : chans)
@@ -209,6 +257,7 @@ std::string fit_table(const io::RecordingResult& r) {
       poor = poor || ch->fit->status == kernels::FitStatus::PoorFit;
     }
     rows.push_back(status);
+    add_readout_rows(chans, rows, &undetected);
     std::vector<std::size_t> width(header.size(), 0);
     for (const auto& row : rows)
       for (std::size_t c = 0; c < row.size(); ++c)
@@ -220,6 +269,9 @@ std::string fit_table(const io::RecordingResult& r) {
       out << "\n";
     }
   }
+  if (undetected)
+    out << "  read-outs (IEEE 952 annex C) marked * read a branch the fit does not detect: the "
+           "curve may not have it\n";
   if (poor)
     out << "  poor fit: the five terms do not explain the measured curve within its noise; "
            "`allanlot diagnose "

@@ -39,6 +39,22 @@ TEST(FitStatus, CleanNoiseIsOkAndASinusoidIsAPoorFit) {
   ASSERT_TRUE(r.channels.at(0).fit.has_value());
   EXPECT_EQ(r.channels[0].fit->status, kernels::FitStatus::Ok) << r.channels[0].fit->chi2_dof;
   EXPECT_EQ(out.find("poor fit"), std::string::npos) << out;
+  // The read-outs datasheets quote, beside the fit: N at 1 s as ARW (0.005 deg/sqrt(s) =
+  // 0.3 deg/sqrt(h)), within a few of its uncertainties, in the terminal and the summary.
+  const std::size_t arw = out.find("N at 1 s");
+  ASSERT_NE(arw, std::string::npos) << out;
+  EXPECT_EQ(out.substr(arw, out.find('\n', arw) - arw).find("deg/sqrt(h)"), 14u) << out;
+  EXPECT_NE(out.find("B: min/0.664"), std::string::npos) << out;
+  {
+    const auto rows = io::read_lot_summary(dir / "out" / "lot_summary.h5");
+    ASSERT_EQ(rows.size(), 1u);
+    EXPECT_EQ(rows[0].readout_n_alt_unit, "deg/sqrt(h)");
+    EXPECT_NEAR(rows[0].readout_n_alt, 0.3, 5 * rows[0].readout_n_alt_sigma + 0.01);
+    EXPECT_EQ(rows[0].readout_n_unit, "deg/h/sqrt(Hz)");
+    EXPECT_EQ(rows[0].readout_b_unit, "deg/h");
+    EXPECT_GT(rows[0].readout_b_tau, 0.0);
+    EXPECT_NE(rows[0].readouts_valid.find('N'), std::string::npos);
+  }
   // The same with a 0.05 Hz sinusoid far above the noise at its taus: the model misses it.
   fs::remove_all(dir / "out");
   out = simulate_and_analyze(

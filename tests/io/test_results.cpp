@@ -40,7 +40,8 @@ io::RecordingResult sample_result() {
   fit.terms.push_back({"Q", 0.0, 1e-7, 2e-7, false, "deg", 0.0, 1.7, 3.5, "urad", 0.0, "deg"});
   fit.tau = {0.001, 0.002, 0.004};
   fit.adev_model = {1e-3, 7.1e-4, 5e-4};
-  fit.readouts.push_back({"N_1s", true, 0.005, 4e-5, 1.0, 0.00505, 18.0, 0.14, "deg/h/sqrt(Hz)"});
+  fit.readouts.push_back({"N_1s", true, 0.005, 4e-5, 1.0, 0.00505, 18.0, 0.14, "deg/h/sqrt(Hz)",
+                          0.3, 0.0024, "deg/sqrt(h)"});
   ch.fit = fit;
   io::FitRecord pf = fit;  // psd_fit/: the same terms, f and psd_model instead of tau
   pf.tau.clear();
@@ -159,11 +160,15 @@ TEST(Results, LotSummaryRoundTripAndCsv) {
                       "max_abs_log10_ratio,crosscheck_worst_tau,fits_agree,fits_max_abs_z,"
                       "R_upper,K_upper,B_upper,N_upper,Q_upper,spec_status,spec_detail,outlier,"
                       "outlier_terms,R_spec_status,K_spec_status,B_spec_status,N_spec_status,"
-                      "Q_spec_status\n",
+                      "Q_spec_status,readout_N,readout_N_sigma,readout_N_unit,readout_N_alt,"
+                      "readout_N_alt_sigma,readout_N_alt_unit,readout_B,readout_B_sigma,"
+                      "readout_B_unit,readout_B_tau,readout_K,readout_K_sigma,readout_K_unit,"
+                      "readout_K_tau,readouts_valid\n",
                       0),
             0u);
   EXPECT_NE(csv.find("SN 1,/imu/gyro_x,deg/s,5400000,ok,/data/sn1.h5,,,,,,,,,,,,,18,0.036,deg/h/"
-                     "sqrt(Hz),1,0,1.7,urad,0,0.97,ok,,,0,4.5,,,,18.4,3.5,,,0,,,,,,\n"),
+                     "sqrt(Hz),1,0,1.7,urad,0,0.97,ok,,,0,4.5,,,,18.4,3.5,,,0,,,,,,,18,0.14,"
+                     "deg/h/sqrt(Hz),0.3,0.0024,deg/sqrt(h),,,,,,,,,N\n"),
             std::string::npos)
       << csv;
   EXPECT_NE(csv.find("\"failed: not an HDF5 file, \"\"really\"\"\""), std::string::npos);

@@ -72,8 +72,10 @@ io::FitRecord fit(bool psd_domain) {
   f.max_abs_z = 1.2;
   f.worst_term = "N";
   f.agree = 1;
-  f.readouts.push_back({"N_1s", true, 0.005, 4e-5, 1.0, 0.00505, 18.0, 0.14, "deg/h/sqrt(Hz)"});
-  f.readouts.push_back({"K_3s", false, 1e-6, 1e-7, 3.0, 2e-6, 0.1, 0.01, "deg/h/sqrt(h)"});
+  f.readouts.push_back({"N_1s", true, 0.005, 4e-5, 1.0, 0.00505, 18.0, 0.14, "deg/h/sqrt(Hz)", 0.3,
+                        0.0024, "deg/sqrt(h)"});
+  f.readouts.push_back(
+      {"K_3s", false, 1e-6, 1e-7, 3.0, 2e-6, 0.1, 0.01, "deg/h/sqrt(h)", 0.0, 0.0, ""});
   return f;
 }
 
@@ -243,6 +245,21 @@ TEST(Schema, LotSummaryColumnsRoundTrip) {
   }
   row.chi2_dof = 1.02;
   row.fit_status = "poor fit (chi2/dof = 1.02)";
+  row.readout_n = 18.3;
+  row.readout_n_sigma = 0.1;
+  row.readout_n_unit = "deg/h/sqrt(Hz)";
+  row.readout_n_alt = 0.305;
+  row.readout_n_alt_sigma = 0.002;
+  row.readout_n_alt_unit = "deg/sqrt(h)";
+  row.readout_b = 6.4;
+  row.readout_b_sigma = 0.3;
+  row.readout_b_unit = "deg/h";
+  row.readout_b_tau = 120;
+  row.readout_k = 0.5;
+  row.readout_k_sigma = 0.05;
+  row.readout_k_unit = "deg/h/sqrt(h)";
+  row.readout_k_tau = 2000;
+  row.readouts_valid = "N B";
   row.max_abs_log10_ratio = 0.03;
   row.crosscheck_worst_tau = 2.5;
   row.fits_agree = 1;
