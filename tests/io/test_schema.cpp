@@ -28,7 +28,7 @@ using kernels::FitStatus;
 template <class Rec, class Table>
 void expect_fields(const Rec& want, const Rec& got, const Table& table, const std::string& where,
                    bool summary_only = false) {
-  const Rec blank{};
+  static const Rec blank{};
   for (const auto& f : table) {
     if (summary_only && !f.summary) continue;
     std::visit(
