@@ -4,6 +4,7 @@
 #include "kernels/allan/phase.hpp"
 #include "kernels/uncertainty/confidence.hpp"
 #include "src/pipeline/channel_fit.hpp"
+#include "src/pipeline/channel_quality.hpp"
 #include "src/pipeline/spectrum.hpp"
 
 #include <array>
@@ -111,6 +112,8 @@ std::optional<kernels::StatResult> compute_stats(io::ChannelResult& result,
 void run_stages(ChannelAnalysis& a, const io::ChannelInfo& channel, std::vector<double>& samples,
                 const ChannelOptions& opt) {
   const auto t_kernels = Clock::now();
+  // The screen sees the samples as read, before the phase replaces them (docs/quality.md).
+  a.result.quality = screen_channel(channel, samples, opt.threads);
   kernels::PhaseData phase =
       kernels::make_phase(samples, channel.data_type, channel.sample_rate_hz, opt.threads);
   a.result.n_gaps = phase.n_gaps;
