@@ -72,6 +72,11 @@ struct RunPassOptions {
 /// The run pass over x, chunked over `threads` threads.
 RunStats run_pass(std::span<const double> x, const RunPassOptions& opt, int threads);
 
+/// The runs of at least `min_length` equal valid samples whose value is none of `except`, in
+/// one sequential walk (run only when the histogram shows such runs at all).
+Tally long_runs_except(std::span<const double> x, std::int64_t min_length,
+                       std::span<const double> except);
+
 /// What the spike pass finds.
 struct SpikeStats {
   Tally spikes;

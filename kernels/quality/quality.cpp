@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <vector>
 
 namespace allanlot::kernels {
 namespace {
@@ -80,7 +81,9 @@ StuckModel stuck_model(const RunHistogram& h, std::int64_t n_pairs, std::int64_t
   return m;
 }
 
-void add_stuck(QualityReport& r, const RunStats& s, std::int64_t n_valid, double alpha) {
+// A run at a saturation value is clipping, already counted as such, not stuck output.
+void add_stuck(QualityReport& r, const RunStats& s, std::span<const double> x,
+               const std::vector<double>& saturation_values, std::int64_t n_valid, double alpha) {
   const RunHistogram& h = s.valid_runs;
   const auto for_each = [&h](auto f) {
     for (std::int64_t len = 1; len < kShortRuns; ++len)
@@ -109,12 +112,18 @@ void add_stuck(QualityReport& r, const RunStats& s, std::int64_t n_valid, double
   for_each([&](std::int64_t len, const Tally& t) {
     if (len >= m.min_run) stuck.add(t);
   });
+  if (stuck.count > 0 && !saturation_values.empty())
+    stuck = long_runs_except(x, m.min_run, saturation_values);
   r.n_stuck_runs = stuck.count;
   r.first_stuck = stuck.first;
 }
 
 // Saturation at the storage limits, and at the record's own extremes when they are piled up.
-void add_saturation(QualityReport& r, const RunStats& s, const QualityInput& in) {
+// Returns the values at which runs count as saturation.
+std::vector<double> add_saturation(QualityReport& r, const RunStats& s, const QualityInput& in) {
+  std::vector<double> values;
+  if (in.storage_min) values.push_back(*in.storage_min);
+  if (in.storage_max) values.push_back(*in.storage_max);
   Tally sat = s.at_storage_limit;
   std::int64_t samples = s.at_storage_limit_samples;
   // A record spanning only a few quantization steps (a quiet sensor whose noise is below its
@@ -132,12 +141,14 @@ void add_saturation(QualityReport& r, const RunStats& s, const QualityInput& in)
     if (e.samples <= inwards) return;
     sat.add(e.long_runs);
     samples += e.long_run_samples;
+    values.push_back(e.value);
   };
   own(s.high, in.storage_max);
   own(s.low, in.storage_min);
   r.n_saturated_runs = sat.count;
   r.n_saturated_samples = samples;
   r.first_saturated = sat.first;
+  return values;
 }
 
 }  // namespace
@@ -178,8 +189,8 @@ QualityReport screen_quality(const QualityInput& in, const QualityOptions& opt) 
   r.n_missing = s.n_missing;
   r.n_gap_runs = s.gap_runs.count;
   r.first_gap = s.gap_runs.first;
-  add_saturation(r, s, in);
-  add_stuck(r, s, r.n_samples - r.n_missing, opt.stuck_expected);
+  const std::vector<double> saturation_values = add_saturation(r, s, in);
+  add_stuck(r, s, in.samples, saturation_values, r.n_samples - r.n_missing, opt.stuck_expected);
 
   const SpikeStats sp =
       spike_pass(in.samples, opt.spike_window, opt.spike_sigmas, s.min_step, opt.threads);

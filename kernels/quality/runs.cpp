@@ -112,6 +112,24 @@ void RunStats::merge(const RunStats& later) {
   min_step = std::min(min_step, later.min_step);
 }
 
+Tally long_runs_except(std::span<const double> x, std::int64_t min_length,
+                       std::span<const double> except) {
+  Tally t;
+  const std::int64_t n = static_cast<std::int64_t>(x.size());
+  const auto at = [&x](std::int64_t i) { return x[static_cast<std::size_t>(i)]; };
+  for (std::int64_t i = 0; i < n;) {
+    std::int64_t j = i + 1;
+    while (j < n && same(at(j), at(i)))
+      ++j;
+    const double v = at(i);
+    if (!std::isnan(v) && j - i >= min_length &&
+        std::find(except.begin(), except.end(), v) == except.end())
+      t.add(1, i);
+    i = j;
+  }
+  return t;
+}
+
 RunStats run_pass(std::span<const double> x, const RunPassOptions& opt, int threads) {
   const std::int64_t n = static_cast<std::int64_t>(x.size());
   // The chunk count is fixed by the thread count only; any count gives the same result because
