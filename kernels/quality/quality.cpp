@@ -45,6 +45,12 @@ void check(const QualityOptions& opt) {
 // counts consecutive valid pairs, E the equal ones and R the runs of length >= 2. Leaving out
 // the runs >= L* can lower L*; the estimate is repeated (at most four times) until L* stops
 // falling, so that two stuck stretches do not hide each other.
+//
+// Real sensors' runs have a heavier tail than one q gives (an output filter makes a run that
+// has lasted more likely to last: ADIS16405 accelerometers continue a run of >= 3 more often
+// than a run of 2). q is therefore the larger of the above and the same estimate over the runs
+// of >= 3 only (continuations past the third sample per run that reached it, with one
+// pseudo-observation at q), which keeps the threshold on the safe side of such a tail.
 // A run length no record reaches.
 constexpr std::int64_t kNever = std::int64_t{1} << 62;
 
@@ -55,14 +61,18 @@ struct StuckModel {
 
 StuckModel stuck_model(const RunHistogram& h, std::int64_t n_pairs, std::int64_t n_valid,
                        std::int64_t cut, double alpha) {
-  double equal = 0, runs = 0, excluded_pairs = 0;
+  double equal = 0, runs = 0, excluded_pairs = 0, tail_on = 0, tail_at = 0;
   const auto count = [&](std::int64_t len, const Tally& t) {
     const double c = static_cast<double>(t.count), l = static_cast<double>(len);
-    if (len >= cut)
+    if (len >= cut) {
       excluded_pairs += c * (l - 1);
-    else if (len >= 2) {
+    } else if (len >= 2) {
       equal += c * (l - 1);
       runs += c;
+      if (len >= 3) {
+        tail_on += c * (l - 3);
+        tail_at += c * (l - 2);
+      }
     }
   };
   for (std::int64_t len = 1; len < kShortRuns; ++len)
@@ -73,6 +83,7 @@ StuckModel stuck_model(const RunHistogram& h, std::int64_t n_pairs, std::int64_t
   const double pairs = std::max(0.0, static_cast<double>(n_pairs) - excluded_pairs);
   m.p = (equal + 1) / (pairs + 2);
   m.q = (equal - runs + m.p) / (equal + 1);
+  m.q = std::max(m.q, (tail_on + m.q) / (tail_at + 1));
   const double expected_starts = static_cast<double>(n_valid) * m.p;
   if (expected_starts < alpha) return m;
   // Smallest k = L - 2 with q^k < alpha / (N p): k > log(alpha / (N p)) / log q.

@@ -9,10 +9,17 @@
 // Robust sigma: 1.4826 * median |r| over each block of kBlock samples (1.4826 = 1 / Phi^-1(3/4)
 // makes the MAD a consistent estimate of a Gaussian's sigma; Rousseeuw & Croux 1993, JASA 88,
 // 1273). Blocks follow a noise level that changes along the record (a vibration test in one
-// part of it) and make the pass chunkable. For a quantized sensor whose noise is below its step
-// the MAD can be 0; the sigma is then floored at step / sqrt(6), the standard deviation of the
-// difference of two values each rounded to the step (each rounding error uniform, variance
-// step^2 / 12), so that a clean one-step flicker is never a spike.
+// part of it) and make the pass chunkable.
+//
+// Quantized data. When the noise is about one quantization step, |r| takes a handful of values
+// (0, 1, 2 steps) and its plain median jumps between them: from one block to the next the MAD
+// is 0 or a whole step, and the threshold with it (seen on ADIS16405 accelerometers, steps of
+// 3.33 mg). The median is therefore taken as if each |r| were spread uniformly over its step
+// (over [k - 1/2, k + 1/2] steps, [0, 1/2] for 0), i.e. interpolated within the group of equal
+// values that holds it, as grouped-data medians are; for unquantized data every group holds one
+// value and this is the plain median. The sigma is floored at step / sqrt(6), the standard
+// deviation of the difference of two values each rounded to the step (each rounding error
+// uniform, variance step^2 / 12), so that a clean one-step flicker is never a spike.
 //
 // Cost: the window is kept sorted and one value is exchanged per sample by shifting the
 // elements between the old and the new position: O(window) per sample with a small constant,
@@ -56,6 +63,28 @@ private:
   std::vector<double> v_;
 };
 
+// The median of `a` (valid |r| of one block, >= 1 value, reordered) with the values grouped by
+// whole steps and interpolated within the middle group (see above); `step` 0 or infinite: the
+// lower middle value itself.
+double grouped_median(std::vector<double>& a, double step) {
+  const std::size_t k = (a.size() - 1) / 2;
+  std::nth_element(a.begin(), a.begin() + static_cast<std::ptrdiff_t>(k), a.end());
+  const double m = a[k];
+  if (!(step > 0) || !std::isfinite(step)) return m;
+  const double group = std::round(m / step);
+  std::size_t below = 0, equal = 0;
+  for (const double v : a) {
+    const double g = std::round(v / step);
+    below += g < group ? 1 : 0;
+    equal += g == group ? 1 : 0;
+  }
+  const double lo = group == 0 ? 0.0 : (group - 0.5) * step;
+  const double width = group == 0 ? step / 2 : step;
+  const double within =
+      (static_cast<double>(k) + 0.5 - static_cast<double>(below)) / static_cast<double>(equal);
+  return lo + width * within;
+}
+
 SpikeStats block_pass(std::span<const double> x, std::int64_t begin, std::int64_t end,
                       std::int64_t h, double sigmas, double step) {
   const std::int64_t n = static_cast<std::int64_t>(x.size());
@@ -83,10 +112,8 @@ SpikeStats block_pass(std::span<const double> x, std::int64_t begin, std::int64_
   }
   SpikeStats s;
   if (static_cast<std::int64_t>(abs_r.size()) < kMinResiduals) return s;
-  const auto mid = abs_r.begin() + static_cast<std::ptrdiff_t>((abs_r.size() - 1) / 2);
-  std::nth_element(abs_r.begin(), mid, abs_r.end());
   const double floor = std::isfinite(step) ? step / std::sqrt(6.0) : 0.0;
-  const double sigma = std::max(kMadToSigma * *mid, floor);
+  const double sigma = std::max(kMadToSigma * grouped_median(abs_r, step), floor);
   if (!(sigma > 0)) return s;  // a constant block: nothing departs from anything
   for (std::int64_t i = begin; i < end; ++i) {
     const double z = std::abs(r[static_cast<std::size_t>(i - begin)]) / sigma;
