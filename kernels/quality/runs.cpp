@@ -69,8 +69,9 @@ void add_valid_run(RunStats& s, std::span<const double> x, std::int64_t start, s
     e.long_runs.add(1, start);
     e.long_run_samples = len;
   }
-  absorb(s.high, e, std::greater<double>());
-  absorb(s.low, e, std::less<double>());
+  // Most values are neither among the two largest nor the two smallest so far: skip them cheaply.
+  if (!s.high[1].set || v >= s.high[1].value) absorb(s.high, e, std::greater<double>());
+  if (!s.low[1].set || v <= s.low[1].value) absorb(s.low, e, std::less<double>());
 }
 
 RunStats chunk_pass(std::span<const double> x, std::int64_t begin, std::int64_t end,
