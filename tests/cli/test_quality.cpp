@@ -151,6 +151,31 @@ std::vector<std::map<std::string, std::string>> read_csv(const fs::path& p) {
   return rows;
 }
 
+TEST(QualityCommand, AnUnscreenedRowHasEmptyQualityColumns) {
+  // A results file of an earlier version has no quality/ group: its counts must not read as a
+  // clean 0 in the CSV.
+  io::RecordingResult r;
+  r.device_id = "SN0";
+  io::ChannelResult ch;
+  ch.path = "/imu/gyro_x";
+  r.channels.push_back(ch);
+  ch.path = "/imu/gyro_y";
+  ch.quality = kernels::QualityReport{};
+  r.channels.push_back(ch);
+  const auto rows = io::summary_rows(r);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].quality, "");
+  EXPECT_EQ(rows[1].quality, "ok");
+  const fs::path dir = test::fresh_dir("quality_unscreened");
+  io::write_lot_summary(dir, rows);
+  const auto csv = read_csv(dir / "lot_summary.csv");
+  ASSERT_EQ(csv.size(), 2u);
+  for (const char* c : {"quality", "n_missing", "n_spikes", "longest_run", "max_spike_sigmas"})
+    EXPECT_EQ(csv[0].at(c), "") << c;
+  EXPECT_EQ(csv[1].at("n_spikes"), "0");
+  EXPECT_EQ(csv[1].at("quality"), "ok");
+}
+
 TEST(QualityCommand, InjectedSaturationAndSpikesAreFoundWrittenReportedAndFailTheSpec) {
   const fs::path dir = test::fresh_dir("quality_command");
   write_recording(dir / "SN7.h5");
