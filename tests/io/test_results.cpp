@@ -159,11 +159,12 @@ TEST(Results, LotSummaryRoundTripAndCsv) {
                       "max_abs_log10_ratio,crosscheck_worst_tau,fits_agree,fits_max_abs_z,"
                       "R_upper,K_upper,B_upper,N_upper,Q_upper,spec_status,spec_detail,outlier,"
                       "outlier_terms,R_spec_status,K_spec_status,B_spec_status,N_spec_status,"
-                      "Q_spec_status\n",
+                      "Q_spec_status,quality,n_missing,n_gap_runs,n_time_errors,n_saturated,"
+                      "longest_run,n_stuck,n_spikes,max_spike_sigmas\n",
                       0),
             0u);
   EXPECT_NE(csv.find("SN 1,/imu/gyro_x,deg/s,5400000,ok,/data/sn1.h5,,,,,,,,,,,,,18,0.036,deg/h/"
-                     "sqrt(Hz),1,0,1.7,urad,0,0.97,,,0,4.5,,,,18.4,3.5,,,0,,,,,,\n"),
+                     "sqrt(Hz),1,0,1.7,urad,0,0.97,,,0,4.5,,,,18.4,3.5,,,0,,,,,,,,,,,,,,,\n"),
             std::string::npos)
       << csv;
   EXPECT_NE(csv.find("\"failed: not an HDF5 file, \"\"really\"\"\""), std::string::npos);
