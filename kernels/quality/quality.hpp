@@ -61,7 +61,8 @@ struct QualityReport {
   double p_equal = 0;     // estimated probability that a sample equals its predecessor
   double p_continue = 0;  // ... given that the predecessor equals its own predecessor
   // Spikes: samples farther than spike_sigmas robust sigmas from the running median, and the
-  // largest such distance seen anywhere (in robust sigmas; 0 when none could be measured).
+  // largest such distance (in robust sigmas; exact when >= 6, below 6 a lower bound; 0 when
+  // nothing could be measured).
   std::int64_t n_spikes = 0, first_spike = -1;
   double max_spike_sigmas = 0;
   std::int64_t spike_window = 0;
@@ -72,8 +73,9 @@ struct QualityReport {
 
 /// Screens one channel. Preconditions (std::invalid_argument naming the option): spike_window
 /// odd and in 3..1001, spike_sigmas > 0, saturation_run >= 2, stuck_expected in (0, 1).
-/// Cost: two passes over the samples, the second O(spike_window) per sample with a small
-/// constant (docs/performance.md); memory: one block of residuals per thread.
+/// Cost: two O(N) passes over the samples (the running median is taken only where a cheap
+/// bound cannot rule out a departure of 6 sigmas; spikes.cpp), about half an overlapping Allan
+/// deviation (docs/performance.md); memory: one block of residuals per thread.
 QualityReport screen_quality(const QualityInput& in, const QualityOptions& opt = {});
 
 /// The flags of `r` as screen_quality names them (from its counts).

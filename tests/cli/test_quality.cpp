@@ -4,6 +4,7 @@
 // strictly.
 #include "io/results.hpp"
 #include "src/lot/spec.hpp"
+#include "src/pipeline/channel_quality.hpp"
 #include "support/h5_fixture.hpp"
 
 #include <gtest/gtest.h>
@@ -149,6 +150,24 @@ std::vector<std::map<std::string, std::string>> read_csv(const fs::path& p) {
     rows.push_back(row);
   }
   return rows;
+}
+
+TEST(QualityCommand, StorageLimitsInPhysicalUnits) {
+  io::ChannelInfo ch;
+  ch.storage_type = "int16";
+  EXPECT_EQ(pipeline::storage_limits(ch), (std::pair{-32768.0, 32767.0}));
+  ch.storage_type = "uint8";
+  ch.scale = -0.5;  // a negative scale swaps the ends
+  ch.offset = 10;
+  EXPECT_EQ(pipeline::storage_limits(ch), (std::pair{10.0 - 127.5, 10.0}));
+  ch.storage_type = "uint64";
+  ch.scale = 1;
+  ch.offset = 0;
+  EXPECT_EQ(pipeline::storage_limits(ch), (std::pair{0.0, 18446744073709551615.0}));
+  for (const char* t : {"float32", "float64", "int12", "string", ""}) {
+    ch.storage_type = t;
+    EXPECT_FALSE(pipeline::storage_limits(ch)) << t;
+  }
 }
 
 TEST(QualityCommand, AnUnscreenedRowHasEmptyQualityColumns) {
