@@ -183,6 +183,22 @@ TEST(Quality, SpikesBeyondTenRobustSigmas) {
   EXPECT_EQ(r.flags, "spikes");
 }
 
+TEST(Quality, SpikesAtTheEndsAndBesideGapsAreFound) {
+  // Windows are truncated at the ends and thinned by gaps; a spike there is still judged
+  // against the median of what the window holds.
+  std::vector<double> x = white(20'000, 1.0, 13);
+  x[0] += 30;
+  x[19'999] -= 30;
+  for (int i = 8'000; i < 8'010; ++i)
+    x[i] = kNaN;
+  x[8'010] += 30;
+  x[7'999] -= 30;
+  const QualityReport r = run(x);
+  EXPECT_EQ(r.n_spikes, 4);
+  EXPECT_EQ(r.first_spike, 0);
+  EXPECT_EQ(r.flags, "gaps;spikes");
+}
+
 TEST(Quality, RandomWalkAndStepsAreNotSpikes) {
   // A random walk ten times the white noise per step, and a bias jump of 50 sigma.
   std::vector<double> x = white(200'000, 1.0, 9);
