@@ -384,9 +384,11 @@ Verdict judge(const Spec& spec, const io::SummaryRow& row) {
     // Bad data fail the channel whatever its terms say; the terms that fail too are kept.
     v.detail = v.status == "fail" ? detail + "; " + v.detail : detail;
     v.status = "fail";
-  } else if (o == Outcome::Undecided && v.status == "pass") {
+  } else if (o == Outcome::Undecided && (v.status == "pass" || rule->limits.empty())) {
     v.status = "undecided";
     v.detail = detail;
+  } else if (o == Outcome::Pass && rule->limits.empty()) {
+    return {"pass", "", {}};  // a rule of quality alone needs no fitted value
   }
   return v;
 }

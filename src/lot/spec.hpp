@@ -133,9 +133,10 @@ std::pair<Outcome, std::string> judge_quality(const QualityLimits& q, const io::
 /// fail if a term fails, else undecided if a term is undecided (a limited term without an
 /// estimate is undecided), else pass. A rule's quality limits come on top: a quality failure
 /// fails the row (also one without a fitted value), an unscreened row that would pass is
-/// undecided. The detail lists the terms behind the status, e.g.
-/// "N 18.3±0.04 > 18 deg/h/sqrt(Hz)" (± is k sigma) or "B <12 ~ 10 deg/h" (undetected: the
-/// upper bound). Throws spec::Error when a matching rule's unit does not fit the channel.
+/// undecided, and a rule of quality limits alone passes a screened row within them. The detail
+/// lists the terms behind the status, e.g. "N 18.3±0.04 > 18 deg/h/sqrt(Hz)" (± is k sigma) or "B
+/// <12 ~ 10 deg/h" (undetected: the upper bound). Throws spec::Error when a matching rule's unit
+/// does not fit the channel.
 struct Verdict {
   std::string status;
   std::string detail;

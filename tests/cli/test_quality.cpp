@@ -99,6 +99,13 @@ TEST(QualitySpec, ABadChannelFailsWhateverItsTerms) {
   old.quality = "";
   EXPECT_EQ(spec::judge(s, old).status, "undecided");
   EXPECT_EQ(spec::judge(s, old).detail, "quality not screened");
+  // A rule of quality alone decides a channel without a fitted value.
+  const spec::Spec q_only = parse(R"j({"channels": {"*": {"quality": {"max_spikes": 0}}}})j");
+  EXPECT_EQ(spec::judge(q_only, screened_row(0, 0)).status, "pass");
+  EXPECT_EQ(spec::judge(q_only, screened_row(2, 0)).status, "fail");
+  io::SummaryRow unscreened = screened_row(0, 0);
+  unscreened.quality = "";
+  EXPECT_EQ(spec::judge(q_only, unscreened).status, "undecided");
 }
 
 // A 16-bit gyro at 0.02 deg/s per count (noise of 8 counts) whose x axis is clipped at the
