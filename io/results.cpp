@@ -64,6 +64,9 @@ void write_channel(hid_t f, const ChannelResult& ch, const std::string& file) {
   const std::string& gp = ch.path;
   Handle g = h5::ensure_groups(f, gp, file);
   schema::write_fields(g.get(), ch, schema::channel_fields(), file, gp);
+  if (ch.quality)
+    write_group(g.get(), schema::kQuality, *ch.quality, schema::quality_fields(), file,
+                gp + "/quality");
   if (ch.fit) write_fit(g.get(), schema::kFit, *ch.fit, file, gp + "/fit");
   if (ch.psd_fit) write_fit(g.get(), schema::kPsdFit, *ch.psd_fit, file, gp + "/psd_fit");
   if (ch.psd) write_group(g.get(), schema::kPsd, *ch.psd, schema::psd_fields(), file, gp + "/psd");
@@ -87,6 +90,9 @@ ChannelResult read_channel(hid_t f, const std::string& gp, Depth depth, const st
   ch.path = gp;
   schema::read_fields(g.get(), ch, schema::channel_fields(), depth, file, gp);
   const bool full = depth == Depth::Full;
+  if (schema::has_link(g.get(), schema::kQuality))
+    ch.quality = read_group(g.get(), schema::kQuality, schema::quality_fields(), depth, file,
+                            gp + "/quality");
   if (schema::has_link(g.get(), schema::kFit))
     ch.fit = read_fit(g.get(), schema::kFit, depth, file, gp + "/fit");
   if (schema::has_link(g.get(), schema::kPsdFit))
@@ -255,6 +261,18 @@ std::vector<SummaryRow> summary_rows(const RecordingResult& r) {
     if (ch.psd_fit && ch.psd_fit->agree >= 0) {
       row.fits_agree = static_cast<std::int8_t>(ch.psd_fit->agree);
       row.fits_max_abs_z = ch.psd_fit->max_abs_z;
+    }
+    if (ch.quality) {
+      const kernels::QualityReport& q = *ch.quality;
+      row.quality = q.flags.empty() ? "ok" : q.flags;
+      row.n_missing = q.n_missing;
+      row.n_gap_runs = q.n_gap_runs;
+      row.n_time_errors = q.n_duplicate_times + q.n_decreasing_times;
+      row.n_saturated = q.n_saturated_samples;
+      row.longest_run = q.longest_run;
+      row.n_stuck = q.n_stuck_runs;
+      row.n_spikes = q.n_spikes;
+      row.max_spike_sigmas = q.max_spike_sigmas;
     }
     rows.push_back(std::move(row));
   }

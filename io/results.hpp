@@ -7,6 +7,7 @@
 #include "io/status.hpp"
 #include "kernels/allan/stats.hpp"
 #include "kernels/model/fit.hpp"
+#include "kernels/quality/quality.hpp"
 
 #include <array>
 #include <cstdint>
@@ -105,11 +106,12 @@ struct ChannelResult {
   std::string notes;     // what was not computed and why, e.g. a skipped statistic
   /// (statistic name, result) in the order computed; written to allan/<name>/.
   std::vector<std::pair<std::string, kernels::StatResult>> stats;
-  std::optional<FitRecord> fit;                // fit/: the equation (3) fit of the oadev curve
-  std::optional<FitRecord> psd_fit;            // psd_fit/: the same five terms from the PSD
-  std::optional<PsdRecord> psd;                // psd/
-  std::optional<CrosscheckRecord> crosscheck;  // crosscheck/
-  std::optional<DiagnosisRecord> diagnosis;    // diagnosis/, added by `allanlot diagnose -o`
+  std::optional<FitRecord> fit;                   // fit/: the equation (3) fit of the oadev curve
+  std::optional<FitRecord> psd_fit;               // psd_fit/: the same five terms from the PSD
+  std::optional<PsdRecord> psd;                   // psd/
+  std::optional<CrosscheckRecord> crosscheck;     // crosscheck/
+  std::optional<kernels::QualityReport> quality;  // quality/: the data-quality screen
+  std::optional<DiagnosisRecord> diagnosis;       // diagnosis/, added by `allanlot diagnose -o`
 };
 
 /// One results file: one input recording.
@@ -181,6 +183,18 @@ struct SummaryRow {
   /// The decision of each term R, K, B, N, Q that the spec limits ("pass", "fail", "undecided");
   /// "" for a term without a limit or without a spec.
   std::array<std::string, 5> spec_term_status;
+  /// The data-quality screen (quality/, docs/quality.md): the flags raised ("gaps;saturation",
+  /// "ok" when none; "" when the channel was not screened: a failed input, an older file), and
+  /// the counts an engineer checks first (0 and NaN when not screened).
+  std::string quality;
+  std::int64_t n_missing = 0;      // missing samples
+  std::int64_t n_gap_runs = 0;     // runs of them
+  std::int64_t n_time_errors = 0;  // duplicate or decreasing time stamps
+  std::int64_t n_saturated = 0;    // samples in saturated runs
+  std::int64_t longest_run = 0;    // longest run of identical samples
+  std::int64_t n_stuck = 0;        // runs long enough to be stuck output
+  std::int64_t n_spikes = 0;
+  double max_spike_sigmas = nan();  // largest distance from the running median, robust sigmas
 
   SummaryRow() = default;
   SummaryRow(std::string device, std::string chan, std::string u, std::int64_t n, ChannelStatus st,

@@ -188,6 +188,44 @@ std::span<const Field<DiagnosisRecord>> diagnosis_fields() {
   return t;
 }
 
+std::span<const Field<kernels::QualityReport>> quality_fields() {
+  using Q = kernels::QualityReport;
+  // docs/quality.md. Every field is an attribute (read when present); positions are sample
+  // indices, -1 when there is none. `summary`: what the lot summary's quality columns need.
+  constexpr Need opt = Need::IfPresent;
+  static const Field<Q> t[] = {
+      {"flags", A, &Q::flags, "raised: gaps;time_stamps;saturation;stuck;spikes", nullptr, opt,
+       true},
+      {"n_samples", A, &Q::n_samples, "samples screened", nullptr, opt},
+      {"n_missing", A, &Q::n_missing, "missing samples (NaN)", nullptr, opt, true},
+      {"n_gap_runs", A, &Q::n_gap_runs, "runs of missing samples", nullptr, opt, true},
+      {"first_gap", A, &Q::first_gap, "start of the first", nullptr, opt},
+      {"n_duplicate_times", A, &Q::n_duplicate_times, "time stamps equal to the previous", nullptr,
+       opt, true},
+      {"first_duplicate_time", A, &Q::first_duplicate_time, "sample index", nullptr, opt},
+      {"n_decreasing_times", A, &Q::n_decreasing_times, "time stamps below the previous", nullptr,
+       opt, true},
+      {"first_decreasing_time", A, &Q::first_decreasing_time, "sample index", nullptr, opt},
+      {"n_saturated_runs", A, &Q::n_saturated_runs, "runs at a limit or piled-up extreme", nullptr,
+       opt, true},
+      {"n_saturated_samples", A, &Q::n_saturated_samples, "samples in them", nullptr, opt, true},
+      {"first_saturated", A, &Q::first_saturated, "start of the first", nullptr, opt},
+      {"longest_run", A, &Q::longest_run, "longest run of identical samples", nullptr, opt, true},
+      {"longest_run_start", A, &Q::longest_run_start, "its start", nullptr, opt},
+      {"stuck_run", A, &Q::stuck_run, "shortest run length counted as stuck", nullptr, opt},
+      {"n_stuck_runs", A, &Q::n_stuck_runs, "runs at least that long", nullptr, opt, true},
+      {"first_stuck", A, &Q::first_stuck, "start of the first", nullptr, opt},
+      {"p_equal", A, &Q::p_equal, "P(sample equals its predecessor)", nullptr, opt},
+      {"p_continue", A, &Q::p_continue, "P(... again, after an equal pair)", nullptr, opt},
+      {"n_spikes", A, &Q::n_spikes, "samples beyond the spike threshold", nullptr, opt, true},
+      {"first_spike", A, &Q::first_spike, "index of the first", nullptr, opt},
+      {"max_spike_sigmas", A, &Q::max_spike_sigmas, "largest |x - running median| / sigma", nullptr,
+       opt, true},
+      {"spike_window", A, &Q::spike_window, "running-median window, samples", nullptr, opt},
+  };
+  return t;
+}
+
 namespace {
 
 std::string detected_csv(const SummaryRow& r, std::size_t i) {
@@ -196,6 +234,13 @@ std::string detected_csv(const SummaryRow& r, std::size_t i) {
 
 std::string agree_csv(const SummaryRow& r, std::size_t) {
   return r.fits_agree < 0 ? "" : std::to_string(r.fits_agree);
+}
+
+// A quality count is empty in the CSV for a row that was not screened (no quality/ group), so
+// that it never reads as a clean 0.
+template <std::int64_t SummaryRow::*M>
+std::string quality_count(const SummaryRow& r, std::size_t) {
+  return r.quality.empty() ? "" : std::to_string(r.*M);
 }
 
 }  // namespace
@@ -246,6 +291,19 @@ std::span<const RowColumn<SummaryRow>> summary_columns() {
       {"readouts_valid", &S::readouts_valid,
        "the read-outs whose term the fit detects, e.g. 'N B'; the others read a branch the "
        "curve may not have"},
+      {"quality", &S::quality, "flags raised, ok when none; empty when not screened"},
+      {"n_missing", &S::n_missing, "missing samples", 0, quality_count<&S::n_missing>},
+      {"n_gap_runs", &S::n_gap_runs, "runs of missing samples", 0, quality_count<&S::n_gap_runs>},
+      {"n_time_errors", &S::n_time_errors, "duplicate or decreasing time stamps", 0,
+       quality_count<&S::n_time_errors>},
+      {"n_saturated", &S::n_saturated, "samples in saturated runs", 0,
+       quality_count<&S::n_saturated>},
+      {"longest_run", &S::longest_run, "longest run of identical samples", 0,
+       quality_count<&S::longest_run>},
+      {"n_stuck", &S::n_stuck, "runs long enough to be stuck output", 0,
+       quality_count<&S::n_stuck>},
+      {"n_spikes", &S::n_spikes, "samples beyond 10 robust sigmas", 0, quality_count<&S::n_spikes>},
+      {"max_spike_sigmas", &S::max_spike_sigmas, "largest distance from the running median"},
   };
   return t;
 }

@@ -71,15 +71,16 @@ struct Column {
 };
 
 // The groups of a results file, in the order their fields are written.
-std::span<const Field<RecordingResult>> root_fields();         // "/" (free attributes follow)
-std::span<const Field<ChannelResult>> channel_fields();        // the channel group's attributes
-std::span<const Field<kernels::StatResult>> stat_fields();     // allan/<stat>/
-std::span<const Column<TermRecord>> term_columns();            // fit/ and psd_fit/: per term
-std::span<const Field<FitRecord>> fit_fields();                // fit/ and psd_fit/
-std::span<const Column<ReadoutRecord>> readout_columns();      // fit/readouts/
-std::span<const Field<PsdRecord>> psd_fields();                // psd/
-std::span<const Field<CrosscheckRecord>> crosscheck_fields();  // crosscheck/
-std::span<const Field<DiagnosisRecord>> diagnosis_fields();    // diagnosis/ (+ free attributes)
+std::span<const Field<RecordingResult>> root_fields();            // "/" (free attributes follow)
+std::span<const Field<ChannelResult>> channel_fields();           // the channel group's attributes
+std::span<const Field<kernels::StatResult>> stat_fields();        // allan/<stat>/
+std::span<const Column<TermRecord>> term_columns();               // fit/ and psd_fit/: per term
+std::span<const Field<FitRecord>> fit_fields();                   // fit/ and psd_fit/
+std::span<const Column<ReadoutRecord>> readout_columns();         // fit/readouts/
+std::span<const Field<PsdRecord>> psd_fields();                   // psd/
+std::span<const Field<CrosscheckRecord>> crosscheck_fields();     // crosscheck/
+std::span<const Field<DiagnosisRecord>> diagnosis_fields();       // diagnosis/ (+ free attributes)
+std::span<const Field<kernels::QualityReport>> quality_fields();  // quality/
 
 /// Names of a channel group's subgroups.
 inline constexpr const char* kAllan = "allan";
@@ -89,6 +90,7 @@ inline constexpr const char* kPsd = "psd";
 inline constexpr const char* kCrosscheck = "crosscheck";
 inline constexpr const char* kReadouts = "readouts";
 inline constexpr const char* kDiagnosis = "diagnosis";
+inline constexpr const char* kQuality = "quality";
 
 /// The eq. (3) terms in the order of the lot summary's per-term columns.
 inline constexpr std::array<const char*, 5> kTermNames = {"R", "K", "B", "N", "Q"};

@@ -108,6 +108,50 @@ TermLimit parse_limit(const Checker& c, units::Term term, const Json& j, const s
   return l;
 }
 
+// The quality keys of a rule: a count's limit, or a flag's "fail" / "ignore" (docs/quality.md).
+struct QualityKey {
+  const char* max_key;   // "max_spikes"
+  const char* flag_key;  // "spikes", or nullptr
+  std::optional<std::int64_t> QualityLimits::*member;
+};
+constexpr QualityKey kQualityKeys[] = {
+    {"max_gaps", "gaps", &QualityLimits::max_gaps},
+    {"max_missing", nullptr, &QualityLimits::max_missing},
+    {"max_spikes", "spikes", &QualityLimits::max_spikes},
+    {"max_saturated", "saturation", &QualityLimits::max_saturated},
+    {"max_stuck", "stuck", &QualityLimits::max_stuck},
+    {"max_time_errors", "time_stamps", &QualityLimits::max_time_errors},
+};
+
+QualityLimits parse_quality(const Checker& c, const Json& j, const std::string& path) {
+  c.object(j, path);
+  if (j.empty()) c.fail(path, "must limit at least one quality count");
+  QualityLimits q;
+  q.key_path = path;
+  std::set<const QualityKey*> seen;
+  for (const auto& [key, value] : j.items()) {
+    const std::string at = Checker::at(path, key);
+    const QualityKey* k = nullptr;
+    for (const QualityKey& cand : kQualityKeys)
+      if (key == cand.max_key || (cand.flag_key && key == cand.flag_key)) k = &cand;
+    if (!k)
+      c.fail(at, "unknown key (max_gaps, max_missing, max_spikes, max_saturated, max_stuck, "
+                 "max_time_errors, gaps, spikes, saturation, stuck, time_stamps)");
+    if (!seen.insert(k).second)  // the other spelling of the same count came first
+      c.fail(at, std::string("give ") + k->max_key + " or " + k->flag_key + ", not both");
+    if (key == k->max_key) {
+      if (!value.is_number_integer() || value.get<std::int64_t>() < 0)
+        c.fail(at, "must be an integer >= 0, got " + value.dump());
+      q.*(k->member) = value.get<std::int64_t>();
+    } else if (value == "fail") {
+      q.*(k->member) = 0;
+    } else if (value != "ignore") {
+      c.fail(at, "must be \"fail\" or \"ignore\", got " + value.dump());
+    }
+  }
+  return q;
+}
+
 // The detail prints values to 3 significant digits and half-widths to 2 (the half-width's
 // leading digits decide how many of the value's mean anything), limits to 4 (a limit converted
 // from the other datasheet form, 0.029 m/s/sqrt(h) = 0.04929 mg/sqrt(Hz), must not look moved).
@@ -180,12 +224,17 @@ Spec parse_spec(std::string_view json_text, const std::string& source) {
     const std::string path = Checker::at("channels", glob);
     if (glob.empty()) c.fail(path, "empty channel pattern");
     c.object(body, path);
-    if (body.empty()) c.fail(path, "must limit at least one term (R, K, B, N or Q)");
+    if (body.empty()) c.fail(path, "must limit at least one term (R, K, B, N or Q) or quality");
     Rule r;
     r.glob = glob;
     for (const auto& [key, value] : body.items()) {
+      if (key == "quality") {
+        r.quality = parse_quality(c, value, Checker::at(path, key));
+        continue;
+      }
       const auto term = units::parse_term(key);
-      if (!term) c.fail(Checker::at(path, key), "unknown key (the terms are R, K, B, N, Q)");
+      if (!term)
+        c.fail(Checker::at(path, key), "unknown key (the terms are R, K, B, N, Q; and quality)");
       r.limits.push_back(parse_limit(c, *term, value, Checker::at(path, key)));
     }
     s.rules.push_back(std::move(r));
@@ -241,7 +290,9 @@ Outcome decide(const Estimate& e, std::optional<double> min, std::optional<doubl
   return o;
 }
 
-Verdict judge(const Spec& spec, const io::SummaryRow& row) {
+namespace {
+
+Verdict judge_terms(const Spec& spec, const io::SummaryRow& row) {
   const bool any_value =
       std::any_of(row.value.begin(), row.value.end(), [](double v) { return std::isfinite(v); });
   if (!row.status.is_ok() || row.channel.empty()) return {"no data", "", {}};  // status says why
@@ -296,6 +347,50 @@ Verdict judge(const Spec& spec, const io::SummaryRow& row) {
   v.status = outcome_name(worst);
   for (const auto& [o, text] : terms)
     if (o == worst) v.detail += (v.detail.empty() ? "" : "; ") + text;
+  return v;
+}
+
+}  // namespace
+
+std::pair<Outcome, std::string> judge_quality(const QualityLimits& q, const io::SummaryRow& row) {
+  if (row.quality.empty()) return {Outcome::Undecided, "quality not screened"};
+  const std::pair<std::optional<std::int64_t>, std::pair<std::int64_t, const char*>> counts[] = {
+      {q.max_gaps, {row.n_gap_runs, "gaps"}},
+      {q.max_missing, {row.n_missing, "missing samples"}},
+      {q.max_spikes, {row.n_spikes, "spikes"}},
+      {q.max_saturated, {row.n_saturated, "saturated samples"}},
+      {q.max_stuck, {row.n_stuck, "stuck runs"}},
+      {q.max_time_errors, {row.n_time_errors, "time-stamp errors"}},
+  };
+  std::string detail;
+  for (const auto& [limit, count] : counts)
+    if (limit && count.first > *limit) {
+      detail += detail.empty() ? "quality: " : "; ";
+      detail += std::to_string(count.first);
+      detail += ' ';
+      detail += count.second;
+      detail += " > ";
+      detail += std::to_string(*limit);
+    }
+  return {detail.empty() ? Outcome::Pass : Outcome::Fail, detail};
+}
+
+Verdict judge(const Spec& spec, const io::SummaryRow& row) {
+  Verdict v = judge_terms(spec, row);
+  const Rule* rule =
+      row.status.is_ok() && !row.channel.empty() ? find_rule(spec, row.channel) : nullptr;
+  if (!rule || !rule->quality) return v;
+  const auto [o, detail] = judge_quality(*rule->quality, row);
+  if (o == Outcome::Fail) {
+    // Bad data fail the channel whatever its terms say; the terms that fail too are kept.
+    v.detail = v.status == "fail" ? detail + "; " + v.detail : detail;
+    v.status = "fail";
+  } else if (o == Outcome::Undecided && (v.status == "pass" || rule->limits.empty())) {
+    v.status = "undecided";
+    v.detail = detail;
+  } else if (o == Outcome::Pass && rule->limits.empty()) {
+    return {"pass", "", {}};  // a rule of quality alone needs no fitted value
+  }
   return v;
 }
 

@@ -18,12 +18,23 @@
 // or deg/sqrt(h)) or the coefficient's unit in the channel's own units (deg/s*s^0.5). Any other
 // key, a wrong JSON type, a duplicate key or an impossible value is a spec::Error naming the
 // file and the key path, e.g. "spec.json: channels.gyro_*.N.max: must be >= 0, got -1".
+//
+// A rule may also limit the data-quality screen (docs/quality.md) under the key "quality":
+//
+//       "gyro_*": {"N": {...}, "quality": {"max_spikes": 0, "saturation": "fail"}}
+//
+// with "max_gaps" (runs of missing samples), "max_missing" (missing samples), "max_spikes",
+// "max_saturated" (samples in saturated runs), "max_stuck" (stuck runs), "max_time_errors"
+// (duplicate or decreasing time stamps), each an integer >= 0, and "saturation", "stuck",
+// "time_stamps", "gaps", "spikes" as "fail" (the same as its max_ of 0) or "ignore". A channel
+// beyond a quality limit fails whatever its terms say.
 #pragma once
 
 #include "io/results.hpp"
 #include "kernels/model/units.hpp"
 
 #include <array>
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <stdexcept>
@@ -47,10 +58,18 @@ struct TermLimit {
   std::string key_path;            // e.g. "channels.gyro_*.N", for messages
 };
 
+/// Limits on the quality screen's counts (io::SummaryRow's quality columns); unset: no limit.
+struct QualityLimits {
+  std::optional<std::int64_t> max_gaps, max_missing, max_spikes, max_saturated, max_stuck,
+      max_time_errors;
+  std::string key_path;  // e.g. "channels.gyro_*.quality", for messages
+};
+
 /// The limits for the channels whose path or name matches `glob`.
 struct Rule {
   std::string glob;
-  std::vector<TermLimit> limits;  // in file order
+  std::vector<TermLimit> limits;         // in file order
+  std::optional<QualityLimits> quality;  // "quality": {...}
 };
 
 struct Spec {
@@ -103,12 +122,21 @@ std::pair<double, double> interval(const Estimate& e, double k);
 /// the limit). With both limits, a fail on either fails, else an undecided on either.
 Outcome decide(const Estimate& e, std::optional<double> min, std::optional<double> max, double k);
 
+/// The decision of a row's quality counts against `q`: fail when a count exceeds its limit,
+/// undecided when the row was not screened (its `quality` is empty: an older results file),
+/// pass otherwise; the detail names the counts beyond their limits, e.g. "quality: 3 spikes >
+/// 0", or "quality not screened".
+std::pair<Outcome, std::string> judge_quality(const QualityLimits& q, const io::SummaryRow& row);
+
 /// The spec_status and spec_detail of one summary row (io::SummaryRow): "no data" for a failed
 /// row or one without any fitted value, "no spec" when no rule matches the channel, otherwise
 /// fail if a term fails, else undecided if a term is undecided (a limited term without an
-/// estimate is undecided), else pass. The detail lists the terms behind the status, e.g.
-/// "N 18.3±0.04 > 18 deg/h/sqrt(Hz)" (± is k sigma) or "B <12 ~ 10 deg/h" (undetected: the
-/// upper bound). Throws spec::Error when a matching rule's unit does not fit the channel.
+/// estimate is undecided), else pass. A rule's quality limits come on top: a quality failure
+/// fails the row (also one without a fitted value), an unscreened row that would pass is
+/// undecided, and a rule of quality limits alone passes a screened row within them. The detail
+/// lists the terms behind the status, e.g. "N 18.3±0.04 > 18 deg/h/sqrt(Hz)" (± is k sigma) or "B
+/// <12 ~ 10 deg/h" (undetected: the upper bound). Throws spec::Error when a matching rule's unit
+/// does not fit the channel.
 struct Verdict {
   std::string status;
   std::string detail;

@@ -65,6 +65,14 @@ void print_overview(const LotOverview& ov, const spec::Spec* sp, std::ostream& o
   }
   // A lot of thousands can have dozens of outliers; the CSV has them all.
   constexpr std::size_t kShown = 8;
+  if (!ov.quality.empty()) {
+    out << "quality flags (" << ov.quality.size() << "):";
+    for (std::size_t i = 0; i < std::min(kShown, ov.quality.size()); ++i)
+      out << (i ? "; " : " ") << ov.quality[i];
+    if (ov.quality.size() > kShown)
+      out << "; ... (column quality of lot_summary.csv lists them all)";
+    out << "\n";
+  }
   if (ov.outliers.empty()) return;
   out << "outliers (" << ov.outliers.size() << "):";
   for (std::size_t i = 0; i < std::min(kShown, ov.outliers.size()); ++i)
@@ -195,6 +203,8 @@ LotOverview write_lot(const fs::path& outdir, std::vector<io::SummaryRow> rows,
          : s == "undecided" ? k.undecided
          : s == "no spec"   ? k.no_spec
                             : k.no_data);
+    if (!r.quality.empty() && r.quality != "ok")
+      ov.quality.push_back(r.device_id + ":" + r.channel + " (" + r.quality + ")");
     if (r.outlier) {
       ++k.outliers;
       ov.outliers.push_back(r.device_id + ":" + r.channel + " (" + r.outlier_terms + ")");

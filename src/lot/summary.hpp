@@ -37,6 +37,7 @@ struct LotOverview {
   bool spec = false;          // a spec was applied
   std::vector<KindCounts> kinds;      // per channel kind, sorted by path
   std::vector<std::string> outliers;  // "device:channel (N z=+5.2)"
+  std::vector<std::string> quality;   // "device:channel (spikes;saturation)": flags raised
 };
 
 /// The summary rows of every complete results file (*.allan.h5, not hidden) in `outdir`, in

@@ -4,6 +4,7 @@
 #include "kernels/allan/phase.hpp"
 #include "kernels/uncertainty/confidence.hpp"
 #include "src/pipeline/channel_fit.hpp"
+#include "src/pipeline/channel_quality.hpp"
 #include "src/pipeline/spectrum.hpp"
 
 #include <algorithm>
@@ -134,6 +135,8 @@ void run_stages(ChannelAnalysis& a, const io::ChannelInfo& channel, std::vector<
                 const ChannelOptions& opt) {
   const auto t_kernels = Clock::now();
   summarize_samples(a.result, samples);
+  // The screen sees the samples as read, before the phase replaces them (docs/quality.md).
+  a.result.quality = screen_channel(channel, samples, opt.threads);
   kernels::PhaseData phase =
       kernels::make_phase(samples, channel.data_type, channel.sample_rate_hz, opt.threads);
   a.result.n_gaps = phase.n_gaps;

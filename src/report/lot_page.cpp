@@ -185,6 +185,7 @@ std::string lot_section(const std::string& title, const std::vector<Unit>& units
        "unit relative to the lot median (labelled under its term), with the quartile box and "
        "1.5 IQR whiskers; outliers in red link to the unit.</p>\n<div class=\"dists\">\n"
     << dists.str() << "</div>\n";
+  h << quality_section(units);
   h << "<h2>Outlier units</h2>\n";
   if (outliers.empty()) {
     h << "<p>None.</p>\n";

@@ -124,6 +124,11 @@ std::string distribution_plot(const std::string& id, const std::string& channel,
                               const std::vector<Member>& members,
                               const std::vector<Outlier>& outliers);
 
+// The data-quality screen (quality.cpp): one line of a channel's findings, flagged ones in red,
+// and the lot page's table of the channels that raise a flag.
+std::string quality_line(const kernels::QualityReport& q, double rate_hz);
+std::string quality_section(const std::vector<Unit>& units);
+
 // Pages (unit_page.cpp, lot_page.cpp).
 std::string html_head(const std::string& title);
 std::string unit_section(const Unit& u, const ExtrasMap& extras, const std::string& lot_href);

@@ -161,6 +161,7 @@ std::string channel_section(const Unit& u, const io::ChannelResult& ch, const Ex
   if (x && x->agree == "no") h << "; <span class=\"bad\">time- and PSD-domain fits disagree</span>";
   h << "</p>\n";
   if (!ch.status.is_ok()) h << "<p class=\"bad\">" << escape(io::to_string(ch.status)) << "</p>\n";
+  if (ch.quality) h << quality_line(*ch.quality, ch.sample_rate_hz);
   if (!ch.notes.empty()) h << "<p class=\"small\">Notes: " << escape(ch.notes) << "</p>\n";
   if (ch.status.is_ok()) {
     h << "<div class=\"plots\">\n";

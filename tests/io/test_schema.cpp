@@ -28,7 +28,7 @@ using kernels::FitStatus;
 template <class Rec, class Table>
 void expect_fields(const Rec& want, const Rec& got, const Table& table, const std::string& where,
                    bool summary_only = false) {
-  const Rec blank{};
+  static const Rec blank{};
   for (const auto& f : table) {
     if (summary_only && !f.summary) continue;
     std::visit(
@@ -106,6 +106,34 @@ io::DiagnosisRecord diagnosis() {
   return d;
 }
 
+kernels::QualityReport quality() {
+  kernels::QualityReport q;
+  q.n_samples = 5400000;
+  q.n_missing = 3;
+  q.n_gap_runs = 2;
+  q.first_gap = 17;
+  q.n_duplicate_times = 4;
+  q.first_duplicate_time = 5;
+  q.n_decreasing_times = 6;
+  q.first_decreasing_time = 7;
+  q.n_saturated_runs = 8;
+  q.n_saturated_samples = 90;
+  q.first_saturated = 100;
+  q.longest_run = 110;
+  q.longest_run_start = 120;
+  q.stuck_run = 13;
+  q.n_stuck_runs = 14;
+  q.first_stuck = 150;
+  q.p_equal = 0.25;
+  q.p_continue = 0.375;
+  q.n_spikes = 16;
+  q.first_spike = 170;
+  q.max_spike_sigmas = 18.5;
+  q.spike_window = 31;
+  q.flags = "gaps;time_stamps;saturation;stuck;spikes";
+  return q;
+}
+
 io::RecordingResult every_field() {
   io::RecordingResult r;
   r.device_id = "SN 1";
@@ -147,6 +175,7 @@ io::RecordingResult every_field() {
   c.worst_tau = 0.1;
   ch.crosscheck = c;
   ch.diagnosis = diagnosis();
+  ch.quality = quality();
   r.channels.push_back(ch);
   return r;
 }
@@ -194,6 +223,8 @@ TEST(Schema, EveryTableLineRoundTrips) {
   expect_fields(*want.psd, *got.psd, s::psd_fields(), "psd");
   expect_fields(*want.crosscheck, *got.crosscheck, s::crosscheck_fields(), "crosscheck");
   expect_fields(*want.diagnosis, *got.diagnosis, s::diagnosis_fields(), "diagnosis");
+  ASSERT_TRUE(got.quality);
+  expect_fields(*want.quality, *got.quality, s::quality_fields(), "quality");
   EXPECT_EQ(got.diagnosis->number_attributes, want.diagnosis->number_attributes);
   EXPECT_EQ(got.diagnosis->string_attributes, want.diagnosis->string_attributes);
 
@@ -206,6 +237,8 @@ TEST(Schema, EveryTableLineRoundTrips) {
   expect_fields(*want.fit, *sum.channels[0].fit, s::fit_fields(), "fit", true);
   expect_fields(*want.crosscheck, *sum.channels[0].crosscheck, s::crosscheck_fields(), "crosscheck",
                 true);
+  ASSERT_TRUE(sum.channels[0].quality);
+  expect_fields(*want.quality, *sum.channels[0].quality, s::quality_fields(), "quality", true);
   EXPECT_TRUE(sum.channels[0].stats.empty());
   EXPECT_FALSE(sum.channels[0].psd || sum.channels[0].diagnosis);
 }
@@ -268,6 +301,15 @@ TEST(Schema, LotSummaryColumnsRoundTrip) {
   row.spec_detail = "N 18.3 > 18";
   row.outlier = 1;
   row.outlier_terms = "N (z 4.1)";
+  row.quality = "saturation;spikes";
+  row.n_missing = 11;
+  row.n_gap_runs = 2;
+  row.n_time_errors = 3;
+  row.n_saturated = 40;
+  row.longest_run = 41;
+  row.n_stuck = 1;
+  row.n_spikes = 5;
+  row.max_spike_sigmas = 12.5;
   io::StatisticsRow st{"/imu/gyro_x", "N", "deg/h/sqrt(Hz)", 7, 6, 1, 1.5, 0.2, 1.1, 1.3, 1.7, 1.9,
                        1.0,           2.0};
   io::write_lot_summary(dir, {row}, {st});
