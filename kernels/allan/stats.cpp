@@ -2,6 +2,7 @@
 
 #include "kernels/allan/allan.hpp"
 #include "kernels/allan/hadamard.hpp"
+#include "kernels/allan/tie.hpp"
 #include "kernels/allan/total.hpp"
 
 #include <array>
@@ -10,8 +11,8 @@
 
 namespace allanlot::kernels {
 namespace {
-constexpr std::array<Stat, 7> kAll = {Stat::Adev, Stat::Oadev, Stat::Mdev,  Stat::Tdev,
-                                      Stat::Hdev, Stat::Ohdev, Stat::Totdev};
+constexpr std::array kAll = {Stat::Adev,  Stat::Oadev,  Stat::Mdev, Stat::Tdev,  Stat::Hdev,
+                             Stat::Ohdev, Stat::Totdev, Stat::Mtie, Stat::Tierms};
 }
 
 std::string_view stat_name(Stat s) {
@@ -30,6 +31,10 @@ std::string_view stat_name(Stat s) {
     return "ohdev";
   case Stat::Totdev:
     return "totdev";
+  case Stat::Mtie:
+    return "mtie";
+  case Stat::Tierms:
+    return "tierms";
   }
   return "?";
 }
@@ -42,6 +47,14 @@ std::optional<Stat> parse_stat(std::string_view name) {
 
 bool supports_gaps(Stat s) {
   return s != Stat::Totdev;
+}
+
+bool has_interval(Stat s) {
+  return s != Stat::Mtie && s != Stat::Tierms;
+}
+
+bool is_time_error(Stat s) {
+  return s == Stat::Tdev || s == Stat::Mtie || s == Stat::Tierms;
 }
 
 std::span<const Stat> all_stats() {
@@ -64,9 +77,12 @@ std::int64_t max_m(Stat s, std::int64_t n_points) {
   case Stat::Mdev:
   case Stat::Tdev:
   case Stat::Ohdev:
+  case Stat::Tierms:
     return (n_points - 1) / 4;
   case Stat::Totdev:
     return (n_points - 1) / 2;
+  case Stat::Mtie:
+    return n_points - 1;
   }
   return 0;
 }
@@ -107,6 +123,10 @@ StatResult compute(Stat s, const PhaseData& p, std::span<const std::int64_t> m_l
     return ohdev(p, ms, nthreads);
   case Stat::Totdev:
     return totdev(p, ms, nthreads, cache);
+  case Stat::Mtie:
+    return mtie(p, ms, nthreads);
+  case Stat::Tierms:
+    return tierms(p, ms, nthreads);
   }
   throw std::invalid_argument("unknown statistic");
 }

@@ -28,9 +28,14 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Stable32's names of the statistics, as its "Sigma Type:" header line prints them.
 std::string sigma_type(const std::string& stat) {
   static const std::map<std::string, std::string> names = {
-      {"adev", "Allan"},  {"oadev", "Overlapping Allan"}, {"mdev", "Modified Allan"},
-      {"tdev", "Time"},   {"hdev", "Hadamard"},           {"ohdev", "Overlapping Hadamard"},
-      {"totdev", "Total"}};
+      {"adev", "Allan"},          {"oadev", "Overlapping Allan"},
+      {"mdev", "Modified Allan"}, {"tdev", "Time"},
+      {"hdev", "Hadamard"},       {"ohdev", "Overlapping Hadamard"},
+      {"totdev", "Total"},        {"mtotdev", "Modified Total"},
+      {"ttotdev", "Time Total"},  {"htotdev", "Hadamard Total"},
+      {"theo1", "Thêo1"},         {"theoh", "ThêoH"},
+      {"mtie", "MTIE"},           {"tierms", "TIE rms"},
+      {"pdev", "Parabolic"}};
   const auto it = names.find(stat);
   return it == names.end() ? stat : it->second;
 }
