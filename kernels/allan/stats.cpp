@@ -2,8 +2,10 @@
 
 #include "kernels/allan/allan.hpp"
 #include "kernels/allan/hadamard.hpp"
+#include "kernels/allan/theo.hpp"
 #include "kernels/allan/tie.hpp"
 #include "kernels/allan/total.hpp"
+#include "kernels/allan/total_family.hpp"
 
 #include <array>
 #include <stdexcept>
@@ -11,8 +13,9 @@
 
 namespace allanlot::kernels {
 namespace {
-constexpr std::array kAll = {Stat::Adev,  Stat::Oadev,  Stat::Mdev, Stat::Tdev,  Stat::Hdev,
-                             Stat::Ohdev, Stat::Totdev, Stat::Mtie, Stat::Tierms};
+constexpr std::array kAll = {Stat::Adev,    Stat::Oadev,   Stat::Mdev,   Stat::Tdev,   Stat::Hdev,
+                             Stat::Ohdev,   Stat::Totdev,  Stat::Mtie,   Stat::Tierms, Stat::Theo1,
+                             Stat::Mtotdev, Stat::Ttotdev, Stat::Htotdev};
 }
 
 std::string_view stat_name(Stat s) {
@@ -35,6 +38,14 @@ std::string_view stat_name(Stat s) {
     return "mtie";
   case Stat::Tierms:
     return "tierms";
+  case Stat::Theo1:
+    return "theo1";
+  case Stat::Mtotdev:
+    return "mtotdev";
+  case Stat::Ttotdev:
+    return "ttotdev";
+  case Stat::Htotdev:
+    return "htotdev";
   }
   return "?";
 }
@@ -46,15 +57,16 @@ std::optional<Stat> parse_stat(std::string_view name) {
 }
 
 bool supports_gaps(Stat s) {
-  return s != Stat::Totdev;
+  return s != Stat::Totdev && s != Stat::Theo1 && s != Stat::Mtotdev && s != Stat::Ttotdev &&
+         s != Stat::Htotdev;
 }
 
 bool has_interval(Stat s) {
-  return s != Stat::Mtie && s != Stat::Tierms;
+  return s != Stat::Mtie && s != Stat::Tierms && s != Stat::Theo1;
 }
 
 bool is_time_error(Stat s) {
-  return s == Stat::Tdev || s == Stat::Mtie || s == Stat::Tierms;
+  return s == Stat::Tdev || s == Stat::Ttotdev || s == Stat::Mtie || s == Stat::Tierms;
 }
 
 std::span<const Stat> all_stats() {
@@ -82,7 +94,12 @@ std::int64_t max_m(Stat s, std::int64_t n_points) {
   case Stat::Totdev:
     return (n_points - 1) / 2;
   case Stat::Mtie:
+  case Stat::Theo1:
     return n_points - 1;
+  case Stat::Mtotdev:
+  case Stat::Ttotdev:
+  case Stat::Htotdev:
+    return (n_points - 1) / 3;
   }
   return 0;
 }
@@ -127,6 +144,14 @@ StatResult compute(Stat s, const PhaseData& p, std::span<const std::int64_t> m_l
     return mtie(p, ms, nthreads);
   case Stat::Tierms:
     return tierms(p, ms, nthreads);
+  case Stat::Theo1:
+    return theo1(p, ms, nthreads);
+  case Stat::Mtotdev:
+    return mtotdev(p, ms, nthreads);
+  case Stat::Ttotdev:
+    return ttotdev(p, ms, nthreads);
+  case Stat::Htotdev:
+    return htotdev(p, ms, nthreads);
   }
   throw std::invalid_argument("unknown statistic");
 }

@@ -15,15 +15,19 @@ namespace allanlot::kernels {
 
 /// Statistics, named as in allantools and Stable32.
 enum class Stat {
-  Adev,    // Allan deviation (non-overlapping), SP1065 eq. (7)
-  Oadev,   // overlapping Allan deviation, SP1065 eq. (11)
-  Mdev,    // modified Allan deviation, SP1065 eq. (14)
-  Tdev,    // time deviation, SP1065 eq. (16)
-  Hdev,    // Hadamard deviation, SP1065 eq. (17)
-  Ohdev,   // overlapping Hadamard deviation, SP1065 eq. (18)
-  Totdev,  // total deviation (doubly reflected TOTVAR), SP1065 eq. (25)
-  Mtie,    // maximum time interval error, SP1065 sec. 5.2.15 (a time error, phase units)
-  Tierms   // TIE rms, SP1065 sec. 5.2.16 (a time error, phase units)
+  Adev,     // Allan deviation (non-overlapping), SP1065 eq. (7)
+  Oadev,    // overlapping Allan deviation, SP1065 eq. (11)
+  Mdev,     // modified Allan deviation, SP1065 eq. (14)
+  Tdev,     // time deviation, SP1065 eq. (16)
+  Hdev,     // Hadamard deviation, SP1065 eq. (17)
+  Ohdev,    // overlapping Hadamard deviation, SP1065 eq. (18)
+  Totdev,   // total deviation (doubly reflected TOTVAR), SP1065 eq. (25)
+  Mtie,     // maximum time interval error, SP1065 sec. 5.2.15 (a time error, phase units)
+  Tierms,   // TIE rms, SP1065 sec. 5.2.16 (a time error, phase units)
+  Theo1,    // Thêo1, SP1065 eq. (30) (raw; tau = 0.75 m tau0, m even)
+  Mtotdev,  // modified total deviation, SP1065 eq. (27)
+  Ttotdev,  // time total deviation, SP1065 eq. (28) (a time error, phase units)
+  Htotdev   // Hadamard total deviation, SP1065 eq. (29), Stable32's bias correction
 };
 
 /// "oadev" etc.
@@ -31,14 +35,16 @@ std::string_view stat_name(Stat s);
 /// Inverse of stat_name; nullopt for an unknown name.
 std::optional<Stat> parse_stat(std::string_view name);
 /// False for the statistics that refuse gapped data (totdev: its reflections have no meaning
-/// across a gap; see kernels/allan/total.hpp); the others leave out the terms that touch a gap.
+/// across a gap, see kernels/allan/total.hpp; theo1, see kernels/allan/theo.hpp); the others
+/// leave out the terms that touch a gap.
 bool supports_gaps(Stat s);
 /// True for the statistics with a confidence interval (kernels::add_confidence); false for
-/// MTIE and TIE rms, whose distribution has no chi-square model (their edf, dev_lo and dev_hi
-/// are NaN).
+/// MTIE and TIE rms, whose distribution has no chi-square model, and for Thêo1, whose published
+/// edf is not implemented (Stable32 prints no Thêo1 bounds either): their edf, dev_lo and dev_hi
+/// are NaN.
 bool has_interval(Stat s);
 /// True for the statistics that are a time (phase) error, in phase units (u*s for rate input),
-/// rather than a deviation of the rate: tdev, mtie, tierms.
+/// rather than a deviation of the rate: tdev, ttotdev, mtie, tierms.
 bool is_time_error(Stat s);
 /// Every statistic this build computes, in the order results are written.
 std::span<const Stat> all_stats();
