@@ -2,6 +2,7 @@
 
 #include "kernels/allan/allan.hpp"
 #include "kernels/allan/hadamard.hpp"
+#include "kernels/allan/parabolic.hpp"
 #include "kernels/allan/theo.hpp"
 #include "kernels/allan/tie.hpp"
 #include "kernels/allan/total.hpp"
@@ -13,9 +14,9 @@
 
 namespace allanlot::kernels {
 namespace {
-constexpr std::array kAll = {Stat::Adev,    Stat::Oadev,   Stat::Mdev,   Stat::Tdev,   Stat::Hdev,
-                             Stat::Ohdev,   Stat::Totdev,  Stat::Mtie,   Stat::Tierms, Stat::Theo1,
-                             Stat::Mtotdev, Stat::Ttotdev, Stat::Htotdev};
+constexpr std::array kAll = {Stat::Adev,    Stat::Oadev,   Stat::Mdev,    Stat::Tdev,   Stat::Hdev,
+                             Stat::Ohdev,   Stat::Totdev,  Stat::Mtie,    Stat::Tierms, Stat::Theo1,
+                             Stat::Mtotdev, Stat::Ttotdev, Stat::Htotdev, Stat::Pdev};
 }
 
 std::string_view stat_name(Stat s) {
@@ -46,6 +47,8 @@ std::string_view stat_name(Stat s) {
     return "ttotdev";
   case Stat::Htotdev:
     return "htotdev";
+  case Stat::Pdev:
+    return "pdev";
   }
   return "?";
 }
@@ -58,11 +61,11 @@ std::optional<Stat> parse_stat(std::string_view name) {
 
 bool supports_gaps(Stat s) {
   return s != Stat::Totdev && s != Stat::Theo1 && s != Stat::Mtotdev && s != Stat::Ttotdev &&
-         s != Stat::Htotdev;
+         s != Stat::Htotdev && s != Stat::Pdev;
 }
 
 bool has_interval(Stat s) {
-  return s != Stat::Mtie && s != Stat::Tierms && s != Stat::Theo1;
+  return s != Stat::Mtie && s != Stat::Tierms && s != Stat::Theo1 && s != Stat::Pdev;
 }
 
 bool is_time_error(Stat s) {
@@ -90,6 +93,7 @@ std::int64_t max_m(Stat s, std::int64_t n_points) {
   case Stat::Tdev:
   case Stat::Ohdev:
   case Stat::Tierms:
+  case Stat::Pdev:
     return (n_points - 1) / 4;
   case Stat::Totdev:
     return (n_points - 1) / 2;
@@ -152,6 +156,8 @@ StatResult compute(Stat s, const PhaseData& p, std::span<const std::int64_t> m_l
     return ttotdev(p, ms, nthreads);
   case Stat::Htotdev:
     return htotdev(p, ms, nthreads);
+  case Stat::Pdev:
+    return pdev(p, ms, nthreads);
   }
   throw std::invalid_argument("unknown statistic");
 }
