@@ -14,9 +14,10 @@
 
 namespace allanlot::kernels {
 namespace {
-constexpr std::array kAll = {Stat::Adev,    Stat::Oadev,   Stat::Mdev,    Stat::Tdev,   Stat::Hdev,
-                             Stat::Ohdev,   Stat::Totdev,  Stat::Mtie,    Stat::Tierms, Stat::Theo1,
-                             Stat::Mtotdev, Stat::Ttotdev, Stat::Htotdev, Stat::Pdev};
+constexpr std::array kAll = {Stat::Adev,    Stat::Oadev, Stat::Mdev,    Stat::Tdev,
+                             Stat::Hdev,    Stat::Ohdev, Stat::Totdev,  Stat::Mtie,
+                             Stat::Tierms,  Stat::Theo1, Stat::Mtotdev, Stat::Ttotdev,
+                             Stat::Htotdev, Stat::Pdev,  Stat::Theoh};
 }
 
 std::string_view stat_name(Stat s) {
@@ -49,6 +50,8 @@ std::string_view stat_name(Stat s) {
     return "htotdev";
   case Stat::Pdev:
     return "pdev";
+  case Stat::Theoh:
+    return "theoh";
   }
   return "?";
 }
@@ -61,11 +64,12 @@ std::optional<Stat> parse_stat(std::string_view name) {
 
 bool supports_gaps(Stat s) {
   return s != Stat::Totdev && s != Stat::Theo1 && s != Stat::Mtotdev && s != Stat::Ttotdev &&
-         s != Stat::Htotdev && s != Stat::Pdev;
+         s != Stat::Htotdev && s != Stat::Pdev && s != Stat::Theoh;
 }
 
 bool has_interval(Stat s) {
-  return s != Stat::Mtie && s != Stat::Tierms && s != Stat::Theo1 && s != Stat::Pdev;
+  return s != Stat::Mtie && s != Stat::Tierms && s != Stat::Theo1 && s != Stat::Pdev &&
+         s != Stat::Theoh;
 }
 
 bool is_time_error(Stat s) {
@@ -99,6 +103,7 @@ std::int64_t max_m(Stat s, std::int64_t n_points) {
     return (n_points - 1) / 2;
   case Stat::Mtie:
   case Stat::Theo1:
+  case Stat::Theoh:
     return n_points - 1;
   case Stat::Mtotdev:
   case Stat::Ttotdev:
@@ -158,6 +163,8 @@ StatResult compute(Stat s, const PhaseData& p, std::span<const std::int64_t> m_l
     return htotdev(p, ms, nthreads);
   case Stat::Pdev:
     return pdev(p, ms, nthreads);
+  case Stat::Theoh:
+    return theoh(p, ms, nthreads);
   }
   throw std::invalid_argument("unknown statistic");
 }

@@ -28,7 +28,8 @@ enum class Stat {
   Mtotdev,  // modified total deviation, SP1065 eq. (27)
   Ttotdev,  // time total deviation, SP1065 eq. (28) (a time error, phase units)
   Htotdev,  // Hadamard total deviation, SP1065 eq. (29), Stable32's bias correction
-  Pdev      // parabolic deviation, Vernotte et al. 2016 / 2020
+  Pdev,     // parabolic deviation, Vernotte et al. 2016 / 2020
+  Theoh     // ThêoH: OADEV below 10 % of the record, bias-removed Thêo1 above, SP1065 eq. (32)
 };
 
 /// "oadev" etc.
@@ -41,8 +42,9 @@ std::optional<Stat> parse_stat(std::string_view name);
 bool supports_gaps(Stat s);
 /// True for the statistics with a confidence interval (kernels::add_confidence); false for
 /// MTIE and TIE rms, whose distribution has no chi-square model, and for Thêo1, whose published
-/// edf is not implemented (Stable32 prints no Thêo1 bounds either), and for PDEV, whose edf
-/// (Vernotte et al. 2016) is not implemented: their edf, dev_lo and dev_hi are NaN.
+/// edf is not implemented (Stable32 prints no Thêo1 bounds either), for ThêoH (likewise), and
+/// for PDEV, whose edf (Vernotte et al. 2016) is not implemented: their edf, dev_lo and dev_hi
+/// are NaN.
 bool has_interval(Stat s);
 /// True for the statistics that are a time (phase) error, in phase units (u*s for rate input),
 /// rather than a deviation of the rate: tdev, ttotdev, mtie, tierms.
@@ -56,7 +58,7 @@ std::span<const Stat> all_stats();
 /// reasonable number of terms. For the statistics of issue #19: (N-1)/4 for TIE rms (its
 /// Stable32 table stops at 247 for N = 1001) and PDEV (as OADEV), (N-1)/3 for MTOT, TTOT and
 /// HTOT (3m points per window; Stable32 1.53's all-tau MTOT stops at 332 for N = 1001), N-1
-/// for MTIE (one window of the whole record) and Thêo1 (SP1065 eq. (30): m <= N-1; its
+/// for MTIE (one window of the whole record), Thêo1 and ThêoH (SP1065 eq. (30): m <= N-1; its
 /// Stable32 table stops at 998). 0 when N < 2.
 std::int64_t max_m(Stat s, std::int64_t n_points);
 

@@ -3,6 +3,8 @@
 #include "kernels/allan/detail/chunked.hpp"
 #include "kernels/allan/detail/sweep.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -71,6 +73,57 @@ StatResult theo1(const PhaseData& p, std::span<const std::int64_t> m_list, int n
     out.tau_s.push_back(0.75 * static_cast<double>(m) * p.tau0_s);
     out.dev.push_back(static_cast<double>(std::sqrt(var)));
     out.n.push_back((n - m) * (m / 2));
+  }
+  return out;
+}
+
+StatResult theoh(const PhaseData& p, std::span<const std::int64_t> m_list, int nthreads) {
+  detail::check_m_list("theoh", m_list);
+  if (p.has_gaps())
+    throw std::invalid_argument("theoh: cannot run on gapped data (" + std::to_string(p.n_gaps) +
+                                " missing samples): fill the gaps first");
+  const std::int64_t n = p.n_points();
+  const std::int64_t nbr =
+      static_cast<std::int64_t>(std::floor(0.1 * static_cast<double>(n) / 3.0 - 3.0));
+  if (nbr < 0) return {};
+  const std::int64_t k = (n - 1) / 10;
+  // The bias ratio of SP1065 eq. (31): OAVAR at 9 + 3i over Thêo1 at 12 + 4i, i = 0 .. nbr.
+  std::vector<std::int64_t> ma, mt;
+  for (std::int64_t i = 0; i <= nbr; ++i) {
+    ma.push_back(9 + 3 * i);
+    mt.push_back(12 + 4 * i);
+  }
+  const StatResult avar = oadev(p, ma, nthreads);
+  const StatResult th = theo1(p, mt, nthreads);
+  if (avar.size() != ma.size() || th.size() != mt.size()) return {};
+  long double ratio = 0.0L;
+  for (std::size_t i = 0; i < ma.size(); ++i) {
+    const long double a = static_cast<long double>(avar.dev[i]) * avar.dev[i];
+    const long double t = static_cast<long double>(th.dev[i]) * th.dev[i];
+    ratio += t > 0.0L ? a / t : 0.0L;
+  }
+  ratio /= static_cast<long double>(ma.size());
+  std::vector<std::int64_t> short_m, long_m;
+  for (const std::int64_t m : m_list) {
+    if (m < k) short_m.push_back(m);
+    if (theo1_valid(m, n) && 3 * m >= 4 * k) long_m.push_back(m);
+  }
+  const StatResult a = oadev(p, short_m, nthreads);
+  const StatResult t = theo1(p, long_m, nthreads);
+  StatResult out;  // the rows in the order of m_list
+  std::size_t ia = 0, it = 0;
+  for (const std::int64_t m : m_list) {
+    if (ia < a.size() && a.m[ia] == m && m < k) {
+      out.m.push_back(m);
+      out.tau_s.push_back(a.tau_s[ia]);
+      out.dev.push_back(a.dev[ia]);
+      out.n.push_back(a.n[ia++]);
+    } else if (it < t.size() && t.m[it] == m) {
+      out.m.push_back(m);
+      out.tau_s.push_back(t.tau_s[it]);
+      out.dev.push_back(static_cast<double>(t.dev[it] * std::sqrt(ratio)));
+      out.n.push_back(t.n[it++]);
+    }
   }
   return out;
 }

@@ -33,4 +33,21 @@ StatResult theo1(const PhaseData& p, std::span<const std::int64_t> m_list, int n
 /// Whether m is a Thêo1 averaging factor for N phase points (even, 10 <= m <= N - 1).
 bool theo1_valid(std::int64_t m, std::int64_t n_points);
 
+/// ThêoH, the hybrid of Howe & Tasset ("ThêoH: a hybrid, high-confidence statistic that
+/// improves on the Allan deviation", Metrologia 43 (2006); SP1065 sec. 5.2.14 and eqs. (31)-(32),
+/// pp. 30-31), as variances:
+///
+///   ThêoBR(m) = [1/(n+1) sum_{i=0}^{n} OAVAR(9 + 3i) / Theo1(12 + 4i)] Theo1(m),
+///   n = floor(0.1 N / 3 - 3)   (each ratio at the same tau: 0.75 (12 + 4i) = 9 + 3i),
+///   ThêoH(m) = OAVAR(m) at tau = m tau0 for 1 <= m < k, and ThêoBR(m) at tau = 0.75 m tau0
+///   for the Thêo1 m (even, 10 <= m <= N - 1) with 0.75 m >= k,
+///
+/// where k tau0 is the largest tau <= 10 % of the record, k = floor(0.1 (N - 1)). So m is the
+/// OADEV averaging factor below k and Thêo1's "AF" above it; an m of m_list in neither range
+/// gives no row; n is the OADEV or Thêo1 term count of the row. Records with n < 0 (N < 90)
+/// give an empty result. The bias ratio costs n + 1 Thêo1 evaluations, about N^3 / 900
+/// operations (1e6 for N = 1001, 1e10 for N = 2e4): meant for clock records up to ~2e4 points.
+/// Gaps: refused, as theo1.
+StatResult theoh(const PhaseData& p, std::span<const std::int64_t> m_list, int nthreads = 0);
+
 }  // namespace allanlot::kernels

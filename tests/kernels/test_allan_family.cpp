@@ -508,7 +508,7 @@ TEST(AllanFamilyProperties, ComputeAppliesStable32Limits) {
 }
 
 TEST(AllanFamilyProperties, NamesRoundTrip) {
-  ASSERT_EQ(kernels::all_stats().size(), 14u);
+  ASSERT_EQ(kernels::all_stats().size(), 15u);
   for (const Stat s : kernels::all_stats())
     EXPECT_EQ(kernels::parse_stat(kernels::stat_name(s)), s);
   EXPECT_FALSE(kernels::parse_stat("adevs").has_value());

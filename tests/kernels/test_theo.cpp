@@ -1,6 +1,6 @@
 // Thêo1 against Stable32 (every Thêo1 table of PHASE.DAT), the naive long-double reference
 // (random data, with a large offset and drift), theory (white FM), thread invariance, gaps
-// and dumb inputs.
+// and dumb inputs; ThêoH against the naive reference, thread invariance, gaps and short records.
 #include "kernels/allan/theo.hpp"
 #include "reference/naive_extended.hpp"
 #include "test_extended_support.hpp"
@@ -117,6 +117,49 @@ TEST(Theo1DumbInputs, ShortRecordsOddAndSmallM) {
   kernels::add_confidence(Stat::Theo1, test::phase_dat(), r);
   ASSERT_EQ(r.size(), 2u);
   EXPECT_TRUE(std::isnan(r.edf[0]) && std::isnan(r.dev_lo[1]) && std::isnan(r.dev_hi[1]));
+}
+
+// ---------------------------------------------------------------------------------------
+// ThêoH (no Stable32 table: compared with the naive reference built from the naive OADEV and
+// Thêo1, whose own tolerances carry over: the bias ratio is a mean of ratios of two
+// deviations that each agree to ~1e-13, so kNaiveRel holds).
+
+TEST(TheohNaive, RandomPhaseBothRanges) {
+  // N = 301: k = 30, n = floor(10.03 - 3) = 7, so OADEV rows below m = 30 and ThêoBR rows for
+  // even m >= 40 (0.75 m >= 30); m = 30..39 and odd m above give no row.
+  const auto x = test::random_phase(301, 27);
+  const double rate_hz = 4.0;
+  const auto p = kernels::phase_from_phase(x, rate_hz, 2);
+  const MList ms{1, 2, 7, 29, 30, 31, 38, 40, 41, 64, 150, 300};
+  const auto r = kernels::compute(Stat::Theoh, p, ms, 2);
+  std::size_t row = 0;
+  for (const std::int64_t m : ms) {
+    const auto ref = test::naive_theoh_phase(x, m, 1.0L / rate_hz);
+    if (ref.n == 0) continue;
+    ASSERT_LT(row, r.size()) << "m=" << m;
+    EXPECT_EQ(r.m[row], m);
+    EXPECT_EQ(r.n[row], ref.n) << "m=" << m;
+    const double tau = (m < 30 ? 1.0 : 0.75) * static_cast<double>(m) / rate_hz;
+    EXPECT_DOUBLE_EQ(r.tau_s[row], tau) << "m=" << m;
+    EXPECT_NEAR(r.dev[row] / static_cast<double>(ref.dev), 1.0, kNaiveRel) << "m=" << m;
+    ++row;
+  }
+  EXPECT_EQ(row, 8u);
+  EXPECT_EQ(row, r.size());
+}
+
+TEST(TheohProperties, ThreadsGapsAndShortRecords) {
+  const auto p = kernels::phase_from_phase(test::random_phase(3001, 28), 1.0, 1);
+  test::expect_thread_invariant(Stat::Theoh, p, MList{1, 10, 100, 299, 400, 1000, 3000});
+  // Below 90 points the bias ratio has no term: empty, not a crash.
+  const auto short_p = kernels::phase_from_phase(test::random_phase(89, 29), 1.0);
+  EXPECT_EQ(kernels::compute(Stat::Theoh, short_p, MList{1, 2, 10, 60}).size(), 0u);
+  auto x = test::random_phase(500, 30);
+  x[250] = std::nan("");
+  EXPECT_FALSE(kernels::supports_gaps(Stat::Theoh));
+  EXPECT_THROW(kernels::compute(Stat::Theoh, kernels::phase_from_phase(x, 1.0), MList{1}),
+               std::invalid_argument);
+  EXPECT_THROW(kernels::theoh(p, MList{0}), std::invalid_argument);
 }
 
 }  // namespace

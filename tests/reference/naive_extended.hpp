@@ -82,6 +82,28 @@ NaiveRow naive_theo1_phase(const std::vector<T>& x, std::int64_t m, long double 
   return {std::sqrt(s / (0.75L * (N - m) * tau * tau)), (N - m) * h};
 }
 
+/// ThêoH, SP1065 eqs. (31)-(32) (kernels/allan/theo.hpp theoh): OADEV for m < k =
+/// floor(0.1 (N - 1)), Thêo1 times the mean OAVAR(9 + 3i) / Theo1(12 + 4i) ratio (i = 0 ..
+/// floor(0.1 N / 3 - 3)) for even m >= 10 with 0.75 m >= k; n = 0 for any other m.
+template <class T>
+NaiveRow naive_theoh_phase(const std::vector<T>& x, std::int64_t m, long double tau0) {
+  const auto N = static_cast<std::int64_t>(x.size());
+  const auto nbr = static_cast<std::int64_t>(std::floor(0.1L * N / 3 - 3));
+  const std::int64_t k = (N - 1) / 10;
+  if (nbr < 0) return {};
+  if (m < k) return naive_oadev_phase(x, m, tau0, 1);
+  if (m % 2 != 0 || m < 10 || m > N - 1 || 4 * k > 3 * m) return {};
+  long double ratio = 0;
+  for (std::int64_t i = 0; i <= nbr; ++i) {
+    const long double a = naive_oadev_phase(x, 9 + 3 * i, tau0, 1).dev;
+    const long double t = naive_theo1_phase(x, 12 + 4 * i, tau0).dev;
+    ratio += a * a / (t * t);
+  }
+  NaiveRow r = naive_theo1_phase(x, m, tau0);
+  r.dev *= std::sqrt(ratio / (nbr + 1));
+  return r;
+}
+
 /// The half-average detrend of SP1065 sec. 5.2.12 (MTOT) and 5.2.14 (HTOT): the slope is the
 /// difference of the means of the first and last floor(L/2) values of the window w over the
 /// distance of their centres (L/2 for even L, (L+1)/2 for odd L); returns w minus slope * i.
