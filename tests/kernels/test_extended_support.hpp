@@ -53,6 +53,7 @@ struct TableMatch {
   int rows_within = 0;    // deviation within kStable32Rel, m, tau and # equal
   int bounds = 0;         // rows with printed bounds
   int bounds_within = 0;  // both bounds within kStable32Rel
+  int alpha_equal = 0;    // rows with printed bounds whose identified alpha is Stable32's
 };
 
 /// Compares statistic s on p at the table's own m column with every row of `file` (including
@@ -89,6 +90,7 @@ inline TableMatch compare_with_table(kernels::Stat s, const kernels::PhaseData& 
       const bool b = std::abs(scale * res.dev_lo[i] / r.min_sigma - 1.0) <= kStable32Rel &&
                      std::abs(scale * res.dev_hi[i] / r.max_sigma - 1.0) <= kStable32Rel;
       out.bounds_within += b ? 1 : 0;
+      out.alpha_equal += res.alpha[i] == r.alpha ? 1 : 0;
     }
   }
   return out;
