@@ -155,7 +155,13 @@ NaiveRow naive_mtotdev_phase(const std::vector<T>& x, std::int64_t m, long doubl
   if (N - 3 * m + 1 < 1) return {};
   long double s = 0;
   for (std::int64_t n = 0; n + 3 * m <= N; ++n) {
-    std::vector<long double> w(x.begin() + n, x.begin() + n + 3 * m);
+    // Relative to the window's first point: a constant changes no z_j (it cancels in every
+    // second difference, and its reflection is itself), and the long-double sums then stay of
+    // the size of the window's excursion instead of the record's offset.
+    std::vector<long double> w;
+    for (std::int64_t t = 0; t < 3 * m; ++t)
+      w.push_back(static_cast<long double>(x[static_cast<std::size_t>(n + t)]) -
+                  static_cast<long double>(x[static_cast<std::size_t>(n)]));
     s += naive_reflected_mean_square(naive_half_average_detrend(w), m);
   }
   const long double tau = m * tau0;
