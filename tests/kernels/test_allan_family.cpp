@@ -499,11 +499,17 @@ TEST(AllanFamilyProperties, ComputeAppliesStable32Limits) {
   for (const Stat s : {Stat::Oadev, Stat::Mdev, Stat::Tdev, Stat::Ohdev})
     EXPECT_EQ(kernels::max_m(s, 1001), 250);
   EXPECT_EQ(kernels::max_m(Stat::Totdev, 1001), 500);
-  for (int si = 0; si < 7; ++si) {
-    const auto s = static_cast<Stat>(si);
+  // The statistics of issue #19 (stats.hpp max_m): N-1, (N-1)/4 and (N-1)/3.
+  for (const Stat s : {Stat::Mtie, Stat::Theo1, Stat::Theoh})
+    EXPECT_EQ(kernels::max_m(s, 1001), 1000);
+  for (const Stat s : {Stat::Tierms, Stat::Pdev})
+    EXPECT_EQ(kernels::max_m(s, 1001), 250);
+  for (const Stat s : {Stat::Mtotdev, Stat::Ttotdev, Stat::Htotdev})
+    EXPECT_EQ(kernels::max_m(s, 1001), 333);
+  for (const Stat s : kernels::all_stats()) {
     const std::int64_t mm = kernels::max_m(s, p.n_points());
     const auto r = kernels::compute(s, p, MList{mm, mm + 1});
-    EXPECT_EQ(r.m, MList{mm}) << kNames[si];
+    EXPECT_EQ(r.m, MList{mm}) << kernels::stat_name(s);
   }
 }
 
