@@ -72,8 +72,10 @@ void refuse_gaps(const char* name, const PhaseData& p) {
 template <class Windows, class Fill>
 std::vector<long double> window_sums(std::span<const std::int64_t> m_list, int nthreads,
                                      Windows windows, Fill fill) {
-  const auto chunks =
-      detail::make_chunks(m_list, windows, [](std::int64_t m) { return kWorkPerChunk / (18 * m); });
+  const auto chunks = detail::make_chunks(m_list, windows, [](std::int64_t m) {
+    // At least 64 windows, so that the scratch of a large m is not allocated per window.
+    return std::max<std::int64_t>(64, kWorkPerChunk / (18 * m));
+  });
   return detail::run_chunks<long double>(
       m_list, chunks, nthreads,
       [&](std::int64_t m, std::int64_t b, std::int64_t e) {
