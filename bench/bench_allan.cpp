@@ -2,6 +2,8 @@
 // white noise), with the yardsticks they are judged against measured in the same run:
 //  - BM_Statistic: each statistic on the default dense grid (log:16, up to the statistic's
 //    max_m), at 1 and 2 threads (kernels::compute);
+//  - BM_ExtendedStatistic: mtie, tierms, theo1, mtotdev, ttotdev, htotdev and pdev on the octave
+//    grid (capped for theo1 and the total family, see extended_m_list) at 1 and 2 threads;
 //  - BM_StatisticSimd: oadev, mdev, ohdev and totdev at 1 thread on each SIMD level
 //    (baseline SSE2, AVX2, AVX-512; simd:0/1/2), the vectorization step;
 //  - BM_TotdevAfterOadev: TOTDEV reusing OADEV's sums (kernels::SumCache), as in `analyze`;
@@ -102,6 +104,43 @@ void BM_Statistic(benchmark::State& state) {
   }
   state.SetLabel(std::string(allanlot::kernels::stat_name(stat)) + " " + std::to_string(rows) +
                  " taus");
+  samples_counter(state);
+  tau_counters(state, rows);
+}
+
+// The statistics of issue #19 on the octave grid (m = 2^k), as Stable32's octave runs: MTIE,
+// TIE rms and PDEV (O(N) per tau) up to their largest m; Thêo1 (O(N m/2) per tau) at its even
+// octave m 16 .. 256, and the total family (O(N m) per tau, ~18 m operations per window) at
+// m = 1 .. 16. Those two costs grow with m, so the full octave grid of a 5.4 M-sample channel
+// would take hours: the caps keep one iteration within seconds (docs/performance.md).
+std::vector<std::int64_t> extended_m_list(Stat stat) {
+  namespace k = allanlot::kernels;
+  std::int64_t lo = 1, hi = k::max_m(stat, channel().n_points());
+  if (stat == Stat::Theo1) {
+    lo = 16;
+    hi = 256;
+  } else if (stat == Stat::Mtotdev || stat == Stat::Ttotdev || stat == Stat::Htotdev) {
+    hi = 16;
+  }
+  std::vector<std::int64_t> ms;
+  for (std::int64_t m = lo; m <= hi; m *= 2)
+    ms.push_back(m);
+  return ms;
+}
+
+void BM_ExtendedStatistic(benchmark::State& state) {
+  const auto stat = static_cast<Stat>(state.range(0));
+  const int threads = static_cast<int>(state.range(1));
+  const auto& p = channel();
+  const auto ms = extended_m_list(stat);
+  std::size_t rows = 0;
+  for (auto _ : state) {
+    const auto r = allanlot::kernels::compute(stat, p, ms, threads);
+    rows = r.size();
+    benchmark::DoNotOptimize(r.dev.data());
+  }
+  state.SetLabel(std::string(allanlot::kernels::stat_name(stat)) + " " + std::to_string(rows) +
+                 " octave taus m " + std::to_string(ms.front()) + ".." + std::to_string(ms.back()));
   samples_counter(state);
   tau_counters(state, rows);
 }
@@ -353,14 +392,29 @@ void BM_NaiveMdev(benchmark::State& state) {
   run_naive(state, Stat::Mdev, naive_mdev);
 }
 
+// The seven statistics of the default dense grid (O(N) per tau); the others are
+// BM_ExtendedStatistic's.
 void StatArgs(benchmark::internal::Benchmark* b) {
-  for (const Stat s : allanlot::kernels::all_stats())
+  for (const Stat s :
+       {Stat::Adev, Stat::Oadev, Stat::Mdev, Stat::Tdev, Stat::Hdev, Stat::Ohdev, Stat::Totdev})
+    for (const int threads : {1, 2})
+      b->ArgPair(static_cast<int>(s), threads);
+}
+
+void ExtendedArgs(benchmark::internal::Benchmark* b) {
+  for (const Stat s : {Stat::Mtie, Stat::Tierms, Stat::Theo1, Stat::Mtotdev, Stat::Ttotdev,
+                       Stat::Htotdev, Stat::Pdev})
     for (const int threads : {1, 2})
       b->ArgPair(static_cast<int>(s), threads);
 }
 
 BENCHMARK(BM_Statistic)
     ->Apply(StatArgs)
+    ->ArgNames({"stat", "threads"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_ExtendedStatistic)
+    ->Apply(ExtendedArgs)
     ->ArgNames({"stat", "threads"})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();

@@ -2,7 +2,11 @@
 
 #include "kernels/allan/allan.hpp"
 #include "kernels/allan/hadamard.hpp"
+#include "kernels/allan/parabolic.hpp"
+#include "kernels/allan/theo.hpp"
+#include "kernels/allan/tie.hpp"
 #include "kernels/allan/total.hpp"
+#include "kernels/allan/total_family.hpp"
 
 #include <array>
 #include <stdexcept>
@@ -10,8 +14,10 @@
 
 namespace allanlot::kernels {
 namespace {
-constexpr std::array<Stat, 7> kAll = {Stat::Adev, Stat::Oadev, Stat::Mdev,  Stat::Tdev,
-                                      Stat::Hdev, Stat::Ohdev, Stat::Totdev};
+constexpr std::array kAll = {Stat::Adev,    Stat::Oadev, Stat::Mdev,    Stat::Tdev,
+                             Stat::Hdev,    Stat::Ohdev, Stat::Totdev,  Stat::Mtie,
+                             Stat::Tierms,  Stat::Theo1, Stat::Mtotdev, Stat::Ttotdev,
+                             Stat::Htotdev, Stat::Pdev,  Stat::Theoh};
 }
 
 std::string_view stat_name(Stat s) {
@@ -30,6 +36,22 @@ std::string_view stat_name(Stat s) {
     return "ohdev";
   case Stat::Totdev:
     return "totdev";
+  case Stat::Mtie:
+    return "mtie";
+  case Stat::Tierms:
+    return "tierms";
+  case Stat::Theo1:
+    return "theo1";
+  case Stat::Mtotdev:
+    return "mtotdev";
+  case Stat::Ttotdev:
+    return "ttotdev";
+  case Stat::Htotdev:
+    return "htotdev";
+  case Stat::Pdev:
+    return "pdev";
+  case Stat::Theoh:
+    return "theoh";
   }
   return "?";
 }
@@ -41,7 +63,17 @@ std::optional<Stat> parse_stat(std::string_view name) {
 }
 
 bool supports_gaps(Stat s) {
-  return s != Stat::Totdev;
+  return s != Stat::Totdev && s != Stat::Theo1 && s != Stat::Mtotdev && s != Stat::Ttotdev &&
+         s != Stat::Htotdev && s != Stat::Pdev && s != Stat::Theoh;
+}
+
+bool has_interval(Stat s) {
+  return s != Stat::Mtie && s != Stat::Tierms && s != Stat::Theo1 && s != Stat::Pdev &&
+         s != Stat::Theoh;
+}
+
+bool is_time_error(Stat s) {
+  return s == Stat::Tdev || s == Stat::Ttotdev || s == Stat::Mtie || s == Stat::Tierms;
 }
 
 std::span<const Stat> all_stats() {
@@ -64,9 +96,19 @@ std::int64_t max_m(Stat s, std::int64_t n_points) {
   case Stat::Mdev:
   case Stat::Tdev:
   case Stat::Ohdev:
+  case Stat::Tierms:
+  case Stat::Pdev:
     return (n_points - 1) / 4;
   case Stat::Totdev:
     return (n_points - 1) / 2;
+  case Stat::Mtie:
+  case Stat::Theo1:
+  case Stat::Theoh:
+    return n_points - 1;
+  case Stat::Mtotdev:
+  case Stat::Ttotdev:
+  case Stat::Htotdev:
+    return (n_points - 1) / 3;
   }
   return 0;
 }
@@ -107,6 +149,22 @@ StatResult compute(Stat s, const PhaseData& p, std::span<const std::int64_t> m_l
     return ohdev(p, ms, nthreads);
   case Stat::Totdev:
     return totdev(p, ms, nthreads, cache);
+  case Stat::Mtie:
+    return mtie(p, ms, nthreads);
+  case Stat::Tierms:
+    return tierms(p, ms, nthreads);
+  case Stat::Theo1:
+    return theo1(p, ms, nthreads);
+  case Stat::Mtotdev:
+    return mtotdev(p, ms, nthreads);
+  case Stat::Ttotdev:
+    return ttotdev(p, ms, nthreads);
+  case Stat::Htotdev:
+    return htotdev(p, ms, nthreads);
+  case Stat::Pdev:
+    return pdev(p, ms, nthreads);
+  case Stat::Theoh:
+    return theoh(p, ms, nthreads);
   }
   throw std::invalid_argument("unknown statistic");
 }

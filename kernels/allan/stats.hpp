@@ -15,13 +15,21 @@ namespace allanlot::kernels {
 
 /// Statistics, named as in allantools and Stable32.
 enum class Stat {
-  Adev,   // Allan deviation (non-overlapping), SP1065 eq. (7)
-  Oadev,  // overlapping Allan deviation, SP1065 eq. (11)
-  Mdev,   // modified Allan deviation, SP1065 eq. (14)
-  Tdev,   // time deviation, SP1065 eq. (16)
-  Hdev,   // Hadamard deviation, SP1065 eq. (17)
-  Ohdev,  // overlapping Hadamard deviation, SP1065 eq. (18)
-  Totdev  // total deviation (doubly reflected TOTVAR), SP1065 eq. (25)
+  Adev,     // Allan deviation (non-overlapping), SP1065 eq. (7)
+  Oadev,    // overlapping Allan deviation, SP1065 eq. (11)
+  Mdev,     // modified Allan deviation, SP1065 eq. (14)
+  Tdev,     // time deviation, SP1065 eq. (16)
+  Hdev,     // Hadamard deviation, SP1065 eq. (17)
+  Ohdev,    // overlapping Hadamard deviation, SP1065 eq. (18)
+  Totdev,   // total deviation (doubly reflected TOTVAR), SP1065 eq. (25)
+  Mtie,     // maximum time interval error, SP1065 sec. 5.2.15 (a time error, phase units)
+  Tierms,   // TIE rms, SP1065 sec. 5.2.16 (a time error, phase units)
+  Theo1,    // Thêo1, SP1065 eq. (30) (raw; tau = 0.75 m tau0, m even)
+  Mtotdev,  // modified total deviation, SP1065 eq. (27)
+  Ttotdev,  // time total deviation, SP1065 eq. (28) (a time error, phase units)
+  Htotdev,  // Hadamard total deviation, SP1065 eq. (29), Stable32's bias correction
+  Pdev,     // parabolic deviation, Vernotte et al. 2016 / 2020
+  Theoh     // ThêoH: OADEV below 10 % of the record, bias-removed Thêo1 above, SP1065 eq. (32)
 };
 
 /// "oadev" etc.
@@ -29,20 +37,35 @@ std::string_view stat_name(Stat s);
 /// Inverse of stat_name; nullopt for an unknown name.
 std::optional<Stat> parse_stat(std::string_view name);
 /// False for the statistics that refuse gapped data (totdev: its reflections have no meaning
-/// across a gap; see kernels/allan/total.hpp); the others leave out the terms that touch a gap.
+/// across a gap, see kernels/allan/total.hpp; theo1, see kernels/allan/theo.hpp); the others
+/// leave out the terms that touch a gap.
 bool supports_gaps(Stat s);
+/// True for the statistics with a confidence interval (kernels::add_confidence); false for
+/// MTIE and TIE rms, whose distribution has no chi-square model, and for Thêo1, whose published
+/// edf is not implemented (Stable32 prints no Thêo1 bounds either), for ThêoH (likewise), and
+/// for PDEV, whose edf (Vernotte et al. 2016) is not implemented: their edf, dev_lo and dev_hi
+/// are NaN.
+bool has_interval(Stat s);
+/// True for the statistics that are a time (phase) error, in phase units (u*s for rate input),
+/// rather than a deviation of the rate: tdev, ttotdev, mtie, tierms.
+bool is_time_error(Stat s);
 /// Every statistic this build computes, in the order results are written.
 std::span<const Stat> all_stats();
 
 /// Largest averaging factor Stable32 1.60 evaluates for `n_points` phase points N (its
 /// tables in tests/data/stable32): (N-2)/5 for ADEV and HDEV, (N-1)/4 for OADEV, MDEV, TDEV and
 /// OHDEV, (N-1)/2 for TOTDEV (Riley's stop ratios 5, 4, 2), so that every estimate keeps a
-/// reasonable number of terms. 0 when N < 2.
+/// reasonable number of terms. For the statistics of issue #19: (N-1)/4 for TIE rms (its
+/// Stable32 table stops at 247 for N = 1001) and PDEV (as OADEV), (N-1)/3 for MTOT, TTOT and
+/// HTOT (3m points per window; Stable32 1.53's all-tau MTOT stops at 332 for N = 1001), N-1
+/// for MTIE (one window of the whole record), Thêo1 and ThêoH (SP1065 eq. (30): m <= N-1; its
+/// Stable32 table stops at 998). 0 when N < 2.
 std::int64_t max_m(Stat s, std::int64_t n_points);
 
 /// Computes statistic `s` at every m of `m_list` with m <= max_m(s, N); larger m give no row.
-/// Throws std::invalid_argument for any m < 1, for gapped data with TOTDEV, and for the
-/// preconditions of the statistic's own function (allan.hpp, hadamard.hpp, total.hpp).
+/// Throws std::invalid_argument for any m < 1, for gapped data with a statistic that refuses
+/// gaps (supports_gaps), and for the preconditions of the statistic's own function (allan.hpp,
+/// hadamard.hpp, total.hpp, tie.hpp, theo.hpp, total_family.hpp, parabolic.hpp).
 /// Parallel over m with `nthreads` (0 = OpenMP default); results are bit-identical for any
 /// thread count because each tau's sum is formed by one thread in a fixed order. With a
 /// cache, OADEV and TOTDEV share their second-difference sums (same bits as without).

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -42,7 +43,7 @@ FiniteDifferenceKind difference_kind(Stat s) {
     return {3, false, false};
   case Stat::Ohdev:
     return {3, true, false};
-  case Stat::Totdev:
+  default:
     break;
   }
   throw std::invalid_argument("difference_kind: " + std::string(stat_name(s)) +
@@ -50,6 +51,14 @@ FiniteDifferenceKind difference_kind(Stat s) {
 }
 
 double stat_edf(Stat s, int alpha, std::int64_t m, std::int64_t n_phase, std::int64_t terms) {
+  if (!has_interval(s)) return std::numeric_limits<double>::quiet_NaN();
+  if (s == Stat::Mtotdev || s == Stat::Ttotdev) return edf_mtotvar(alpha, m, n_phase);
+  if (s == Stat::Htotdev) {
+    // Howe et al.'s HTOT edf fits are not implemented: the overlapping Hadamard variance's edf
+    // (Greenhall & Riley) over the same N - 3m terms stands in. HTOT averages more
+    // (reflected) terms than OHVAR, so this is the conservative side.
+    return stat_edf(Stat::Ohdev, alpha, m, n_phase, terms);
+  }
   if (s == Stat::Totdev) {
     // Stable32 prints N - 1 terms for every m; fewer mean samples lost to gaps.
     const std::int64_t n_eff = std::min(n_phase, terms + 1);
@@ -76,8 +85,13 @@ void add_confidence(Stat s, const PhaseData& p, StatResult& r, double confidence
   for (std::int64_t j = 0; j < count; ++j) {
     errors.run([&] {
       const auto i = static_cast<std::size_t>(j);
+      // HTOT's bias correction (Stable32; edf.hpp htotvar_bias) needs this row's noise type;
+      // at m = 1 HTOT is OHDEV, which is unbiased.
+      if (s == Stat::Htotdev && r.m[i] > 1) r.dev[i] /= std::sqrt(htotvar_bias(alpha[i]));
       edf[i] = stat_edf(s, alpha[i], r.m[i], p.n_points(), r.n[i]);
-      if (r.dev[i] > 0.0) {
+      if (!has_interval(s)) {
+        lo[i] = hi[i] = std::numeric_limits<double>::quiet_NaN();
+      } else if (r.dev[i] > 0.0) {
         const Interval ci = chi2_interval(r.dev[i], edf[i], confidence);
         lo[i] = ci.lo;
         hi[i] = ci.hi;

@@ -40,7 +40,10 @@ FiniteDifferenceKind difference_kind(Stat s);
 ///    (edf_greenhall); Stable32's bounds on PHASE.DAT match it within 4e-4, while the simple
 ///    SP1065 Table 5 formula for white FM (edf = (3(N-1)/(2m) - 2(N-2)/N) 4m^2/(4m^2+5)) gives
 ///    666 instead of Stable32's 782 at m = 1;
-///  - Totdev: Howe's b (T/tau) - c (edf_totvar).
+///  - Totdev: Howe's b (T/tau) - c (edf_totvar);
+///  - Mtotdev, Ttotdev: SP1065 Table 8 (edf_mtotvar);
+///  - Htotdev: the Ohdev edf over the same terms (HTOT's own fits are not implemented);
+///  - Mtie, Tierms, Theo1: NaN (no interval, stats.hpp has_interval).
 /// Gaps: when `terms` is below the count of a contiguous record of N points, the edf is that
 /// of the shortest contiguous record with `terms` terms (greenhall_phase_points), i.e. the
 /// missing terms are treated as a shorter record. This is exact for a gap at either end and
@@ -51,13 +54,15 @@ double stat_edf(Stat s, int alpha, std::int64_t m, std::int64_t n_phase, std::in
 /// Fills r.edf, r.dev_lo, r.dev_hi, r.alpha (one entry per row) and r.confidence for the rows
 /// of `r`, the result of statistic s on p (kernels::compute), at the given two-sided
 /// confidence. alpha comes from identify_alpha, edf from stat_edf, the bounds from
-/// chi2_interval. Rows with dev = 0 get edf and alpha but lo = hi = 0. Parallel over rows with
-/// `nthreads` (0 = OpenMP default); each row is written by one thread in a fixed order, so
-/// the output is bit-identical for any thread count.
-/// Throws std::invalid_argument for confidence outside (0, 1) or rows that are not a result
-/// of s on p (unequal lengths, m not increasing).
-/// `cache` (optional, see noise_id.hpp) shares the noise identification between the statistics
-/// of one record; it changes no result.
+/// chi2_interval. Rows with dev = 0 get edf and alpha but lo = hi = 0. A statistic without an
+/// interval (has_interval false: MTIE, TIE rms, Thêo1) gets its alpha and NaN edf, lo and hi.
+/// For HTOTDEV it also applies Stable32's bias correction to r.dev (divided by
+/// sqrt(htotvar_bias(alpha)) at m > 1, edf.hpp) before the bounds are taken. Parallel
+/// over rows with `nthreads` (0 = OpenMP default); each row is written by one thread in a fixed
+/// order, so the output is bit-identical for any thread count. Throws std::invalid_argument for
+/// confidence outside (0, 1) or rows that are not a result of s on p (unequal lengths, m not
+/// increasing). `cache` (optional, see noise_id.hpp) shares the noise identification between the
+/// statistics of one record; it changes no result.
 void add_confidence(Stat s, const PhaseData& p, StatResult& r,
                     double confidence = kDefaultConfidence, int nthreads = 0,
                     Lag1Cache* cache = nullptr);

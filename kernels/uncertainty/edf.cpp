@@ -240,4 +240,32 @@ double edf_totvar(int alpha, std::int64_t m, std::int64_t n_phase) {
   throw std::invalid_argument("edf_totvar: alpha must be in -2..2, got " + std::to_string(alpha));
 }
 
+double edf_mtotvar(int alpha, std::int64_t m, std::int64_t n_phase) {
+  if (m < 1) throw std::invalid_argument("edf_mtotvar: m must be >= 1, got " + std::to_string(m));
+  if (n_phase < 2)
+    throw std::invalid_argument("edf_mtotvar: need >= 2 phase points, got " +
+                                std::to_string(n_phase));
+  if (alpha < -2 || alpha > 2)
+    throw std::invalid_argument("edf_mtotvar: alpha must be in -2..2, got " +
+                                std::to_string(alpha));
+  static constexpr double b[] = {0.75, 0.85, 1.10, 1.20, 1.90};  // alpha = -2 .. 2
+  static constexpr double c[] = {0.31, 0.50, 1.20, 1.40, 2.10};
+  const double T_over_tau = static_cast<double>(n_phase - 1) / static_cast<double>(m);
+  const auto k = static_cast<std::size_t>(alpha + 2);
+  return std::max(1.0, b[k] * T_over_tau - c[k]);
+}
+
+double htotvar_bias(int alpha) {
+  switch (alpha) {
+  case 0:
+    return 0.995;
+  case -1:
+    return 0.851;
+  case -2:
+    return 0.771;
+  default:
+    return 1.0;
+  }
+}
+
 }  // namespace allanlot::kernels

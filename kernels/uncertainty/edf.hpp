@@ -45,4 +45,19 @@ double edf_greenhall(int alpha, FiniteDifferenceKind kind, std::int64_t m, std::
 /// Preconditions: m >= 1, N >= 2, alpha in -2..2.
 double edf_totvar(int alpha, std::int64_t m, std::int64_t n_phase);
 
+/// Howe's edf for the modified total variance MTOT (and TTOT, the same estimator scaled),
+/// NIST SP1065 sec. 5.3.3, Table 8 (p. 41): edf = b (T / tau) - c with T / tau = (N - 1) / m
+/// and (b, c) = (1.90, 2.10), (1.20, 1.40), (1.10, 1.20), (0.85, 0.50), (0.75, 0.31) for
+/// alpha = 2, 1, 0, -1, -2; at least 1 (a last-octave m with few windows). Stable32 1.60's
+/// MTOT bounds on PHASE.DAT are not these (its edf is ~30 % larger from m = 10 on; see
+/// docs/statistics.md). Preconditions: m >= 1, N >= 2, alpha in -2..2.
+double edf_mtotvar(int alpha, std::int64_t m, std::int64_t n_phase);
+
+/// Stable32's bias factor of the Hadamard total variance (Riley, "Confidence intervals and
+/// bias corrections for the Stable32 variance functions", Hamilton Technical Services): the
+/// expected HTOT / HVAR ratio, 0.995, 0.851 and 0.771 for alpha = 0, -1 and -2, and 1 for
+/// PM noise (alpha 1, 2), where Stable32 corrects nothing. The corrected deviation is the raw
+/// one divided by the square root.
+double htotvar_bias(int alpha);
+
 }  // namespace allanlot::kernels

@@ -70,7 +70,7 @@ double allan_variance(const PhaseData& p, std::int64_t m, std::int64_t stride) {
 }
 
 int stable32_dmax(Stat s) {
-  return (s == Stat::Hdev || s == Stat::Ohdev) ? 3 : 2;
+  return (s == Stat::Hdev || s == Stat::Ohdev || s == Stat::Htotdev) ? 3 : 2;
 }
 
 // The alpha at row i when it does not depend on the previous row; `keep_previous` rows are

@@ -29,9 +29,10 @@ std::string sanitize(std::string_view s) {
 // Distinct, colour-blind-safe-ish colours per statistic (matplotlib's tab10 order), the same
 // on every plot so that a reader learns them once.
 std::string stat_color(const std::string& s) {
-  static const std::map<std::string, std::string> c = {{"oadev", "#1f77b4"}, {"adev", "#17becf"},
-                                                       {"mdev", "#2ca02c"},  {"hdev", "#9467bd"},
-                                                       {"ohdev", "#d62728"}, {"totdev", "#8c564b"}};
+  static const std::map<std::string, std::string> c = {
+      {"oadev", "#1f77b4"}, {"adev", "#17becf"},   {"mdev", "#2ca02c"},    {"hdev", "#9467bd"},
+      {"ohdev", "#d62728"}, {"totdev", "#8c564b"}, {"mtotdev", "#bcbd22"}, {"htotdev", "#e377c2"},
+      {"theo1", "#ff7f0e"}, {"theoh", "#aec7e8"},  {"pdev", "#98df8a"}};
   const auto it = c.find(s);
   return it == c.end() ? "#7f7f7f" : it->second;
 }

@@ -1,5 +1,6 @@
 #include "src/report/parts.hpp"
 
+#include "kernels/allan/stats.hpp"
 #include "kernels/simulate/simulate.hpp"
 #include "src/report/svg.hpp"
 
@@ -20,9 +21,10 @@ std::string adev_plot(const std::string& id, const io::ChannelResult& ch) {
   std::vector<double> all_tau;
   const kernels::StatResult* oadev = nullptr;
   for (const auto& [name, s] : ch.stats) {
-    // TDEV is a time (angle) error, u*s, not a deviation of the rate: another axis. It is in
-    // the export tables.
-    if (name == "tdev") continue;
+    // TDEV, TTOTDEV, MTIE and TIE rms are time (angle) errors, u*s, not deviations of the rate:
+    // another axis. They are in the export tables.
+    const auto stat = kernels::parse_stat(name);
+    if (stat && kernels::is_time_error(*stat)) continue;
     if (name == "oadev") oadev = &s;
     all_tau.insert(all_tau.end(), s.tau_s.begin(), s.tau_s.end());
     svg::Series se;

@@ -28,6 +28,8 @@ using kernels::FitStatus;
 template <class Rec, class Table>
 void expect_fields(const Rec& want, const Rec& got, const Table& table, const std::string& where,
                    bool summary_only = false) {
+  // Static: GCC 12 at -O2 flags the automatic one as maybe-uninitialized (a false positive that
+  // broke the dev build; the value is the same default-constructed record).
   static const Rec blank{};
   for (const auto& f : table) {
     if (summary_only && !f.summary) continue;

@@ -60,6 +60,8 @@ StatResult run(Stat s, const PhaseData& p, const MList& ms, int nthreads = 1) {
     return kernels::ohdev(p, ms, nthreads);
   case Stat::Totdev:
     return kernels::totdev(p, ms, nthreads);
+  default:  // the statistics of test_tie.cpp, test_theo.cpp, test_total_family.cpp, ...
+    break;
   }
   return {};
 }
@@ -80,6 +82,8 @@ test::NaiveRow naive(Stat s, const std::vector<double>& x, std::int64_t m, long 
     return test::naive_hdev_phase(x, m, tau0, 1);
   case Stat::Totdev:
     return test::naive_totdev_phase(x, m, tau0);
+  default:
+    break;
   }
   return {};
 }
@@ -495,16 +499,22 @@ TEST(AllanFamilyProperties, ComputeAppliesStable32Limits) {
   for (const Stat s : {Stat::Oadev, Stat::Mdev, Stat::Tdev, Stat::Ohdev})
     EXPECT_EQ(kernels::max_m(s, 1001), 250);
   EXPECT_EQ(kernels::max_m(Stat::Totdev, 1001), 500);
-  for (int si = 0; si < 7; ++si) {
-    const auto s = static_cast<Stat>(si);
+  // The statistics of issue #19 (stats.hpp max_m): N-1, (N-1)/4 and (N-1)/3.
+  for (const Stat s : {Stat::Mtie, Stat::Theo1, Stat::Theoh})
+    EXPECT_EQ(kernels::max_m(s, 1001), 1000);
+  for (const Stat s : {Stat::Tierms, Stat::Pdev})
+    EXPECT_EQ(kernels::max_m(s, 1001), 250);
+  for (const Stat s : {Stat::Mtotdev, Stat::Ttotdev, Stat::Htotdev})
+    EXPECT_EQ(kernels::max_m(s, 1001), 333);
+  for (const Stat s : kernels::all_stats()) {
     const std::int64_t mm = kernels::max_m(s, p.n_points());
     const auto r = kernels::compute(s, p, MList{mm, mm + 1});
-    EXPECT_EQ(r.m, MList{mm}) << kNames[si];
+    EXPECT_EQ(r.m, MList{mm}) << kernels::stat_name(s);
   }
 }
 
 TEST(AllanFamilyProperties, NamesRoundTrip) {
-  ASSERT_EQ(kernels::all_stats().size(), 7u);
+  ASSERT_EQ(kernels::all_stats().size(), 15u);
   for (const Stat s : kernels::all_stats())
     EXPECT_EQ(kernels::parse_stat(kernels::stat_name(s)), s);
   EXPECT_FALSE(kernels::parse_stat("adevs").has_value());

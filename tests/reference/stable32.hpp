@@ -37,6 +37,48 @@ inline std::vector<Stable32Row> read_stable32(const std::string& rel) {
   return rows;
 }
 
+/// Every row of a Stable32 table, including those that the AllanTools test suite commented out
+/// with a leading '#' (the files are kept as published; the rows are still Stable32's), and the
+/// four-column tables of MTIE and TIE rms (AF, Tau, #, value: min_sigma = max_sigma = 0). The
+/// "#" column is read as a number because Stable32 prints it as %.4e for Thêo1 (4.9550e+03).
+inline std::vector<Stable32Row> read_stable32_every_row(const std::string& rel) {
+  std::ifstream in(reference_path(rel));
+  if (!in) throw std::runtime_error("cannot open " + reference_path(rel));
+  std::vector<Stable32Row> rows;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (!line.empty() && line[0] == '#') line.erase(0, 1);
+    std::istringstream ss(line);
+    std::vector<double> v;
+    std::string word;
+    bool numeric = true;
+    while (ss >> word) {
+      try {
+        std::size_t used = 0;
+        v.push_back(std::stod(word, &used));
+        numeric = numeric && used == word.size();
+      } catch (const std::exception&) {
+        numeric = false;
+      }
+    }
+    if (!numeric || (v.size() != 4 && v.size() != 7)) continue;
+    Stable32Row r;
+    r.m = static_cast<std::int64_t>(v[0]);
+    r.tau = v[1];
+    r.n = static_cast<std::int64_t>(v[2] + 0.5);
+    if (v.size() == 4) {
+      r.sigma = v[3];
+    } else {
+      r.alpha = static_cast<int>(v[3]);
+      r.min_sigma = v[4];
+      r.sigma = v[5];
+      r.max_sigma = v[6];
+    }
+    rows.push_back(r);
+  }
+  return rows;
+}
+
 /// One number per line; lines starting with '#' are skipped.
 inline std::vector<double> read_column(const std::string& rel) {
   std::ifstream in(reference_path(rel));
