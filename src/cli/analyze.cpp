@@ -7,6 +7,7 @@
 #include "io/recording.hpp"
 #include "io/results.hpp"
 #include "kernels/common/parallel.hpp"
+#include "src/cli/input_options.hpp"
 #include "src/cli/inputs.hpp"
 #include "src/cli/interrupt.hpp"
 #include "src/cli/resume.hpp"
@@ -120,8 +121,10 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
                                       int threads, std::uint64_t memory_limit, StageTimes& times,
                                       std::ostream& err, bool& channel_failed) {
   auto t0 = Clock::now();
-  io::RecordingReader reader(file);
+  io::RecordingReader reader(file, opt.input);
   const io::RecordingInfo& info = reader.info();
+  for (const std::string& note : info.notes)
+    err << "allanlot: note: " << file << ": " << note << "\n";
 
   io::RecordingResult rec;
   rec.device_id = info.device_id;
@@ -134,6 +137,7 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
                     {"threads", std::to_string(threads)},
                     {"confidence", std::to_string(opt.confidence)},
                     {"git_sha", kGitSha}};
+  rec.attributes.insert(rec.attributes.end(), info.facts.begin(), info.facts.end());
 
   for (const io::ChannelProblem& p : info.problems) {
     if (!channel_matches(opt.channels_glob, p.path)) continue;
@@ -234,6 +238,22 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
   return rec;
 }
 
+// The input options that change what is read, only when given: the stamp of a run without
+// them stays that of earlier versions, whose results remain current.
+std::string input_stamp(const io::InputOptions& in) {
+  std::string s;
+  char rate[32];
+  std::snprintf(rate, sizeof rate, "%.17g", in.sample_rate_hz);
+  if (in.data_type)
+    s += in.data_type == kernels::DataType::Rate ? ";data_type=rate" : ";data_type=phase";
+  if (in.sample_rate_hz > 0) s += std::string(";sample_rate=") + rate;
+  if (in.column > 0) s += ";column=" + std::to_string(in.column);
+  if (!in.time_column.empty()) s += ";time_column=" + in.time_column;
+  if (!in.time_unit.empty()) s += ";time_unit=" + in.time_unit;
+  if (!in.units.empty()) s += ";units=" + in.units;
+  return s;
+}
+
 // The options that change what a results file holds, canonically written (the resume stamp,
 // io/fingerprint.hpp). The thread count and the output switches that do not change numbers
 // (--table, --verbose, --quiet, --no-summary, --memory-limit) are not in it.
@@ -242,7 +262,8 @@ std::string options_stamp(const AnalyzeOptions& opt) {
   std::snprintf(conf, sizeof conf, "%.17g", opt.confidence);
   return "stats=" + join_stats(opt.stats) + ";taus=" + kernels::to_string(opt.grid) +
          ";confidence=" + conf + ";channels=" + opt.channels_glob +
-         ";fit=" + (opt.fit ? "1" : "0") + ";psd=" + (opt.psd ? "1" : "0") + ";version=" + kVersion;
+         ";fit=" + (opt.fit ? "1" : "0") + ";psd=" + (opt.psd ? "1" : "0") +
+         ";version=" + kVersion + input_stamp(opt.input);
 }
 
 // Peak resident memory of this process so far, in bytes (getrusage: kilobytes on Linux).
@@ -470,6 +491,7 @@ int run_analyze(const AnalyzeOptions& opt, std::ostream& out, std::ostream& err)
   run.options = options_stamp(opt);
   // OUTDIR and the results in it are never inputs, also when OUTDIR lies inside an input.
   const InputList inputs = expand_inputs(opt.inputs, opt.outdir);
+  check_inputs_need(inputs.files, opt.input);
   run.inputs.assign(inputs.files.begin(), inputs.files.end());
   for (const auto& [what, reason] : inputs.failures) {
     err << "allanlot: error: " << what << ": " << reason << "\n";
@@ -575,6 +597,8 @@ struct AnalyzeArgs {
   AnalyzeOptions opt;
   std::string stats_text = default_stats(), taus_text = kernels::to_string(opt.grid);
   std::string outdir, spec_text, memory_text;
+  std::vector<std::string> manifests;
+  InputArgs input;
   bool no_fit = false, no_psd = false, no_summary = false, no_progress = false;
 };
 
@@ -594,6 +618,11 @@ AnalyzeOptions checked_options(const AnalyzeArgs& a, const std::string& command_
   opt.summary = !a.no_summary;
   opt.progress = !a.no_progress;
   opt.spec_path = a.spec_text;
+  for (const std::string& m : a.manifests)
+    opt.inputs.push_back("@" + m);
+  if (opt.inputs.empty())
+    throw CLI::ValidationError("INPUT", "no input: give files, @MANIFEST or --manifest");
+  opt.input = input_options(a.input);
   if (!a.memory_text.empty()) {
     try {
       opt.memory_limit = parse_memory_size(a.memory_text);
@@ -611,8 +640,11 @@ Command add_analyze_command(CLI::App& app) {
   auto* sub = app.add_subcommand("analyze", "Analyse recordings: Allan-family deviations, "
                                             "results per input and a lot summary");
   sub->add_option("-o,--output", a->outdir, "Output directory")->required();
-  sub->add_option("inputs", a->opt.inputs, "HDF5 files, directories, or *.txt manifests")
-      ->required();
+  sub->add_option("inputs", a->opt.inputs,
+                  "Recordings (HDF5, text: .txt .dat .csv .tsv, optionally .gz), directories, "
+                  "or @MANIFEST");
+  sub->add_option("--manifest", a->manifests, "A file listing recordings, one per line");
+  add_input_options(sub, a->input);
   sub->add_option("--stats", a->stats_text, "Comma-separated statistics")->capture_default_str();
   sub->add_option("--taus", a->taus_text, "Tau grid: octave, decade, all, log:K or m:LIST")
       ->capture_default_str();

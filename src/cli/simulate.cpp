@@ -29,7 +29,7 @@ void write_unit(const fs::path& path, const std::string& device_id, const model:
   io::RecordingWriter writer(path.string(), device_id, unit.sample_rate_hz);
   for (std::size_t c = 0; c < unit.channels.size(); ++c) {
     plan.run(model::to_spec(unit, c), seed, model::channel_stream(unit_index, c), buffer, threads);
-    writer.add_channel({unit.channels[c].name, unit.channels[c].units, buffer});
+    writer.add_channel({unit.channels[c].name, unit.channels[c].units, buffer, "rate"});
   }
   // The exact model each unit was drawn with, so tests and users can compare fits with truth.
   writer.add_root_attribute("simulated_model", model::to_json(unit));
