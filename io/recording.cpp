@@ -238,6 +238,15 @@ RecordingReader::RecordingReader(const std::string& path, const InputOptions& op
   } else {
     info_.device_id = std::filesystem::path(path).stem().string();
   }
+  for (const char* name : kTextFactNames) {
+    std::string value;
+    try {
+      if (h5::read_attribute(root.get(), name, value, path, "/"))
+        info_.facts.emplace_back(name, value);
+    } catch (const Error&) {
+      // A root attribute of that name but another type is the file's own, not a fact.
+    }
+  }
 
   Visit visit;
   if (H5Ovisit2(impl_->file.get(), H5_INDEX_NAME, H5_ITER_INC, collect, &visit, H5O_INFO_BASIC) < 0)

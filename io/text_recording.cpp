@@ -375,6 +375,8 @@ TextRecording read_text_recording(const std::string& path, const InputOptions& o
   } else {
     read_single_column(in, path, l, opt, rec);
   }
+  std::sort(rec.channels.begin(), rec.channels.end(),
+            [](const TextChannel& a, const TextChannel& b) { return a.path < b.path; });
   return rec;
 }
 

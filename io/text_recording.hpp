@@ -19,6 +19,7 @@ struct TextChannel {
   std::vector<double> samples;  // NaN where a sample is missing
 };
 
+/// Channels in the order of their paths, as the HDF5 reader finds them.
 struct TextRecording {
   std::string device_id;  // the file name without its data extensions
   double sample_rate_hz = 0.0;
@@ -29,6 +30,12 @@ struct TextRecording {
   std::vector<std::pair<std::string, std::string>> facts;
   std::vector<std::string> notes;  // what a user should know (timing jitter)
 };
+
+/// The names of TextRecording::facts: `convert` writes them as root attributes, and the HDF5
+/// reader reads them back, so that a converted file's results say what the text's did.
+inline constexpr const char* kTextFactNames[] = {
+    "source_file_name", "source_layout", "source_column",        "time_column",
+    "time_unit",        "time_step_s",   "time_missing_samples", "time_jitter_rms_s"};
 
 /// True for the names of text recordings: .txt .dat .csv .tsv, each optionally .gz, any case.
 bool is_text_name(const std::string& path);
