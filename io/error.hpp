@@ -18,11 +18,4 @@ private:
   std::string file_, dataset_, reason_;
 };
 
-/// An input that needs what only the command line can say (a text recording's data type or
-/// sample rate): a usage error, exit status 2, never a guess.
-class UsageError : public Error {
-public:
-  using Error::Error;
-};
-
 }  // namespace allanlot::io

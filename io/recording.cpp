@@ -426,7 +426,7 @@ void RecordingWriter::add_channel_attribute(const std::string& name, const std::
 
 RecordingWriter::~RecordingWriter() = default;
 
-void RecordingWriter::add_channel(const ChannelData& channel) {
+void RecordingWriter::add_channel(const ChannelData& channel, const ChannelAttributes& attributes) {
   const std::string& path = impl_->final_path;
   const std::string object = impl_->object(channel.name);
   const hsize_t n = channel.samples.size();
@@ -445,10 +445,10 @@ void RecordingWriter::add_channel(const ChannelData& channel) {
                    channel.samples.data()),
           path, object, "H5Dwrite (disk full?)");
   if (!channel.units.empty()) h5::write_attribute(ds.get(), "units", channel.units, path, object);
-  if (!channel.data_type.empty())
-    h5::write_attribute(ds.get(), "data_type", channel.data_type, path, object);
-  if (channel.sample_rate_hz > 0)
-    h5::write_attribute(ds.get(), "sample_rate_hz", channel.sample_rate_hz, path, object);
+  if (!attributes.data_type.empty())
+    h5::write_attribute(ds.get(), "data_type", attributes.data_type, path, object);
+  if (attributes.sample_rate_hz > 0)
+    h5::write_attribute(ds.get(), "sample_rate_hz", attributes.sample_rate_hz, path, object);
 }
 
 void RecordingWriter::add_root_attribute(const std::string& name, const std::string& value) {

@@ -94,7 +94,11 @@ struct ChannelData {
   std::string name;  // dataset name under the group, e.g. "gyro_x" (or "imu/gyro_x")
   std::string units;
   std::span<const double> samples;
-  std::string data_type;        // `data_type` attribute ("rate", "phase"); "" writes none
+};
+
+/// Attributes of a channel beyond its units, for add_channel.
+struct ChannelAttributes {
+  std::string data_type;        // `data_type` ("rate", "phase"); "" writes none
   double sample_rate_hz = 0.0;  // `sample_rate_hz` on the dataset itself; 0 writes none
 };
 
@@ -115,7 +119,7 @@ public:
   ~RecordingWriter();
   RecordingWriter(const RecordingWriter&) = delete;
   RecordingWriter& operator=(const RecordingWriter&) = delete;
-  void add_channel(const ChannelData& channel);
+  void add_channel(const ChannelData& channel, const ChannelAttributes& attributes = {});
   /// Adds a string attribute to the root (e.g. the model the data were simulated from).
   void add_root_attribute(const std::string& name, const std::string& value);
   void commit();

@@ -4,6 +4,7 @@
 #include "io/line_reader.hpp"
 #include "io/text_fields.hpp"
 #include "io/time_axis.hpp"
+#include "io/usage_error.hpp"
 
 #include <algorithm>
 #include <cctype>

@@ -61,9 +61,11 @@ fs::path convert_one(const std::string& file, const io::InputOptions& options,
   if (!has_name) w.add_root_attribute("source_file_name", fs::path(file).filename().string());
   for (const io::ChannelInfo& ch : info.channels) {
     const std::vector<double> samples = reader.read(ch);
-    const char* type = ch.data_type == kernels::DataType::Rate ? "rate" : "phase";
-    w.add_channel({ch.path.substr(1), ch.units, samples, ch.data_type_default ? "" : type,
-                   ch.sample_rate_hz});
+    io::ChannelAttributes attributes;
+    attributes.sample_rate_hz = ch.sample_rate_hz;
+    if (!ch.data_type_default)
+      attributes.data_type = ch.data_type == kernels::DataType::Rate ? "rate" : "phase";
+    w.add_channel({ch.path.substr(1), ch.units, samples}, attributes);
   }
   w.commit();
   written.emplace(id, file);

@@ -2,6 +2,7 @@
 
 #include "io/error.hpp"
 #include "io/recording.hpp"
+#include "io/usage_error.hpp"
 #include "src/cli/cli.hpp"
 
 namespace allanlot::cli {

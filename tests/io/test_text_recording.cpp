@@ -4,6 +4,7 @@
 #include "io/error.hpp"
 #include "io/recording.hpp"
 #include "io/text_recording.hpp"
+#include "io/usage_error.hpp"
 #include "reference/stable32.hpp"
 #include "support/h5_fixture.hpp"
 #include "support/text_fixture.hpp"
