@@ -238,6 +238,9 @@ RecordingReader::RecordingReader(const std::string& path, const InputOptions& op
   } else {
     info_.device_id = std::filesystem::path(path).stem().string();
   }
+  // A recording of `allanlot simulate` (its model at the root) holds rates: simulate
+  // synthesizes rate channels only, so their data type is known, not a default.
+  const bool simulated = H5Aexists(root.get(), "simulated_model") > 0;
   for (const char* name : kTextFactNames) {
     std::string value;
     try {
@@ -311,7 +314,7 @@ RecordingReader::RecordingReader(const std::string& path, const InputOptions& op
       if (options.data_type) {
         ch.data_type = *options.data_type;  // --data-type overrides the file
       } else if (impl_->find_attribute(ds_path, "data_type", dtype).empty()) {
-        ch.data_type_default = true;
+        ch.data_type_default = !simulated;
       } else {
         if (dtype == "rate") {
           ch.data_type = kernels::DataType::Rate;

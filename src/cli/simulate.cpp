@@ -27,12 +27,9 @@ void write_unit(const fs::path& path, const std::string& device_id, const model:
                 int unit_index, std::uint64_t seed, kernels::SimulationPlan& plan,
                 std::vector<double>& buffer, int threads) {
   io::RecordingWriter writer(path.string(), device_id, unit.sample_rate_hz);
-  // Simulated channels are rates; said in the file, so that nothing downstream defaults it.
-  io::ChannelAttributes rate;
-  rate.data_type = "rate";
   for (std::size_t c = 0; c < unit.channels.size(); ++c) {
     plan.run(model::to_spec(unit, c), seed, model::channel_stream(unit_index, c), buffer, threads);
-    writer.add_channel({unit.channels[c].name, unit.channels[c].units, buffer}, rate);
+    writer.add_channel({unit.channels[c].name, unit.channels[c].units, buffer});
   }
   // The exact model each unit was drawn with, so tests and users can compare fits with truth.
   writer.add_root_attribute("simulated_model", model::to_json(unit));
