@@ -44,17 +44,19 @@ std::string at_line(std::int64_t line) {
 // Rows a file of this size holds if its lines are as long as `line`, with 10 % to spare: the
 // channels' arrays are reserved once instead of doubling (which would copy them and leave up
 // to twice their size allocated). A compressed file's text is assumed 4 times its size.
-std::size_t expected_rows(const std::string& path, std::size_t line_bytes) {
+std::size_t expected_rows(const std::string& path, double line_bytes) {
   std::error_code ec;
   const auto size = std::filesystem::file_size(path, ec);
   if (ec) return 0;
   const double text = static_cast<double>(size) * (is_gzip_file(path) ? 4.0 : 1.0);
-  return static_cast<std::size_t>(text / static_cast<double>(line_bytes + 1) * 1.1) + 16;
+  return static_cast<std::size_t>(text / std::max(line_bytes, 1.0) * 1.1) + 16;
 }
 
-// Frees what an estimate reserved beyond the samples (a copy only when it is more than 10 %).
+// Frees what an estimate reserved beyond the samples when it is more than half as much again:
+// below that the copy would cost more memory at its peak than the pages never touched (which
+// are never resident) do.
 void fit_capacity(std::vector<double>& v) {
-  if (v.capacity() > v.size() + v.size() / 10) v.shrink_to_fit();
+  if (v.capacity() > v.size() + v.size() / 2) v.shrink_to_fit();
 }
 
 // What the head of the file says: a header line or none, the delimiter, the columns.
@@ -167,7 +169,7 @@ void read_single_column(LineReader& in, const std::string& path, const Layout& l
                   quoted(f) + " is not a number");
     ch.samples.push_back(v);
   };
-  ch.samples.reserve(expected_rows(path, l.pending.size()));
+  ch.samples.reserve(expected_rows(path, static_cast<double>(l.pending.size() + 1)));
   take(l.pending, l.pending_line);
   std::string_view line;
   while (in.next(line))
@@ -237,7 +239,9 @@ public:
                     "has " + std::to_string(fields_.size()) + " field(s), the header (" +
                         at_line(l_.header_line) + ") has " + std::to_string(l_.cells.size()) +
                         ": its values cannot be matched to the columns");
-      if (rows_ == 0) choose_columns(line.size());
+      if (rows_ == 0) choose_columns(static_cast<double>(line.size() + 1));
+      // The first line alone may be shorter than most: the estimate again, from 4096 lines.
+      if (rows_ == 4096) reserve(static_cast<double>(in.bytes()) / static_cast<double>(ln));
       for (std::size_t c = 0; c < fields_.size(); ++c) {
         const int k = channel_of_[c];
         if (k < 0) continue;
@@ -260,11 +264,17 @@ private:
     return at_line(ln) + ", column " + std::to_string(c + 1) + " (" + l_.cells[c].name + ")";
   }
 
-  // The first row decides: a column whose first value is not a number is text (labels,
-  // status words), never a channel; every other column but the time is one.
-  void choose_columns(std::size_t line_bytes) {
+  // Room for the rows a file of lines this long holds (expected_rows).
+  void reserve(double line_bytes) {
     const std::size_t rows = expected_rows(path_, line_bytes);
     if (l_.time_col >= 0) times_.reserve(rows);
+    for (TextChannel& ch : rec_.channels)
+      ch.samples.reserve(rows);
+  }
+
+  // The first row decides: a column whose first value is not a number is text (labels,
+  // status words), never a channel; every other column but the time is one.
+  void choose_columns(double line_bytes) {
     for (std::size_t c = 0; c < fields_.size(); ++c) {
       double v = 0;
       if (static_cast<int>(c) == l_.time_col) continue;
@@ -276,10 +286,10 @@ private:
       TextChannel ch;
       ch.path = "/" + channel_name(l_.cells[c], c, rec_.channels);
       ch.units = l_.cells[c].unit.empty() ? opt_.units : l_.cells[c].unit;
-      ch.samples.reserve(rows);
       channel_of_[c] = static_cast<int>(rec_.channels.size());
       rec_.channels.push_back(std::move(ch));
     }
+    reserve(line_bytes);
   }
 
   void add_time(std::int64_t ln) {
