@@ -33,15 +33,19 @@ constexpr int kDeflate = 4;
 // Writes one input as OUTDIR/<device_id>.h5; returns the path written. The channels keep
 // their paths, each with its own sample_rate_hz, units and (when anyone said it) data_type;
 // the root keeps device_id, the source file's name and what was inferred from a text file.
+// A channel that cannot be converted (named on `err`) sets `left_out`; the others are written.
 fs::path convert_one(const std::string& file, const io::InputOptions& options,
                      const fs::path& outdir, const std::vector<fs::path>& inputs,
-                     std::map<std::string, std::string>& written, std::ostream& err) {
+                     std::map<std::string, std::string>& written, std::ostream& err,
+                     bool& left_out) {
   const io::RecordingReader reader(file, options);
   const io::RecordingInfo& info = reader.info();
   for (const std::string& note : info.notes)
     err << "allanlot: note: " << file << ": " << note << "\n";
-  for (const io::ChannelProblem& p : info.problems)
+  for (const io::ChannelProblem& p : info.problems) {
     err << "allanlot: error: " << file << ":" << p.path << ": " << p.reason << " (left out)\n";
+    left_out = true;
+  }
   if (info.channels.empty()) throw io::Error(file, "", "no channel found");
   const std::string id = io::sanitize_device_id(info.device_id);
   const fs::path path = outdir / (id + ".h5");
@@ -91,9 +95,10 @@ int run_convert(const ConvertArgs& a, const io::InputOptions& options) {
     std::cerr << "allanlot: error: " << what << ": " << reason << "\n";
   std::map<std::string, std::string> written;
   std::size_t n_ok = 0;
+  bool left_out = false;
   for (const std::string& file : inputs.files) {
     try {
-      const fs::path out = convert_one(file, options, outdir, paths, written, std::cerr);
+      const fs::path out = convert_one(file, options, outdir, paths, written, std::cerr, left_out);
       ++n_ok;
       if (!a.quiet) std::cout << file << " -> " << out.string() << "\n";
     } catch (const io::Error& e) {
@@ -103,7 +108,8 @@ int run_convert(const ConvertArgs& a, const io::InputOptions& options) {
     }
   }
   if (n_ok == 0) return kExitUsage;
-  return n_ok == inputs.files.size() + inputs.failures.size() ? kExitOk : kExitSomeFailed;
+  const bool all = n_ok == inputs.files.size() + inputs.failures.size() && !left_out;
+  return all ? kExitOk : kExitSomeFailed;
 }
 
 }  // namespace

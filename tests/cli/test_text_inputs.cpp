@@ -2,6 +2,7 @@
 // tables, a CSV with a time column and dropped rows, usage errors for what a file cannot say,
 // a corrupt line, manifests named with @, `convert` then `analyze` bit for bit, and the data
 // type of HDF5 channels (default, --data-type).
+#include "io/recording.hpp"
 #include "io/results.hpp"
 #include "reference/stable32.hpp"
 #include "support/h5_fixture.hpp"
@@ -226,6 +227,64 @@ TEST(TextInputs, ConvertThenAnalyseEqualsDirectAnalysisBitForBit) {
     for (std::size_t t = 0; t < x.fit->terms.size(); ++t)
       EXPECT_EQ(std::memcmp(&x.fit->terms[t].value, &y.fit->terms[t].value, sizeof(double)), 0);
   }
+}
+
+// convert: an HDF5 input (scale applied, data type kept), a second input with the same
+// device id, an output that would replace its input, and --tau0 for a single column.
+TEST(TextInputs, ConvertKeepsInputsAndDeviceIdsApart) {
+  const fs::path dir = test::fresh_dir("text_cli_convert_rules");
+  {
+    test::H5Fixture f(dir / "u.h5");
+    f.dataset("/clock/x", std::vector<double>{1, 2, 3, 4, 5, 6, 7, 8}, H5T_STD_I16LE);
+    f.attr("/clock", "sample_rate_hz", 2.0);
+    f.attr("/clock", "scale", 0.5);
+    f.attr("/clock", "data_type", "phase");
+    f.attr("/", "device_id", "clock-1");
+  }
+  std::ofstream(dir / "clock-1.txt") << "1\n2\n3\n4\n";
+  const auto before = test::snapshot(dir);
+  std::string text;
+  EXPECT_EQ(run_command(binary() + " convert -o " + (dir / "out").string() +
+                            " --data-type phase --tau0 0.5 " + (dir / "u.h5").string() + " " +
+                            (dir / "clock-1.txt").string(),
+                        &text),
+            1)
+      << text;
+  EXPECT_NE(text.find("device_id 'clock-1' is also that of"), std::string::npos) << text;
+  ASSERT_TRUE(fs::exists(dir / "out" / "clock-1.h5"));
+  const auto r = io::RecordingReader((dir / "out" / "clock-1.h5").string());
+  ASSERT_EQ(r.info().channels.size(), 1u);
+  EXPECT_EQ(r.info().channels[0].path, "/clock/x");
+  EXPECT_EQ(r.info().channels[0].data_type, kernels::DataType::Phase);
+  EXPECT_EQ(r.info().channels[0].sample_rate_hz, 2.0);
+  EXPECT_EQ(r.read(r.info().channels[0]), (std::vector<double>{0.5, 1, 1.5, 2, 2.5, 3, 3.5, 4}));
+  fs::remove_all(dir / "out");
+  EXPECT_TRUE(test::snapshot(dir) == before) << "an input changed";
+  // A recording named by its device id, converted into its own directory: the output would be
+  // the input, and is refused.
+  fs::create_directories(dir / "same");
+  fs::copy_file(dir / "u.h5", dir / "same" / "clock-1.h5");
+  const std::string bytes = test::file_bytes(dir / "same" / "clock-1.h5");
+  EXPECT_EQ(run_command(binary() + " convert -o " + (dir / "same").string() + " " +
+                            (dir / "same" / "clock-1.h5").string(),
+                        &text),
+            2)
+      << text;
+  EXPECT_NE(text.find("input"), std::string::npos) << text;
+  EXPECT_TRUE(test::file_bytes(dir / "same" / "clock-1.h5") == bytes);
+}
+
+TEST(TextInputs, DiagnoseNeedsTheSameOptions) {
+  const fs::path dir = test::fresh_dir("text_cli_diagnose");
+  std::ofstream(dir / "x.dat") << "1\n2\n3\n";
+  std::string text;
+  std::ofstream(dir / "m.json")
+      << R"({"units": "deg/s", "sample_rate_hz": 1, "terms": {"N": 0.01}})";
+  EXPECT_EQ(run_command(binary() + " diagnose --model " + (dir / "m.json").string() + " " +
+                            (dir / "x.dat").string(),
+                        &text),
+            2);
+  EXPECT_NE(text.find("--data-type"), std::string::npos) << text;
 }
 
 TEST(TextInputs, HdfDataTypeDefaultIsSaidAndTheOptionOverrides) {
