@@ -307,6 +307,23 @@ TEST(TextInputs, HdfDataTypeDefaultIsSaidAndTheOptionOverrides) {
   const auto a = io::read_results(dir / "a" / "u.allan.h5");
   ASSERT_EQ(a.channels.size(), 1u);
   EXPECT_EQ(a.channels[0].data_type, "rate (default)");
+  // The terminal table and the report say it too.
+  ASSERT_EQ(run_command(binary() + " analyze --force --stats oadev -o " + (dir / "a").string() +
+                            " " + (dir / "u.h5").string() + " 2>/dev/null",
+                        &text),
+            0)
+      << text;
+  EXPECT_NE(text.find("data type rate (default) for gyro_x"), std::string::npos) << text;
+  ASSERT_EQ(run_command(binary() + " report -q --unit-pages always -o " +
+                            (dir / "r.html").string() + " " + (dir / "a").string(),
+                        &text),
+            0)
+      << text;
+  bool said = false;
+  for (const auto& e : fs::recursive_directory_iterator(dir))
+    if (e.path().extension() == ".html")
+      said = said || test::file_bytes(e.path()).find("rate (default)") != std::string::npos;
+  EXPECT_TRUE(said);
   ASSERT_EQ(run_command(binary() + " analyze -q --stats oadev --data-type phase -o " +
                             (dir / "b").string() + " " + (dir / "u.h5").string(),
                         &text),

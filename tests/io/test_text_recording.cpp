@@ -168,6 +168,16 @@ TEST(TextRecording, MalformedLinesNameFileLineAndColumn) {
   EXPECT_NE(e3.find("line 30, column 1 (timestamp)"), std::string::npos) << e3;
 }
 
+// A gzip stream cut short is an error, never a shorter record.
+TEST(TextRecording, TruncatedGzipIsAnError) {
+  const fs::path dir = test::fresh_dir("text_gzip_cut");
+  ASSERT_TRUE(test::gzip_copy(test::reference_path("stable32/phasedat/PHASE.DAT"), dir / "p.gz"));
+  fs::resize_file(dir / "p.gz", fs::file_size(dir / "p.gz") / 2);
+  const std::string e =
+      message_of<io::Error>([&] { io::RecordingReader r((dir / "p.gz").string(), phase_at(1.0)); });
+  EXPECT_NE(e.find("truncated or corrupt compressed data"), std::string::npos) << e;
+}
+
 TEST(TextRecording, DeviceIdAndNames) {
   EXPECT_EQ(io::text_device_id("/a/unit7.csv.gz"), "unit7");
   EXPECT_EQ(io::text_device_id("PHASE.DAT"), "PHASE");
