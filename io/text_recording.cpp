@@ -296,7 +296,7 @@ private:
     const auto c = static_cast<std::size_t>(l_.time_col);
     const std::string_view f = fields_[c];
     double t = 0;
-    if (rows_ == 0) iso_ = !parse_number(f, t) || std::isnan(t);
+    if (rows_ == 0) iso_ = !parse_number(f, t) || !std::isfinite(t);
     if (iso_) {
       const auto iso = parse_iso8601(f);
       if (!iso)
@@ -305,7 +305,7 @@ private:
                         (rows_ == 0 ? std::string("first row") : "as the first row") + ")");
       if (rows_ == 0) iso0_ = iso->seconds;
       t = static_cast<double>(iso->seconds - iso0_) + iso->fraction;
-    } else if (!parse_number(f, t) || std::isnan(t)) {
+    } else if (!parse_number(f, t) || !std::isfinite(t)) {
       throw Error(path_, where(ln, c), quoted(f) + " is not a time stamp");
     }
     if (rows_ > 0 && !(t > times_.back()))
