@@ -301,8 +301,8 @@ private:
       const auto iso = parse_iso8601(f);
       if (!iso)
         throw Error(path_, where(ln, c),
-                    quoted(f) + " is neither a number nor an ISO-8601 time (" +
-                        (rows_ == 0 ? std::string("first row") : "as the first row") + ")");
+                    quoted(f) + (rows_ == 0 ? " is neither a number nor an ISO-8601 time"
+                                            : " is not an ISO-8601 time, as the first row's is"));
       if (rows_ == 0) iso0_ = iso->seconds;
       t = static_cast<double>(iso->seconds - iso0_) + iso->fraction;
     } else if (!parse_number(f, t) || !std::isfinite(t)) {
