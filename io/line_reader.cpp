@@ -99,4 +99,22 @@ bool is_gzip_file(const std::string& path) {
   return gz;
 }
 
+std::uint64_t text_size_hint(const std::string& path) {
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) return 0;
+  unsigned char head[2] = {}, tail[4] = {};
+  const bool gz = std::fread(head, 1, 2, f) == 2 && head[0] == 0x1f && head[1] == 0x8b;
+  std::uint64_t size = 0;
+  if (std::fseek(f, 0, SEEK_END) == 0) size = static_cast<std::uint64_t>(std::ftell(f));
+  std::uint64_t text = size;
+  if (gz && size >= 18 && std::fseek(f, -4, SEEK_END) == 0 && std::fread(tail, 1, 4, f) == 4) {
+    // ISIZE, little-endian: the last member's uncompressed length modulo 2^32.
+    const std::uint64_t isize =
+        tail[0] | (tail[1] << 8) | (tail[2] << 16) | (static_cast<std::uint64_t>(tail[3]) << 24);
+    text = isize >= size ? isize : 4 * size;
+  }
+  std::fclose(f);
+  return text;
+}
+
 }  // namespace allanlot::io

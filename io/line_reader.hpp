@@ -45,4 +45,9 @@ private:
 /// True when the file starts with the gzip magic bytes.
 bool is_gzip_file(const std::string& path);
 
+/// Bytes of text `path` holds: its size, or for gzip the size its trailer records (modulo
+/// 2^32, so 4 times the compressed size where that is below the compressed size). A hint for
+/// reserving memory, not a limit.
+std::uint64_t text_size_hint(const std::string& path);
+
 }  // namespace allanlot::io

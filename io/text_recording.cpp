@@ -41,14 +41,11 @@ std::string at_line(std::int64_t line) {
   return "line " + std::to_string(line);
 }
 
-// Rows a file of this size holds if its lines are as long as `line`, with 10 % to spare: the
+// Rows the file's text holds if its lines are `line_bytes` long, with 10 % to spare: the
 // channels' arrays are reserved once instead of doubling (which would copy them and leave up
-// to twice their size allocated). A compressed file's text is assumed 4 times its size.
+// to twice their size allocated).
 std::size_t expected_rows(const std::string& path, double line_bytes) {
-  std::error_code ec;
-  const auto size = std::filesystem::file_size(path, ec);
-  if (ec) return 0;
-  const double text = static_cast<double>(size) * (is_gzip_file(path) ? 4.0 : 1.0);
+  const auto text = static_cast<double>(text_size_hint(path));
   return static_cast<std::size_t>(text / std::max(line_bytes, 1.0) * 1.1) + 16;
 }
 
