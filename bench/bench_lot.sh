@@ -45,7 +45,7 @@ for t in $threads; do
   rm -rf "$out"
   stats="$workdir/time-$t.txt"
   /usr/bin/time -f "%e %U %S %M" -o "$stats" \
-    "$binary" analyze --force --quiet --threads "$t" -o "$out" "$lot/manifest.txt"
+    "$binary" analyze --force --quiet --threads "$t" -o "$out" "@$lot/manifest.txt"
   read -r wall user sys rss_kb <"$stats"
   cpu=$(awk -v u="$user" -v s="$sys" 'BEGIN { printf "%.1f", u + s }')
   per_hour=$(awk -v n="$units" -v w="$wall" 'BEGIN { printf "%.0f", n * 3600 / w }')

@@ -9,6 +9,7 @@ find_package(Eigen3 3.4 REQUIRED NO_MODULE)
 find_package(HDF5 REQUIRED COMPONENTS C)
 find_package(CLI11 REQUIRED)
 find_package(nlohmann_json 3.10 REQUIRED)
+find_package(ZLIB REQUIRED)  # gzip-compressed text recordings (io/line_reader.cpp)
 include(AllanlotFFTW)
 
 if(HDF5_VERSION VERSION_LESS 1.10)

@@ -36,7 +36,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string text(reinterpret_cast<const char*>(data), size);
   const auto manifest = workdir() / "m.txt";
   std::ofstream(manifest, std::ios::binary | std::ios::trunc) << text;
-  const cli::InputList list = cli::expand_inputs({manifest.string()});
+  const cli::InputList list = cli::expand_inputs({"@" + manifest.string()});
   // The lines that name a recording: not blank, not a comment after trimming.
   std::size_t listed = 0;
   for (std::size_t b = 0; b <= text.size();) {

@@ -3,12 +3,17 @@
 #include "io/atomic_file.hpp"
 #include "io/error.hpp"
 #include "io/hdf5_handle.hpp"
+#include "io/line_reader.hpp"
+#include "io/text_fields.hpp"
+#include "io/text_recording.hpp"
 #include "kernels/model/units.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <optional>
 #include <sstream>
 #include <sys/stat.h>
 
@@ -88,11 +93,43 @@ herr_t collect(hid_t, const char* name, const H5O_info_t* info, void* data) {
   return 0;
 }
 
+// No NUL byte and few control characters in the first 4 KiB: text, not binary.
+bool looks_like_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char buf[4096];
+  in.read(buf, sizeof buf);
+  const auto n = static_cast<std::size_t>(in.gcount());
+  if (n == 0) return false;
+  std::size_t control = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto c = static_cast<unsigned char>(buf[i]);
+    if (c == 0) return false;
+    if (c < 0x20 && c != '\n' && c != '\r' && c != '\t') ++control;
+  }
+  return control * 100 < n;
+}
+
 }  // namespace
+
+bool is_text_recording(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (ext == ".h5" || ext == ".hdf5") return false;
+  return is_text_name(path) || is_gzip_file(path) || looks_like_text(path);
+}
+
+void check_input_options(const std::string& path, const InputOptions& options) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return;
+  h5::quiet_library();
+  if (H5Fis_hdf5(path.c_str()) <= 0 && is_text_recording(path)) check_text_options(path, options);
+}
 
 struct RecordingReader::Impl {
   std::string path;
   Handle file;
+  std::optional<TextRecording> text;  // a text recording, parsed whole
 
   // A dataset without filters stores every sample it declares; one that stores less was never
   // (wholly) written, and HDF5 would return its fill value (zeros) for the rest: a 1.4 KB file
@@ -157,13 +194,50 @@ struct RecordingReader::Impl {
   }
 };
 
-RecordingReader::RecordingReader(const std::string& path) : impl_(std::make_unique<Impl>()) {
+namespace {
+
+// The channels of a text recording, all with the recording's rate and data type.
+void describe_text(const TextRecording& text, RecordingInfo& info) {
+  info.device_id = text.device_id;
+  info.facts = text.facts;
+  info.notes = text.notes;
+  for (const TextChannel& tc : text.channels) {
+    ChannelInfo ch;
+    ch.path = tc.path;
+    ch.units = tc.units;
+    ch.sample_rate_hz = text.sample_rate_hz;
+    ch.data_type = text.data_type.value_or(kernels::DataType::Rate);
+    ch.data_type_default = !text.data_type;
+    ch.n_samples = static_cast<std::int64_t>(tc.samples.size());
+    ch.storage_type = "text";
+    in_canonical_units(ch);
+    const double rate = text.sample_rate_hz;
+    if (!(rate >= kMinSampleRateHz && rate <= kMaxSampleRateHz)) {
+      std::ostringstream msg;
+      msg << "sample rate " << rate << " Hz is outside " << kMinSampleRateHz << " .. "
+          << kMaxSampleRateHz << " Hz, where the statistics stay within double precision";
+      info.problems.push_back({tc.path, msg.str()});
+      continue;
+    }
+    info.channels.push_back(std::move(ch));
+  }
+}
+
+}  // namespace
+
+RecordingReader::RecordingReader(const std::string& path, const InputOptions& options)
+    : impl_(std::make_unique<Impl>()) {
   h5::quiet_library();
   impl_->path = path;
   info_.file = path;
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) throw Error(path, "", "no such file");
   if (std::filesystem::is_directory(path, ec)) throw Error(path, "", "is a directory");
+  if (H5Fis_hdf5(path.c_str()) <= 0 && is_text_recording(path)) {
+    impl_->text = read_text_recording(path, options);
+    describe_text(*impl_->text, info_);
+    return;
+  }
   if (H5Fis_hdf5(path.c_str()) <= 0)
     throw Error(path, "", "not an HDF5 file (or truncated/corrupt)");
   impl_->file = check(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, path, "",
@@ -177,6 +251,18 @@ RecordingReader::RecordingReader(const std::string& path) : impl_(std::make_uniq
   } else {
     info_.device_id = std::filesystem::path(path).stem().string();
   }
+  // A recording of `allanlot simulate` (its model at the root) holds rates: simulate
+  // synthesizes rate channels only, so their data type is known, not a default.
+  const bool simulated = H5Aexists(root.get(), "simulated_model") > 0;
+  for (const char* name : kTextFactNames) {
+    std::string value;
+    try {
+      if (h5::read_attribute(root.get(), name, value, path, "/"))
+        info_.facts.emplace_back(name, value);
+    } catch (const Error&) {
+      // A root attribute of that name but another type is the file's own, not a fact.
+    }
+  }
 
   Visit visit;
   if (H5Ovisit2(impl_->file.get(), H5_INDEX_NAME, H5_ITER_INC, collect, &visit, H5O_INFO_BASIC) < 0)
@@ -185,7 +271,7 @@ RecordingReader::RecordingReader(const std::string& path) : impl_(std::make_uniq
 
   for (const std::string& ds_path : visit.datasets) {
     const std::string leaf = ds_path.substr(ds_path.find_last_of('/') + 1);
-    if (leaf == "time" || leaf == "timestamps") continue;
+    if (is_time_name(leaf)) continue;  // time stamps, never a channel
     try {
       ChannelInfo ch;
       ch.path = ds_path;
@@ -239,7 +325,11 @@ RecordingReader::RecordingReader(const std::string& path) : impl_(std::make_uniq
         continue;
       }
       std::string dtype;
-      if (!impl_->find_attribute(ds_path, "data_type", dtype).empty()) {
+      if (options.data_type) {
+        ch.data_type = *options.data_type;  // --data-type overrides the file
+      } else if (impl_->find_attribute(ds_path, "data_type", dtype).empty()) {
+        ch.data_type_default = !simulated;
+      } else {
         if (dtype == "rate") {
           ch.data_type = kernels::DataType::Rate;
         } else if (dtype == "phase") {
@@ -261,6 +351,17 @@ RecordingReader::~RecordingReader() = default;
 
 std::vector<double> RecordingReader::read(const ChannelInfo& channel, std::size_t chunk) const {
   const std::string& file = impl_->path;
+  if (impl_->text) {
+    for (const TextChannel& tc : impl_->text->channels) {
+      if (tc.path != channel.path) continue;
+      std::vector<double> out = tc.samples;
+      if (channel.scale != 1.0 || channel.offset != 0.0)  // a clock's ns or ppb (units.hpp)
+        for (double& v : out)
+          v = v * channel.scale + channel.offset;
+      return out;
+    }
+    throw Error(file, channel.path, "no such column");
+  }
   Handle ds = check(H5Dopen2(impl_->file.get(), channel.path.c_str(), H5P_DEFAULT), H5Dclose, file,
                     channel.path, "H5Dopen2");
   Handle fspace = check(H5Dget_space(ds.get()), H5Sclose, file, channel.path, "H5Dget_space");
@@ -293,6 +394,24 @@ struct RecordingWriter::Impl {
   std::unique_ptr<AtomicFile> atomic;
   Handle file, group;
   std::string group_path;
+  int deflate = -1;  // no compression
+
+  std::string object(const std::string& name) const {
+    return (group_path == "/" ? group_path : group_path + "/") + name;
+  }
+
+  // Contiguous by default; chunked (at most 2^16 samples a chunk), shuffled and deflated when
+  // asked: chunks of whole samples keep a reader's hyperslabs cheap.
+  Handle create_plist(hsize_t n, const std::string& object) const {
+    Handle dcpl = h5::dataset_create_plist(final_path, object);
+    if (deflate < 0 || n == 0) return dcpl;
+    const hsize_t chunk = std::min<hsize_t>(n, hsize_t{1} << 16);
+    check(H5Pset_chunk(dcpl.get(), 1, &chunk), final_path, object, "H5Pset_chunk");
+    check(H5Pset_shuffle(dcpl.get()), final_path, object, "H5Pset_shuffle");
+    check(H5Pset_deflate(dcpl.get(), static_cast<unsigned>(deflate)), final_path, object,
+          "H5Pset_deflate");
+    return dcpl;
+  }
 };
 
 RecordingWriter::RecordingWriter(const std::string& path, const std::string& device_id,
@@ -309,28 +428,50 @@ RecordingWriter::RecordingWriter(const std::string& path, const std::string& dev
       check(H5Gopen2(impl_->file.get(), "/", H5P_DEFAULT), H5Gclose, path, "/", "H5Gopen2");
   h5::write_attribute(root.get(), "device_id", device_id, path, "/");
   impl_->group_path = "/" + group;
-  impl_->group = h5::ensure_groups(impl_->file.get(), impl_->group_path, path);
-  h5::write_attribute(impl_->group.get(), "sample_rate_hz", sample_rate_hz, path,
-                      impl_->group_path);
+  impl_->group = group.empty() ? std::move(root)
+                               : h5::ensure_groups(impl_->file.get(), impl_->group_path, path);
+  if (sample_rate_hz > 0)
+    h5::write_attribute(impl_->group.get(), "sample_rate_hz", sample_rate_hz, path,
+                        impl_->group_path);
+}
+
+void RecordingWriter::set_deflate(int level) {
+  impl_->deflate = level;
+}
+
+void RecordingWriter::add_channel_attribute(const std::string& name, const std::string& attr,
+                                            const std::string& value) {
+  const std::string object = impl_->object(name);
+  Handle ds = check(H5Dopen2(impl_->file.get(), object.c_str(), H5P_DEFAULT), H5Dclose,
+                    impl_->final_path, object, "H5Dopen2");
+  h5::write_attribute(ds.get(), attr, value, impl_->final_path, object);
 }
 
 RecordingWriter::~RecordingWriter() = default;
 
-void RecordingWriter::add_channel(const ChannelData& channel) {
+void RecordingWriter::add_channel(const ChannelData& channel, const ChannelAttributes& attributes) {
   const std::string& path = impl_->final_path;
-  const std::string object = impl_->group_path + "/" + channel.name;
+  const std::string object = impl_->object(channel.name);
   const hsize_t n = channel.samples.size();
   Handle space =
       check(H5Screate_simple(1, &n, nullptr), H5Sclose, path, object, "H5Screate_simple");
-  Handle dcpl = h5::dataset_create_plist(path, object);
+  Handle dcpl = impl_->create_plist(n, object);
+  // Groups on the way to a channel named with a path ("imu/gyro_x") are created as needed.
+  Handle lcpl = check(H5Pcreate(H5P_LINK_CREATE), H5Pclose, path, object, "H5Pcreate");
+  check(H5Pset_create_intermediate_group(lcpl.get(), 1), path, object,
+        "H5Pset_create_intermediate_group");
   Handle ds = check(H5Dcreate2(impl_->group.get(), channel.name.c_str(), H5T_IEEE_F64LE,
-                               space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
+                               space.get(), lcpl.get(), dcpl.get(), H5P_DEFAULT),
                     H5Dclose, path, object, "H5Dcreate2");
   if (n > 0)
     check(H5Dwrite(ds.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT,
                    channel.samples.data()),
           path, object, "H5Dwrite (disk full?)");
   if (!channel.units.empty()) h5::write_attribute(ds.get(), "units", channel.units, path, object);
+  if (!attributes.data_type.empty())
+    h5::write_attribute(ds.get(), "data_type", attributes.data_type, path, object);
+  if (attributes.sample_rate_hz > 0)
+    h5::write_attribute(ds.get(), "sample_rate_hz", attributes.sample_rate_hz, path, object);
 }
 
 void RecordingWriter::add_root_attribute(const std::string& name, const std::string& value) {

@@ -1,14 +1,16 @@
 // Input recordings (docs/formats.md "Input recordings"): channel discovery and chunked
-// reading of one unit's HDF5 file, and the writer that `allanlot simulate` uses for the same
-// layout.
+// reading of one unit's HDF5 file or text recording (io/text_recording.hpp), and the writer
+// that `allanlot simulate` and `allanlot convert` use for the HDF5 layout.
 #pragma once
 
+#include "io/input_options.hpp"
 #include "kernels/allan/phase.hpp"
 
 #include <cstdint>
 #include <memory>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace allanlot::io {
@@ -23,6 +25,7 @@ struct ChannelInfo {
   double offset = 0.0;
   bool has_scale = false;  // a `scale` attribute was found
   kernels::DataType data_type = kernels::DataType::Rate;
+  bool data_type_default = false;  // neither the file nor --data-type said: rate by default
   std::int64_t n_samples = 0;
   std::string storage_type;  // "float64", "float32", "int16", ... as stored
 };
@@ -48,13 +51,28 @@ struct RecordingInfo {
   std::string device_id;  // root attribute `device_id`, else the file's stem
   std::vector<ChannelInfo> channels;
   std::vector<ChannelProblem> problems;
+  /// What was inferred from a text recording, as (attribute, value): its file name, layout,
+  /// time column and unit, step, missing samples, jitter. Empty for HDF5.
+  std::vector<std::pair<std::string, std::string>> facts;
+  std::vector<std::string> notes;  // what a user should know (missing samples, jitter)
 };
 
-/// Opens a recording read-only (inputs are never modified) and discovers its channels.
-/// Throws io::Error naming the file when it cannot be opened as HDF5.
+/// True when `path` is read as a text recording: not named *.h5 / *.hdf5, and named like one
+/// (.txt .dat .csv .tsv, optionally .gz), gzip-compressed, or text in its first block.
+bool is_text_recording(const std::string& path);
+
+/// Throws io::UsageError when `path` is a text recording that needs an option `options` lacks
+/// (reads only its head); nothing for HDF5. The commands call it for every input before any
+/// work, so that a missing option is a usage error and never a night of failed inputs.
+void check_input_options(const std::string& path, const InputOptions& options);
+
+/// Opens a recording read-only (inputs are never modified) and discovers its channels; a text
+/// recording is parsed whole here. `options` (--data-type and the text options) apply to
+/// every channel. Throws io::Error naming the file when it cannot be opened or parsed,
+/// io::UsageError when a text recording needs an option that was not given.
 class RecordingReader {
 public:
-  explicit RecordingReader(const std::string& path);
+  explicit RecordingReader(const std::string& path, const InputOptions& options = {});
   ~RecordingReader();
   RecordingReader(const RecordingReader&) = delete;
   RecordingReader& operator=(const RecordingReader&) = delete;
@@ -73,23 +91,35 @@ private:
 
 /// One channel to write with write_recording.
 struct ChannelData {
-  std::string name;  // dataset name under the group, e.g. "gyro_x"
+  std::string name;  // dataset name under the group, e.g. "gyro_x" (or "imu/gyro_x")
   std::string units;
   std::span<const double> samples;
 };
 
+/// Attributes of a channel beyond its units, for add_channel.
+struct ChannelAttributes {
+  std::string data_type;        // `data_type` ("rate", "phase"); "" writes none
+  double sample_rate_hz = 0.0;  // `sample_rate_hz` on the dataset itself; 0 writes none
+};
+
 /// Incremental writer of a recording in the layout `allanlot simulate` produces:
-/// root attribute device_id, group /<group> with sample_rate_hz, one float64 dataset per
-/// channel with a `units` attribute. The file is written under a temporary name and renamed
-/// by commit(), so a recording appears only complete; without commit() nothing is left.
+/// root attribute device_id, group /<group> with sample_rate_hz (none when 0; group "" is the
+/// root), one float64 dataset per channel with a `units` attribute. The file is written under
+/// a temporary name and renamed by commit(), so a recording appears only complete; without
+/// commit() nothing is left.
 class RecordingWriter {
 public:
+  /// Datasets added after this are chunked and compressed (shuffle, then deflate `level`).
+  void set_deflate(int level);
+  /// Adds a string attribute to the dataset of a channel already added.
+  void add_channel_attribute(const std::string& name, const std::string& attr,
+                             const std::string& value);
   RecordingWriter(const std::string& path, const std::string& device_id, double sample_rate_hz,
                   const std::string& group = "imu");
   ~RecordingWriter();
   RecordingWriter(const RecordingWriter&) = delete;
   RecordingWriter& operator=(const RecordingWriter&) = delete;
-  void add_channel(const ChannelData& channel);
+  void add_channel(const ChannelData& channel, const ChannelAttributes& attributes = {});
   /// Adds a string attribute to the root (e.g. the model the data were simulated from).
   void add_root_attribute(const std::string& name, const std::string& value);
   void commit();

@@ -8,8 +8,10 @@
 #include "io/results.hpp"
 #include "kernels/common/parallel.hpp"
 #include "kernels/model/units.hpp"
+#include "src/cli/input_options.hpp"
 #include "src/cli/inputs.hpp"
 #include "src/cli/interrupt.hpp"
+#include "src/cli/progress.hpp"
 #include "src/cli/resume.hpp"
 #include "src/lot/spec.hpp"
 #include "src/lot/summary.hpp"
@@ -149,8 +151,10 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
                                       int threads, std::uint64_t memory_limit, StageTimes& times,
                                       std::ostream& err, bool& channel_failed) {
   auto t0 = Clock::now();
-  io::RecordingReader reader(file);
+  io::RecordingReader reader(file, opt.input);
   const io::RecordingInfo& info = reader.info();
+  for (const std::string& note : info.notes)
+    err << "allanlot: note: " << file << ": " << note << "\n";
 
   io::RecordingResult rec;
   rec.device_id = info.device_id;
@@ -163,6 +167,7 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
                     {"threads", std::to_string(threads)},
                     {"confidence", std::to_string(opt.confidence)},
                     {"git_sha", kGitSha}};
+  rec.attributes.insert(rec.attributes.end(), info.facts.begin(), info.facts.end());
 
   for (const io::ChannelProblem& p : info.problems) {
     if (!channel_matches(opt.channels_glob, p.path)) continue;
@@ -265,6 +270,22 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
   return rec;
 }
 
+// The input options that change what is read, only when given: the stamp of a run without
+// them stays that of earlier versions, whose results remain current.
+std::string input_stamp(const io::InputOptions& in) {
+  std::string s;
+  char rate[32];
+  std::snprintf(rate, sizeof rate, "%.17g", in.sample_rate_hz);
+  if (in.data_type)
+    s += in.data_type == kernels::DataType::Rate ? ";data_type=rate" : ";data_type=phase";
+  if (in.sample_rate_hz > 0) s += std::string(";sample_rate=") + rate;
+  if (in.column > 0) s += ";column=" + std::to_string(in.column);
+  if (!in.time_column.empty()) s += ";time_column=" + in.time_column;
+  if (!in.time_unit.empty()) s += ";time_unit=" + in.time_unit;
+  if (!in.units.empty()) s += ";units=" + in.units;
+  return s;
+}
+
 // The options that change what a results file holds, canonically written (the resume stamp,
 // io/fingerprint.hpp). The thread count and the output switches that do not change numbers
 // (--table, --verbose, --quiet, --no-summary, --memory-limit) are not in it.
@@ -273,7 +294,8 @@ std::string options_stamp(const AnalyzeOptions& opt) {
   std::snprintf(conf, sizeof conf, "%.17g", opt.confidence);
   return "stats=" + join_stats(opt.stats) + ";taus=" + kernels::to_string(opt.grid) +
          ";confidence=" + conf + ";channels=" + opt.channels_glob +
-         ";fit=" + (opt.fit ? "1" : "0") + ";psd=" + (opt.psd ? "1" : "0") + ";version=" + kVersion;
+         ";fit=" + (opt.fit ? "1" : "0") + ";psd=" + (opt.psd ? "1" : "0") +
+         ";version=" + kVersion + input_stamp(opt.input);
 }
 
 // Peak resident memory of this process so far, in bytes (getrusage: kilobytes on Linux).
@@ -289,53 +311,6 @@ std::uint64_t physical_memory() {
              ? static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page)
              : std::uint64_t{8} << 30;
 }
-
-std::string hms(double s) {
-  const auto t = static_cast<long long>(std::max(0.0, s) + 0.5);
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%lld:%02lld:%02lld", t / 3600, t / 60 % 60, t % 60);
-  return buf;
-}
-
-// The progress line, on a terminal only (stderr a terminal): one line rewritten in place after
-// every recording, erased before anything else is printed, so that it never runs into a
-// coefficient table or a message. Logs (batch jobs, Slurm) get the closing lines alone.
-class Progress {
-public:
-  Progress(bool enabled, std::size_t total, std::ostream& err)
-      : enabled_(enabled && total > 1 && isatty(2) == 1), total_(total), err_(err),
-        start_(Clock::now()) {}
-  // Erases the line (carriage return, erase to the end of the line: ECMA-48 EL).
-  void clear() {
-    if (!showing_) return;
-    err_ << "\r\x1b[K" << std::flush;
-    showing_ = false;
-  }
-  void update(std::size_t done, std::uint64_t samples) {
-    samples_ += samples;
-    if (!enabled_) return;
-    const auto now = Clock::now();
-    const double el = std::chrono::duration<double>(now - start_).count();
-    const double left =
-        done > 0 ? el / static_cast<double>(done) * static_cast<double>(total_ - done) : 0;
-    char buf[160];
-    std::snprintf(buf, sizeof buf,
-                  "allanlot: %zu/%zu recordings, %.1f M samples/s, elapsed %s, left ~%s", done,
-                  total_, el > 0 ? static_cast<double>(samples_) / el / 1e6 : 0.0, hms(el).c_str(),
-                  hms(left).c_str());
-    clear();
-    err_ << buf << (done < total_ ? "" : "\n") << std::flush;
-    showing_ = done < total_;
-  }
-
-private:
-  bool enabled_;
-  std::size_t total_;
-  std::ostream& err_;
-  Clock::time_point start_;
-  std::uint64_t samples_ = 0;
-  bool showing_ = false;
-};
 
 // Fails with a usage-level message when OUTDIR cannot hold results.
 bool prepare_outdir(const fs::path& outdir, std::ostream& err) {
@@ -507,6 +482,7 @@ int run_analyze(const AnalyzeOptions& opt, std::ostream& out, std::ostream& err)
   run.options = options_stamp(opt);
   // OUTDIR and the results in it are never inputs, also when OUTDIR lies inside an input.
   const InputList inputs = expand_inputs(opt.inputs, opt.outdir);
+  check_inputs_need(inputs.files, opt.input);
   run.inputs.assign(inputs.files.begin(), inputs.files.end());
   for (const auto& [what, reason] : inputs.failures) {
     err << "allanlot: error: " << what << ": " << reason << "\n";
@@ -620,6 +596,8 @@ struct AnalyzeArgs {
   AnalyzeOptions opt;
   std::string stats_text = default_stats(), taus_text = kernels::to_string(opt.grid);
   std::string outdir, spec_text, memory_text;
+  std::vector<std::string> manifests;
+  InputArgs input;
   bool no_fit = false, no_psd = false, no_summary = false, no_progress = false;
 };
 
@@ -639,6 +617,11 @@ AnalyzeOptions checked_options(const AnalyzeArgs& a, const std::string& command_
   opt.summary = !a.no_summary;
   opt.progress = !a.no_progress;
   opt.spec_path = a.spec_text;
+  for (const std::string& m : a.manifests)
+    opt.inputs.push_back("@" + m);
+  if (opt.inputs.empty())
+    throw CLI::ValidationError("INPUT", "no input: give files, @MANIFEST or --manifest");
+  opt.input = input_options(a.input);
   if (!a.memory_text.empty()) {
     try {
       opt.memory_limit = parse_memory_size(a.memory_text);
@@ -656,8 +639,11 @@ Command add_analyze_command(CLI::App& app) {
   auto* sub = app.add_subcommand("analyze", "Analyse recordings: Allan-family deviations, "
                                             "results per input and a lot summary");
   sub->add_option("-o,--output", a->outdir, "Output directory")->required();
-  sub->add_option("inputs", a->opt.inputs, "HDF5 files, directories, or *.txt manifests")
-      ->required();
+  sub->add_option("inputs", a->opt.inputs,
+                  "Recordings (HDF5, text: .txt .dat .csv .tsv, optionally .gz), directories, "
+                  "or @MANIFEST");
+  sub->add_option("--manifest", a->manifests, "A file listing recordings, one per line");
+  add_input_options(sub, a->input);
   sub->add_option("--stats", a->stats_text, "Comma-separated statistics, or all")
       ->capture_default_str();
   sub->add_option("--taus", a->taus_text,

@@ -4,6 +4,7 @@
 // threads, writes one results file per recording and the lot summary (src/lot/summary.hpp).
 #pragma once
 
+#include "io/input_options.hpp"
 #include "kernels/allan/stats.hpp"
 #include "kernels/allan/tau_grid.hpp"
 #include "src/cli/cli.hpp"
@@ -36,7 +37,8 @@ struct AnalyzeOptions {
   // --memory-limit: bytes the channels in flight may hold (0 = half the machine's RAM). The
   // channels of a recording are read and analysed in waves that fit in it.
   std::uint64_t memory_limit = 0;
-  bool progress = true;  // a progress line on stderr (off with --quiet)
+  bool progress = true;    // a progress line on stderr (off with --quiet)
+  io::InputOptions input;  // --data-type and the options of text recordings
 };
 
 /// Runs the analysis and returns the exit status of docs/cli.md (0, 1 or 2). Failures are named

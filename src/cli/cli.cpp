@@ -1,6 +1,7 @@
 #include "src/cli/cli.hpp"
 
 #include "src/cli/analyze.hpp"
+#include "src/cli/convert.hpp"
 #include "src/cli/diagnose.hpp"
 #include "src/cli/export.hpp"
 #include "src/cli/report.hpp"
@@ -66,7 +67,8 @@ int run(int argc, char** argv) {
   // In the order of `allanlot --help` (and the man page).
   const std::vector<Command> commands = {add_analyze_command(app),   add_simulate_command(app),
                                          add_summarize_command(app), add_diagnose_command(app),
-                                         add_report_command(app),    add_export_command(app)};
+                                         add_report_command(app),    add_export_command(app),
+                                         add_convert_command(app)};
 
   try {
     app.parse(argc, argv);

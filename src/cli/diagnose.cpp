@@ -5,7 +5,9 @@
 #include "io/error.hpp"
 #include "io/paths.hpp"
 #include "io/recording.hpp"
+#include "io/usage_error.hpp"
 #include "kernels/diagnose/diagnose.hpp"
+#include "src/cli/input_options.hpp"
 #include "src/lot/model.hpp"
 
 #include <CLI/CLI.hpp>
@@ -255,7 +257,7 @@ int run_diagnose(const DiagnoseOptions& opt, std::ostream& out, std::ostream& er
     } catch (const std::exception& e) {
       throw UsageError(e.what());
     }
-    const io::RecordingReader reader(opt.input);
+    const io::RecordingReader reader(opt.input, opt.input_options);
     const io::RecordingInfo& info = reader.info();
     const io::ChannelInfo* ch = nullptr;
     std::string names;
@@ -327,6 +329,9 @@ int run_diagnose(const DiagnoseOptions& opt, std::ostream& out, std::ostream& er
   } catch (const UsageError& e) {
     err << "allanlot: error: " << e.what() << "\n";
     return kExitUsage;
+  } catch (const io::UsageError& e) {
+    err << "allanlot: usage error: " << e.what() << "\n";
+    return kExitUsage;
   } catch (const io::Error& e) {
     err << "allanlot: error: " << e.what() << "\n";
     return e.reason().find("the input is never written") != std::string::npos ? kExitUsage
@@ -339,10 +344,12 @@ int run_diagnose(const DiagnoseOptions& opt, std::ostream& out, std::ostream& er
 
 Command add_diagnose_command(CLI::App& app) {
   auto opt = std::make_shared<DiagnoseOptions>();
+  auto input = std::make_shared<InputArgs>();
   auto* sub = app.add_subcommand(
       "diagnose", "Compare a measured channel with a noise model, name the missing effects and "
                   "write the corrected model");
-  sub->add_option("input", opt->input, "Recording (HDF5)")->required();
+  sub->add_option("input", opt->input, "Recording (HDF5 or text)")->required();
+  add_input_options(sub, *input);
   sub->add_option("--model", opt->model_path, "Model file (JSON, see docs/formats.md)")->required();
   sub->add_option("--channel", opt->channel, "Channel path or name (default: the only channel)");
   sub->add_option("-o,--output", opt->output,
@@ -358,7 +365,10 @@ Command add_diagnose_command(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--threads", opt->threads, "Threads (default: OMP_NUM_THREADS, else all cores)")
       ->check(CLI::Range(0, kMaxThreads));
-  return {sub, [opt](const std::string&) { return run_diagnose(*opt, std::cout, std::cerr); }};
+  return {sub, [opt, input](const std::string&) {
+            opt->input_options = input_options(*input);
+            return run_diagnose(*opt, std::cout, std::cerr);
+          }};
 }
 
 }  // namespace allanlot::cli

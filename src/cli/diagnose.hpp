@@ -3,6 +3,7 @@
 // (kernels/diagnose/diagnose.hpp).
 #pragma once
 
+#include "io/input_options.hpp"
 #include "src/cli/cli.hpp"
 
 #include <cstdint>
@@ -12,15 +13,16 @@
 namespace allanlot::cli {
 
 struct DiagnoseOptions {
-  std::string input;       // the recording (HDF5)
-  std::string model_path;  // model file (JSON), required
-  std::string channel;     // channel path or name; "" = the only channel
-  std::string output;      // -o OUT.h5: group /<channel>/diagnosis ("" = none)
-  std::string model_out;   // --model-out FILE.json: the corrected model ("" = none)
-  bool json = false;       // print the JSON object of docs/diagnose.md instead
-  int replicas = 30;       // Monte Carlo replicas per model
-  std::uint64_t seed = 7;  // seed of the replicas
-  int threads = 0;         // 0 = OMP_NUM_THREADS, else all cores
+  std::string input;               // the recording (HDF5 or text)
+  std::string model_path;          // model file (JSON), required
+  std::string channel;             // channel path or name; "" = the only channel
+  std::string output;              // -o OUT.h5: group /<channel>/diagnosis ("" = none)
+  std::string model_out;           // --model-out FILE.json: the corrected model ("" = none)
+  bool json = false;               // print the JSON object of docs/diagnose.md instead
+  int replicas = 30;               // Monte Carlo replicas per model
+  std::uint64_t seed = 7;          // seed of the replicas
+  int threads = 0;                 // 0 = OMP_NUM_THREADS, else all cores
+  io::InputOptions input_options;  // --data-type and the options of text recordings
 };
 
 /// Exit status: 0 diagnosed (whatever was found); 1 the diagnosis could not be made or written

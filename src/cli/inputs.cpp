@@ -2,6 +2,8 @@
 
 #include "io/paths.hpp"
 
+#include <CLI/CLI.hpp>
+
 #include <fnmatch.h>
 #include <sys/stat.h>
 
@@ -125,6 +127,25 @@ void add_manifest(Expansion& x, const std::string& in) {
   if (listed == 0) x.out.failures.emplace_back(in, "manifest lists no recording");
 }
 
+// A .txt file given as an input is data; one whose lines are all existing paths was meant as
+// a manifest, and analysing it as numbers would only fail line by line.
+bool looks_like_manifest(const std::string& in) {
+  if (lower(fs::path(in).extension().string()) != ".txt") return false;
+  std::ifstream f(in);
+  const fs::path base = fs::path(in).parent_path();
+  std::string line;
+  std::size_t paths = 0;
+  while (std::getline(f, line) && paths < 10000) {
+    line = trim(line);
+    if (line.empty() || line[0] == '#') continue;
+    const fs::path p(line);
+    std::error_code ec;
+    if (!fs::exists(p.is_absolute() || base.empty() ? p : base / p, ec)) return false;
+    ++paths;
+  }
+  return paths > 0;
+}
+
 }  // namespace
 
 InputList expand_inputs(const std::vector<std::string>& inputs, const fs::path& outdir) {
@@ -132,10 +153,15 @@ InputList expand_inputs(const std::vector<std::string>& inputs, const fs::path& 
   x.exclude = outdir;
   for (const std::string& in : inputs) {
     std::error_code ec;
-    if (fs::is_directory(in, ec))
+    if (in.starts_with("@"))
+      add_manifest(x, in.substr(1));
+    else if (fs::is_directory(in, ec))
       add_directory(x, in);
-    else if (fs::path(in).extension() == ".txt")
-      add_manifest(x, in);
+    else if (looks_like_manifest(in))
+      throw CLI::ValidationError(in +
+                                 ": every line names an existing file: to read it as a "
+                                 "manifest, give it as @" +
+                                 in + " (or --manifest " + in + ")");
     else
       add_file(x, in);
   }

@@ -1,5 +1,6 @@
-// Expands the INPUT arguments of `analyze` (docs/cli.md "Command: analyze"): HDF5 files,
-// directories searched for *.h5 / *.hdf5, and text manifests (*.txt, one path per line).
+// Expands the INPUT arguments of `analyze` and `convert` (docs/cli.md "Command: analyze"):
+// recordings (HDF5 or text), directories searched for *.h5 / *.hdf5, and manifests named as
+// such (`@FILE` or --manifest FILE, one path per line).
 #pragma once
 
 #include <filesystem>
@@ -19,6 +20,8 @@ struct InputList {
 /// lines starting with '#' are skipped, and relative paths are taken relative to the
 /// manifest's directory. A path given twice is analysed once. Anything but a regular file (a
 /// FIFO, a device) is a failure, never opened (docs/reliability.md "Inputs and outputs").
+/// An input `@FILE` is a manifest; a .txt input whose lines all name existing files throws
+/// CLI::ValidationError (a usage error) suggesting `@`, since it is read as data otherwise.
 InputList expand_inputs(const std::vector<std::string>& inputs,
                         const std::filesystem::path& outdir = {});
 

@@ -12,7 +12,7 @@ std::optional<std::pair<fs::path, std::string>> current_results(const std::strin
                                                                 const std::string& options,
                                                                 const AnalyzeOptions& opt) {
   try {
-    io::RecordingReader reader(file);
+    io::RecordingReader reader(file, opt.input);
     const std::string id = io::sanitize_device_id(reader.info().device_id);
     const fs::path path = opt.outdir / (id + ".allan.h5");
     const auto stamp = io::read_results_stamp(path);

@@ -168,6 +168,8 @@ io::ChannelResult describe_channel(const io::ChannelInfo& channel) {
   r.sample_rate_hz = channel.sample_rate_hz;
   r.n_samples = channel.n_samples;
   r.data_type = channel.data_type == kernels::DataType::Rate ? "rate" : "phase";
+  // Said where nobody said it: neither the file nor --data-type (docs/formats.md).
+  if (channel.data_type_default) r.data_type += " (default)";
   return r;
 }
 

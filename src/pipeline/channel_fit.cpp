@@ -239,6 +239,16 @@ std::string fit_table(const io::RecordingResult& r) {
   out << r.device_id << ": noise coefficients of eq. (3), value ± 1 sigma ('<': not detected, "
       << "95 % upper bound)\n";
   bool poor = false, undetected = false;
+  // A data type nobody gave is said where the numbers are read (docs/formats.md).
+  std::string defaulted;
+  for (const auto& ch : r.channels)
+    if (ch.data_type.ends_with("(default)")) {
+      if (!defaulted.empty()) defaulted += ", ";
+      defaulted += ch.path.substr(ch.path.find_last_of('/') + 1);
+    }
+  if (!defaulted.empty())
+    out << "  data type rate (default) for " << defaulted
+        << ": the input does not say; --data-type sets it\n";
   for (const auto& [family, chans] : groups) {
     std::vector<std::string> header = {"term", "unit"};
     for (const auto* ch : chans)

@@ -205,7 +205,7 @@ TEST(Analyze, DirectoriesManifestsAndDeviceIds) {
   std::string out;
   const int rc =
       run_command(binary() + " analyze -q --stats oadev -o " + (dir / "out").string() + " " +
-                      (dir / "lot").string() + " " + (dir / "manifest.txt").string(),
+                      (dir / "lot").string() + " @" + (dir / "manifest.txt").string(),
                   &out);
   EXPECT_EQ(rc, 1) << out;  // c2.h5 collides with c.h5
   EXPECT_NE(out.find("device_id 'c'"), std::string::npos) << out;

@@ -719,9 +719,9 @@ TEST(BadInputs, ManifestEntriesFailAloneAndEmptyManifestsAreNamed) {
   std::ofstream(dir / "junk.txt", std::ios::binary) << std::string("\x00\x01\xff\n\x89HDF", 9);
   std::string text;
   EXPECT_EQ(run_command(binary() + " analyze -q --taus octave --no-psd -o " +
-                            (dir / "out").string() + " " + (dir / "lot.txt").string() + " " +
-                            (dir / "empty.txt").string() + " " + (dir / "junk.txt").string() + " " +
-                            (dir / "absent.txt").string(),
+                            (dir / "out").string() + " @" + (dir / "lot.txt").string() + " @" +
+                            (dir / "empty.txt").string() + " @" + (dir / "junk.txt").string() +
+                            " @" + (dir / "absent.txt").string(),
                         &text),
             1)
       << text;
@@ -737,7 +737,7 @@ TEST(BadInputs, ManifestEntriesFailAloneAndEmptyManifestsAreNamed) {
   // The junk line is a path that does not exist, named as it is.
   EXPECT_NE(text.find(": no such file"), std::string::npos) << text;
   // Only an empty manifest: nothing could be analysed, status 2, and it is named.
-  EXPECT_EQ(run_command(binary() + " analyze -q -o " + (dir / "out2").string() + " " +
+  EXPECT_EQ(run_command(binary() + " analyze -q -o " + (dir / "out2").string() + " @" +
                             (dir / "empty.txt").string(),
                         &text),
             2);

@@ -283,7 +283,7 @@ TEST(LotSummary, EndToEndThroughTheBinary) {
       << out;
   ASSERT_EQ(test::run_command(test::binary() + " analyze --stats oadev --threads 2 --spec " +
                                   (dir / "spec.json").string() + " -o " + (dir / "out").string() +
-                                  " " + (dir / "lot" / "manifest.txt").string(),
+                                  " @" + (dir / "lot" / "manifest.txt").string(),
                               &out),
             0)
       << out;

@@ -134,7 +134,7 @@ TEST(SimulateAnalyze, DemoLotWithManifest) {
   for (const char* u :
        {"unit_0001.h5", "unit_0002.h5", "unit_0003.h5", "manifest.txt", "lot_model.json"})
     EXPECT_TRUE(fs::exists(dir / "lot" / u)) << u;
-  ASSERT_EQ(run_command(binary() + " analyze -q --stats oadev -o " + (dir / "out").string() + " " +
+  ASSERT_EQ(run_command(binary() + " analyze -q --stats oadev -o " + (dir / "out").string() + " @" +
                             (dir / "lot" / "manifest.txt").string(),
                         &out),
             0)

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <random>
 
 namespace allanlot {
@@ -74,6 +75,32 @@ TEST(UnitsVocabulary, SpellingsAreReadAsTheCanonicalUnits) {
   // The gyro's coefficients have datasheet forms (deg/h ...), the unknown unit's do not.
   ASSERT_TRUE(channel(r, "/gyro_dps").fit.has_value());
   EXPECT_EQ(channel(r, "/gyro_dps").fit->terms[2].unit_datasheet, "deg/h");
+}
+
+// A CSV log's header units go through the same vocabulary as HDF5 attributes.
+TEST(UnitsVocabulary, CsvHeaderUnitsAreReadAsTheCanonicalUnits) {
+  const auto dir = test::fresh_dir("units_vocabulary_csv");
+  const auto y = white(5000, 4);
+  {
+    std::ofstream csv(dir / "log.csv");
+    csv << "time,gyro [dps],clock [ppb]\n";
+    for (std::size_t i = 0; i < y.size(); ++i)
+      csv << 0.01 * static_cast<double>(i) << "," << y[i] << "," << y[i] << "\n";
+  }
+  std::string out;
+  ASSERT_EQ(test::run_command(test::binary() + " analyze -q --stats oadev -o " +
+                                  (dir / "out").string() + " " + (dir / "log.csv").string(),
+                              &out),
+            0)
+      << out;
+  const auto r = io::read_results(dir / "out" / "log.allan.h5");
+  EXPECT_EQ(channel(r, "/gyro").units, "deg/s");
+  EXPECT_EQ(channel(r, "/clock").units, "1");
+  const auto& g = channel(r, "/gyro").stats.at(0).second;
+  const auto& c = channel(r, "/clock").stats.at(0).second;
+  ASSERT_EQ(g.dev.size(), c.dev.size());
+  for (std::size_t i = 0; i < g.dev.size(); ++i)
+    EXPECT_NEAR(c.dev[i] / (1e-9 * g.dev[i]), 1.0, 1e-12) << i;
 }
 
 }  // namespace

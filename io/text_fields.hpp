@@ -1,0 +1,52 @@
+// The pieces of a text recording's line (docs/formats.md "Text recordings"): fields split by
+// the file's delimiter, numbers, header cells `name [unit]`, the names that mark a time
+// column, and ISO-8601 time stamps.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace allanlot::io {
+
+/// ',' ';' '\t', or ' ' for runs of blanks (spaces and tabs).
+char detect_delimiter(std::string_view line);
+
+/// Splits `line` at `delim` into `out` (cleared first), each field trimmed of blanks and of
+/// one pair of double quotes. With ' ', runs of blanks are one separator and leading and
+/// trailing blanks separate nothing.
+void split_fields(std::string_view line, char delim, std::vector<std::string_view>& out);
+
+/// Parses a whole field as a number: decimal or exponent notation, an optional sign, nan
+/// and inf in any case. An empty field is NaN (a missing value). False when the field is
+/// anything else.
+bool parse_number(std::string_view field, double& value);
+
+/// A comment line: empty after trimming, or starting with '#', '%' or ';'.
+bool is_comment(std::string_view line);
+
+/// A header cell split into the channel's name and its unit: `gx [deg/s]`, `gx (deg/s)`.
+struct HeaderCell {
+  std::string name;
+  std::string unit;  // "" when the cell names none
+};
+HeaderCell parse_header_cell(std::string_view cell);
+
+/// Names that say "time stamps", never a channel, in any case: time, timestamp(s), t, stamp,
+/// sec, seconds, any name ending in _time, and time_<unit> (time_ms, time_us, ...).
+bool is_time_name(std::string_view name);
+
+/// Seconds of one time unit ("s", "sec", "ms", "us", "µs", "ns"); nullopt for anything else.
+std::optional<double> time_unit_seconds(std::string_view unit);
+
+/// An ISO-8601 date and time, `YYYY-MM-DD[T ]hh:mm:ss[.fff][Z|±hh:mm]`, as seconds since
+/// 1970-01-01T00:00:00Z split in whole seconds and a fraction (a double alone would keep only
+/// microseconds of a date in this century). nullopt when the field is not one.
+struct IsoTime {
+  long long seconds = 0;
+  double fraction = 0;
+};
+std::optional<IsoTime> parse_iso8601(std::string_view field);
+
+}  // namespace allanlot::io

@@ -1,0 +1,31 @@
+// The options that say what input recordings cannot (docs/cli.md "Input options"):
+// --data-type for every recording, and what a text recording needs (--sample-rate or --tau0,
+// --column, --time-column, --time-unit, --units). Shared by analyze, diagnose and convert.
+#pragma once
+
+#include "io/input_options.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+
+namespace allanlot::cli {
+
+/// The options as given, before they are checked.
+struct InputArgs {
+  std::string data_type, time_unit;
+  double sample_rate_hz = 0.0, tau0_s = 0.0;
+  io::InputOptions options;
+};
+
+/// Adds the input options to `sub`, filling `args` when parsed.
+void add_input_options(CLI::App* sub, InputArgs& args);
+
+/// The checked options; throws CLI::ValidationError naming the option that is wrong.
+io::InputOptions input_options(const InputArgs& args);
+
+/// Throws CLI::ValidationError (a usage error, exit 2) when a text recording among `files`
+/// needs an option that was not given, naming the file and the option. HDF5 files pass.
+void check_inputs_need(const std::vector<std::string>& files, const io::InputOptions& options);
+
+}  // namespace allanlot::cli
