@@ -6,6 +6,12 @@
 #include <limits>
 
 namespace allanlot::io {
+
+std::string ascii_lower(std::string s) {
+  for (char& c : s)
+    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
 namespace {
 
 bool blank(char c) {

@@ -10,6 +10,9 @@
 
 namespace allanlot::io {
 
+/// `s` with ASCII letters in lower case (file extensions, column names; other bytes as they are).
+std::string ascii_lower(std::string s);
+
 /// ',' ';' '\t', or ' ' for runs of blanks (spaces and tabs).
 char detect_delimiter(std::string_view line);
 

@@ -16,12 +16,6 @@
 namespace allanlot::io {
 namespace {
 
-std::string lower(std::string s) {
-  for (char& c : s)
-    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
 std::string format(double v) {
   std::ostringstream s;
   s.precision(17);
@@ -70,7 +64,7 @@ struct Layout {
 };
 
 char delimiter_for(const std::string& path, std::string_view line) {
-  std::string name = lower(std::filesystem::path(path).filename().string());
+  std::string name = ascii_lower(std::filesystem::path(path).filename().string());
   if (name.ends_with(".gz")) name.resize(name.size() - 3);
   if (name.ends_with(".tsv")) return '\t';
   return detect_delimiter(line);
@@ -188,7 +182,7 @@ std::pair<double, std::string> time_unit(const std::string& path, const HeaderCe
     return {*s, opt.time_unit + " (--time-unit)"};
   }
   if (const auto s = time_unit_seconds(cell.unit)) return {*s, cell.unit + " (header)"};
-  const std::string name = lower(cell.name);
+  const std::string name = ascii_lower(cell.name);
   if (const auto u = name.rfind('_'); u != std::string::npos)
     if (const auto s = time_unit_seconds(std::string_view(name).substr(u + 1)))
       return {*s, name.substr(u + 1) + " (header)"};
@@ -366,14 +360,14 @@ private:
 };
 
 std::string strip_gz(std::string name) {
-  if (lower(name).ends_with(".gz")) name.resize(name.size() - 3);
+  if (ascii_lower(name).ends_with(".gz")) name.resize(name.size() - 3);
   return name;
 }
 
 }  // namespace
 
 bool is_text_name(const std::string& path) {
-  const std::string name = lower(strip_gz(std::filesystem::path(path).filename().string()));
+  const std::string name = ascii_lower(strip_gz(std::filesystem::path(path).filename().string()));
   for (const char* ext : {".txt", ".dat", ".csv", ".tsv"})
     if (name.ends_with(ext) && name.size() > 4) return true;
   return false;
@@ -381,7 +375,7 @@ bool is_text_name(const std::string& path) {
 
 std::string text_device_id(const std::string& path) {
   std::string name = strip_gz(std::filesystem::path(path).filename().string());
-  const std::string ext = lower(std::filesystem::path(name).extension().string());
+  const std::string ext = ascii_lower(std::filesystem::path(name).extension().string());
   if (ext == ".txt" || ext == ".dat" || ext == ".csv" || ext == ".tsv")
     name.resize(name.size() - ext.size());
   return name;

@@ -1,6 +1,7 @@
 #include "src/cli/inputs.hpp"
 
 #include "io/paths.hpp"
+#include "io/text_fields.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -18,19 +19,13 @@ namespace fs = std::filesystem;
 namespace allanlot::cli {
 namespace {
 
-std::string lower(std::string s) {
-  for (char& c : s)
-    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
 // Recordings by extension, in any case (`UNIT.H5` as well). Results files and lot summaries
 // are HDF5 too, but outputs, never recordings: a directory holding earlier results (an OUTDIR
 // inside the input tree) must not have them analysed as units.
 bool is_recording_name(const fs::path& p) {
-  const std::string name = lower(p.filename().string());
+  const std::string name = io::ascii_lower(p.filename().string());
   if (name.ends_with(".allan.h5") || name == "lot_summary.h5") return false;
-  const std::string ext = lower(p.extension().string());
+  const std::string ext = io::ascii_lower(p.extension().string());
   return ext == ".h5" || ext == ".hdf5";
 }
 
@@ -130,7 +125,7 @@ void add_manifest(Expansion& x, const std::string& in) {
 // A .txt file given as an input is data; one whose lines are all existing paths was meant as
 // a manifest, and analysing it as numbers would only fail line by line.
 bool looks_like_manifest(const std::string& in) {
-  if (lower(fs::path(in).extension().string()) != ".txt") return false;
+  if (io::ascii_lower(fs::path(in).extension().string()) != ".txt") return false;
   std::ifstream f(in);
   const fs::path base = fs::path(in).parent_path();
   std::string line;
