@@ -210,6 +210,7 @@ void describe_text(const TextRecording& text, RecordingInfo& info) {
     ch.data_type_default = !text.data_type;
     ch.n_samples = static_cast<std::int64_t>(tc.samples.size());
     ch.storage_type = "text";
+    ch.time_stamps = text.time_stamps;
     in_canonical_units(ch);
     const double rate = text.sample_rate_hz;
     if (!(rate >= kMinSampleRateHz && rate <= kMaxSampleRateHz)) {

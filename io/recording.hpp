@@ -5,6 +5,7 @@
 
 #include "io/input_options.hpp"
 #include "kernels/allan/phase.hpp"
+#include "kernels/quality/quality.hpp"
 
 #include <cstdint>
 #include <memory>
@@ -27,7 +28,8 @@ struct ChannelInfo {
   kernels::DataType data_type = kernels::DataType::Rate;
   bool data_type_default = false;  // neither the file nor --data-type said: rate by default
   std::int64_t n_samples = 0;
-  std::string storage_type;  // "float64", "float32", "int16", ... as stored
+  std::string storage_type;              // "float64", "float32", "int16", ... as stored
+  kernels::TimeStampCounts time_stamps;  // a text recording's time column (quality screen)
 };
 
 /// The sample rates allanlot analyses. The statistics are sums of squared phase differences in

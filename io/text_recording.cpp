@@ -299,11 +299,8 @@ private:
     } else if (!parse_number(f, t) || !std::isfinite(t)) {
       throw Error(path_, where(ln, c), quoted(f) + " is not a time stamp");
     }
-    if (rows_ > 0 && !(t > times_.back()))
-      throw Error(path_, where(ln, c),
-                  "time " + std::string(f) + " does not increase (after " + format(times_.back()) +
-                      " on line " + std::to_string(prev_line_) + ")");
-    prev_line_ = ln;
+    // A stamp not after the ones before it is kept as the next sample and counted by the time
+    // axis for the data-quality screen (docs/quality.md), not refused.
     times_.push_back(t);
   }
 
@@ -336,6 +333,13 @@ private:
     rec_.facts.emplace_back("time_step_s", format(step_s));
     rec_.facts.emplace_back("time_missing_samples", std::to_string(axis.missing));
     rec_.facts.emplace_back("time_jitter_rms_s", format(axis.jitter_rms * unit_s));
+    rec_.time_stamps = {axis.n_duplicate, axis.first_duplicate, axis.n_decreasing,
+                        axis.first_decreasing};
+    if (axis.n_duplicate + axis.n_decreasing > 0)
+      rec_.notes.push_back(std::to_string(axis.n_duplicate) + " repeated and " +
+                           std::to_string(axis.n_decreasing) +
+                           " decreasing time stamp(s) in the time column '" + cell.name +
+                           "', each taken as the next sample (the quality screen counts them)");
     if (axis.missing > 0)
       rec_.notes.push_back(std::to_string(axis.missing) + " missing sample(s) in " +
                            std::to_string(axis.gaps.size()) + " place(s) of the time column '" +
@@ -356,7 +360,7 @@ private:
   std::vector<double> times_;
   bool iso_ = false;
   long long iso0_ = 0;
-  std::int64_t rows_ = 0, prev_line_ = 0;
+  std::int64_t rows_ = 0;
 };
 
 std::string strip_gz(std::string name) {

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "io/input_options.hpp"
+#include "kernels/quality/quality.hpp"
 
 #include <optional>
 #include <string>
@@ -28,7 +29,8 @@ struct TextRecording {
   /// What was inferred, as (attribute, value): the source file name, the layout, the time
   /// column, its unit and how it was chosen, the step, the missing samples, the jitter.
   std::vector<std::pair<std::string, std::string>> facts;
-  std::vector<std::string> notes;  // what a user should know (timing jitter)
+  std::vector<std::string> notes;        // what a user should know (timing jitter)
+  kernels::TimeStampCounts time_stamps;  // stamps repeated or out of order (time_axis.hpp)
 };
 
 /// The names of TextRecording::facts: `convert` writes them as root attributes, and the HDF5

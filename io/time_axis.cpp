@@ -12,9 +12,15 @@ TimeAxis make_time_axis(const std::vector<double>& times, std::int64_t max_missi
   TimeAxis axis;
   const std::size_t n = times.size();
   if (n < 2) return axis;
-  std::vector<double> steps(n - 1);
-  for (std::size_t i = 1; i < n; ++i)
-    steps[i - 1] = times[i] - times[i - 1];
+  // Steps from the latest stamp so far; those not positive are out of order, not steps.
+  std::vector<double> steps;
+  steps.reserve(n - 1);
+  double latest = times[0];
+  for (std::size_t i = 1; i < n; ++i) {
+    if (times[i] > latest) steps.push_back(times[i] - latest);
+    latest = std::max(latest, times[i]);
+  }
+  if (steps.empty()) throw std::invalid_argument("no time stamp is later than the first");
   // The median, not the mean: the missing samples and a few late stamps do not move it.
   const auto mid = steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2);
   std::nth_element(steps.begin(), mid, steps.end());
@@ -23,9 +29,23 @@ TimeAxis make_time_axis(const std::vector<double>& times, std::int64_t max_missi
   steps = {};
 
   double sum_sq = 0;
+  std::size_t n_steps = 0;
+  std::int64_t pending = 0;  // samples out of order since the latest stamp: they fill its steps
+  latest = times[0];
   for (std::size_t i = 1; i < n; ++i) {
-    const double dt = times[i] - times[i - 1];
-    const double k = std::max(1.0, std::round(dt / axis.step));
+    const double dt = times[i] - latest;
+    latest = std::max(latest, times[i]);
+    const auto sample = static_cast<std::int64_t>(i) + axis.missing;
+    if (!(dt > 0)) {  // kept as the next sample, counted
+      std::int64_t& count = dt == 0 ? axis.n_duplicate : axis.n_decreasing;
+      std::int64_t& first = dt == 0 ? axis.first_duplicate : axis.first_decreasing;
+      if (count++ == 0) first = sample;
+      ++pending;
+      continue;
+    }
+    const double steps_spanned = std::max(1.0, std::round(dt / axis.step));
+    const double k = std::max(1.0, steps_spanned - static_cast<double>(pending));
+    pending = 0;
     if (k > static_cast<double>(max_missing - axis.missing + 1))
       throw std::invalid_argument("the time step before row " + std::to_string(i + 1) + " is " +
                                   std::to_string(k) +
@@ -35,10 +55,11 @@ TimeAxis make_time_axis(const std::vector<double>& times, std::int64_t max_missi
       axis.gaps.emplace_back(i, count);
       axis.missing += count;
     }
-    const double r = dt - k * axis.step;
+    const double r = dt - steps_spanned * axis.step;
     sum_sq += r * r;
+    ++n_steps;
   }
-  axis.jitter_rms = std::sqrt(sum_sq / static_cast<double>(n - 1));
+  axis.jitter_rms = n_steps ? std::sqrt(sum_sq / static_cast<double>(n_steps)) : 0.0;
   return axis;
 }
 

@@ -15,10 +15,18 @@ struct TimeAxis {
   std::vector<std::pair<std::size_t, std::int64_t>> gaps;
   std::int64_t missing = 0;  // sum of the counts
   double jitter_rms = 0.0;   // rms of (step - k * median step), in the time column's units
+  // Stamps not after the latest before them (a logger's repeated record or a clock set back):
+  // each is kept as the next sample and counted for the data-quality screen (sample indices of
+  // the record with its gaps; -1 when none); the step to the next later stamp counts them
+  // among the samples it spans, so that they make no gap.
+  std::int64_t n_duplicate = 0, first_duplicate = -1;
+  std::int64_t n_decreasing = 0, first_decreasing = -1;
 };
 
-/// From strictly increasing times (at least two). Throws std::invalid_argument when the steps
-/// would ask for more missing samples than `max_missing` (a time stamp far off the others).
+/// From the times of the rows (at least two). Steps are taken from the latest stamp so far, so
+/// that one stamp out of order is counted (TimeAxis::n_decreasing) and does not make a gap
+/// after it. Throws std::invalid_argument when the steps would ask for more missing samples
+/// than `max_missing` (a time stamp far off the others), or when no step is positive.
 TimeAxis make_time_axis(const std::vector<double>& times, std::int64_t max_missing);
 
 /// `values` (one per row) with NaN inserted where the axis has missing samples.

@@ -29,6 +29,7 @@ kernels::QualityReport screen_channel(const io::ChannelInfo& channel,
                                       std::span<const double> samples, int threads) {
   kernels::QualityInput in;
   in.samples = samples;
+  in.time = channel.time_stamps;
   if (const auto limits = storage_limits(channel)) {
     in.storage_min = limits->first;
     in.storage_max = limits->second;

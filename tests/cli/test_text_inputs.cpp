@@ -332,5 +332,42 @@ TEST(TextInputs, HdfDataTypeDefaultIsSaidAndTheOptionOverrides) {
   EXPECT_EQ(io::read_results(dir / "b" / "u.allan.h5").channels[0].data_type, "phase");
 }
 
+// A CSV log whose clock repeats two records and steps back once: analysed whole, and the
+// quality screen names it in the lot summary (docs/quality.md "time stamps").
+TEST(TextInputs, TimeStampsOutOfOrderReachTheQualityScreen) {
+  const fs::path dir = test::fresh_dir("text_time_quality");
+  test::CsvSpec spec;
+  spec.rows = 4000;
+  spec.dropped = 0;
+  test::write_imu_csv(dir / "c.csv", spec);
+  std::vector<std::string> lines;
+  {
+    std::ifstream in(dir / "c.csv");
+    for (std::string l; std::getline(in, l);)
+      lines.push_back(l);
+  }
+  lines.insert(lines.begin() + 1001, lines[1000]);  // a record written twice
+  lines.insert(lines.begin() + 2001, lines[2000]);
+  lines[3000] = lines[10];  // a stamp set back
+  {
+    std::ofstream out(dir / "clock.csv");
+    for (const auto& l : lines)
+      out << l << "\n";
+  }
+  std::string out;
+  ASSERT_EQ(test::run_command(test::binary() + " analyze -q --stats oadev -o " +
+                                  (dir / "out").string() + " " + (dir / "clock.csv").string(),
+                              &out),
+            0)
+      << out;
+  const auto rows = io::read_lot_summary(dir / "out" / "lot_summary.h5");
+  ASSERT_EQ(rows.size(), 6u);
+  for (const auto& r : rows) {
+    EXPECT_EQ(r.n_time_errors, 3) << r.channel;
+    EXPECT_NE(r.quality.find("time_stamps"), std::string::npos) << r.channel << " " << r.quality;
+    EXPECT_EQ(r.n_samples, 4002) << r.channel;
+  }
+}
+
 }  // namespace
 }  // namespace allanlot

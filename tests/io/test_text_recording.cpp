@@ -162,10 +162,43 @@ TEST(TextRecording, MalformedLinesNameFileLineAndColumn) {
   const std::string e2 =
       message_of<io::Error>([&] { io::RecordingReader r(short_line, io::InputOptions{}); });
   EXPECT_NE(e2.find("line 80: has 6 field(s), the header (line 1) has 7"), std::string::npos) << e2;
-  const std::string back = write_with("b.csv", 30, "1700000000000.000,1,2,3,4,5,6");
-  const std::string e3 =
-      message_of<io::Error>([&] { io::RecordingReader r(back, io::InputOptions{}); });
-  EXPECT_NE(e3.find("line 30, column 1 (timestamp)"), std::string::npos) << e3;
+}
+
+// Time stamps repeated or out of order (a logger's clock stepping back) are not refused: each is
+// the next sample, counted for the data-quality screen (docs/quality.md), and makes no gap.
+TEST(TextRecording, RepeatedAndDecreasingTimeStampsAreCounted) {
+  const fs::path dir = test::fresh_dir("text_time_order");
+  test::CsvSpec spec;
+  spec.rows = 100;
+  spec.dropped = 0;
+  test::write_imu_csv(dir / "c.csv", spec);
+  std::vector<std::string> lines;
+  {
+    std::ifstream in(dir / "c.csv");
+    for (std::string l; std::getline(in, l);)
+      lines.push_back(l);
+  }
+  // Line 30 (row 29) goes back to the first stamp; lines 41 and 61 repeat their predecessor's.
+  lines[29] = "1700000000000.000,1,2,3,4,5,6";
+  for (const std::size_t at : {40u, 60u})
+    lines[at] = lines[at - 1];
+  {
+    std::ofstream out(dir / "b.csv");
+    for (const auto& l : lines)
+      out << l << "\n";
+  }
+  io::RecordingReader r((dir / "b.csv").string(), io::InputOptions{});
+  ASSERT_FALSE(r.info().channels.empty());
+  const io::ChannelInfo& ch = r.info().channels[0];
+  EXPECT_EQ(ch.n_samples, 100);  // every row a sample, no gap after the stamp that went back
+  EXPECT_EQ(ch.time_stamps.n_decreasing, 1);
+  EXPECT_EQ(ch.time_stamps.first_decreasing, 28);
+  EXPECT_EQ(ch.time_stamps.n_duplicate, 2);
+  EXPECT_EQ(ch.time_stamps.first_duplicate, 39);
+  ASSERT_EQ(r.info().notes.size(), 1u);
+  EXPECT_NE(r.info().notes[0].find("2 repeated and 1 decreasing time stamp(s)"),
+            std::string::npos)
+      << r.info().notes[0];
 }
 
 // A gzip stream cut short is an error, never a shorter record.
