@@ -136,6 +136,29 @@ std::string diagnosis_section(const std::string& id, const io::DiagnosisView& d,
   return h.str();
 }
 
+// The read-outs datasheets quote (IEEE Std 952 annex C, fit/readouts), under the coefficients:
+// given whether or not the fit detects the term, and marked when it does not.
+std::string readout_table(const io::FitRecord& fit) {
+  if (fit.readouts.empty()) return "";
+  std::ostringstream h;
+  h << "<table class=\"coef\"><tr><th>read-out</th><th>value</th><th>unit</th><th>&tau;</th>"
+       "</tr>\n";
+  for (const io::ReadoutRecord& r : fit.readouts) {
+    const bool alt = !r.unit_datasheet_alt.empty();
+    const char* label = r.name == "N_1s"               ? "N at 1 s"
+                        : r.name == "bias_instability" ? "B: min / 0.664"
+                                                       : "K at 3 s";
+    h << "<tr><td class=\"l\">" << label << "</td><td" << (r.valid ? "" : " class=\"nd\"") << ">"
+      << number(alt ? r.value_datasheet_alt : r.value_datasheet, 3) << " &plusmn; "
+      << number(alt ? r.sigma_datasheet_alt : r.sigma_datasheet, 2) << (r.valid ? "" : " *")
+      << "</td><td>" << escape(alt ? r.unit_datasheet_alt : r.unit_datasheet) << "</td><td>"
+      << number(r.tau_s, 3) << " s</td></tr>\n";
+  }
+  h << "</table>\n<p class=\"small\">* the fit does not detect this term: the read-out reads a "
+       "branch the curve may not have.</p>\n";
+  return h.str();
+}
+
 std::string channel_section(const Unit& u, const io::ChannelResult& ch, const ExtrasMap& extras) {
   std::ostringstream h;
   const std::string id = channel_anchor(u, ch.path);
@@ -148,11 +171,12 @@ std::string channel_section(const Unit& u, const io::ChannelResult& ch, const Ex
     << ", " << number(ch.sample_rate_hz, 6) << " Hz, " << ch.n_samples << " samples ("
     << number(ch.n_samples / std::max(ch.sample_rate_hz, 1e-300), 4) << " s), " << ch.n_gaps
     << " gaps, " << escape(ch.data_type) << " data";
-  if (ch.fit)
+  if (ch.fit) {
     h << "; fit " << escape(io::fit_status_text(*ch.fit)) << ", &chi;&sup2;/dof "
       << number(ch.fit->chi2_dof, 3);
-  if (ch.fit->status == kernels::FitStatus::PoorFit)
-    h << " (the model misses part of the curve: <code>allanlot diagnose</code> names what)";
+    if (ch.fit->status == kernels::FitStatus::PoorFit)
+      h << " (the model misses part of the curve: <code>allanlot diagnose</code> names what)";
+  }
   if (ch.crosscheck)
     h << "; eq. (2) max |log&#8321;&#8320; ratio| "
       << number(ch.crosscheck->max_abs_log10_ratio, 3);
@@ -172,7 +196,7 @@ std::string channel_section(const Unit& u, const io::ChannelResult& ch, const Ex
     // The coefficient table fills the grid's fourth cell, beside the cross-check.
     if (ch.fit && !ch.fit->terms.empty())
       h << "<div><h4>Equation (3) coefficients (datasheet units)</h4>\n"
-        << coefficient_table(ch, psd_fit, x) << "</div>\n";
+        << coefficient_table(ch, psd_fit, x) << readout_table(*ch.fit) << "</div>\n";
     h << "</div>\n";
   }
   const auto d = u.diagnoses.find(ch.path);

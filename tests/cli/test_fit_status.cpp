@@ -77,6 +77,14 @@ TEST(FitStatus, CleanNoiseIsOkAndASinusoidIsAPoorFit) {
   const auto rows = io::read_lot_summary(dir / "out" / "lot_summary.h5");
   ASSERT_EQ(rows.size(), 1u);
   EXPECT_EQ(rows[0].fit_status, text);
+  // The report says it beside the channel, with the read-outs under the coefficients.
+  ASSERT_EQ(test::run_command(test::binary() + " report " + (dir / "out").string(), &out), 0)
+      << out;
+  const std::string html = test::file_bytes(dir / "out" / "report.html");
+  EXPECT_NE(html.find("fit " + text), std::string::npos);
+  EXPECT_NE(html.find("<code>allanlot diagnose</code> names what"), std::string::npos);
+  EXPECT_NE(html.find("N at 1 s</td>"), std::string::npos);
+  EXPECT_NE(html.find("B: min / 0.664</td>"), std::string::npos);
   // The coefficients are still given: they are what the data gave.
   EXPECT_TRUE(kernels::has_terms(fit.status));
   EXPECT_FALSE(fit.terms.empty());
