@@ -196,8 +196,7 @@ TEST(TextRecording, RepeatedAndDecreasingTimeStampsAreCounted) {
   EXPECT_EQ(ch.time_stamps.n_duplicate, 2);
   EXPECT_EQ(ch.time_stamps.first_duplicate, 39);
   ASSERT_EQ(r.info().notes.size(), 1u);
-  EXPECT_NE(r.info().notes[0].find("2 repeated and 1 decreasing time stamp(s)"),
-            std::string::npos)
+  EXPECT_NE(r.info().notes[0].find("2 repeated and 1 decreasing time stamp(s)"), std::string::npos)
       << r.info().notes[0];
 }
 
