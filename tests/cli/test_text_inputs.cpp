@@ -340,20 +340,11 @@ TEST(TextInputs, TimeStampsOutOfOrderReachTheQualityScreen) {
   spec.rows = 4000;
   spec.dropped = 0;
   test::write_imu_csv(dir / "c.csv", spec);
-  std::vector<std::string> lines;
-  {
-    std::ifstream in(dir / "c.csv");
-    for (std::string l; std::getline(in, l);)
-      lines.push_back(l);
-  }
+  std::vector<std::string> lines = test::read_lines(dir / "c.csv");
   lines.insert(lines.begin() + 1001, lines[1000]);  // a record written twice
   lines.insert(lines.begin() + 2001, lines[2000]);
   lines[3000] = lines[10];  // a stamp set back
-  {
-    std::ofstream out(dir / "clock.csv");
-    for (const auto& l : lines)
-      out << l << "\n";
-  }
+  test::write_lines(dir / "clock.csv", lines);
   std::string out;
   ASSERT_EQ(test::run_command(test::binary() + " analyze -q --stats oadev -o " +
                                   (dir / "out").string() + " " + (dir / "clock.csv").string(),

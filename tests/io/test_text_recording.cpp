@@ -139,18 +139,11 @@ TEST(TextRecording, MalformedLinesNameFileLineAndColumn) {
   spec.rows = 100;
   spec.dropped = 0;
   test::write_imu_csv(dir / "c.csv", spec);
-  std::vector<std::string> lines;
-  {
-    std::ifstream in(dir / "c.csv");
-    for (std::string l; std::getline(in, l);)
-      lines.push_back(l);
-  }
+  const std::vector<std::string> lines = test::read_lines(dir / "c.csv");
   const auto write_with = [&](const std::string& name, std::size_t at, const std::string& line) {
     std::vector<std::string> copy = lines;
     copy[at - 1] = line;
-    std::ofstream out(dir / name);
-    for (const auto& l : copy)
-      out << l << "\n";
+    test::write_lines(dir / name, copy);
     return (dir / name).string();
   };
   const std::string bad_value = write_with("v.csv", 57, "1700000000137.500,1,2,x3,4,5,6");
@@ -172,21 +165,12 @@ TEST(TextRecording, RepeatedAndDecreasingTimeStampsAreCounted) {
   spec.rows = 100;
   spec.dropped = 0;
   test::write_imu_csv(dir / "c.csv", spec);
-  std::vector<std::string> lines;
-  {
-    std::ifstream in(dir / "c.csv");
-    for (std::string l; std::getline(in, l);)
-      lines.push_back(l);
-  }
+  std::vector<std::string> lines = test::read_lines(dir / "c.csv");
   // Line 30 (row 29) goes back to the first stamp; lines 41 and 61 repeat their predecessor's.
   lines[29] = "1700000000000.000,1,2,3,4,5,6";
   for (const std::size_t at : {40u, 60u})
     lines[at] = lines[at - 1];
-  {
-    std::ofstream out(dir / "b.csv");
-    for (const auto& l : lines)
-      out << l << "\n";
-  }
+  test::write_lines(dir / "b.csv", lines);
   io::RecordingReader r((dir / "b.csv").string(), io::InputOptions{});
   ASSERT_FALSE(r.info().channels.empty());
   const io::ChannelInfo& ch = r.info().channels[0];

@@ -8,6 +8,7 @@
 #include <random>
 #include <set>
 #include <string>
+#include <vector>
 
 namespace allanlot::test {
 
@@ -42,6 +43,22 @@ inline void write_imu_csv(const std::filesystem::path& path, const CsvSpec& spec
     }
     f << "\n";
   }
+}
+
+/// The lines of a text file, without their line ends.
+inline std::vector<std::string> read_lines(const std::filesystem::path& path) {
+  std::vector<std::string> lines;
+  std::ifstream in(path);
+  for (std::string l; std::getline(in, l);)
+    lines.push_back(l);
+  return lines;
+}
+
+/// Writes `lines`, each ended by '\n'.
+inline void write_lines(const std::filesystem::path& path, const std::vector<std::string>& lines) {
+  std::ofstream out(path);
+  for (const auto& l : lines)
+    out << l << "\n";
 }
 
 /// `gzip -c SRC > DST`; false when gzip failed.
