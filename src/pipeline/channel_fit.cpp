@@ -196,12 +196,15 @@ void add_readout_rows(const std::vector<const io::ChannelResult*>& chans,
   static constexpr std::pair<const char*, const char*> kRows[] = {
       {"N_1s", "N at 1 s"}, {"bias_instability", "B: min/0.664"}, {"K_3s", "K at 3 s"}};
   const auto& first = chans.front()->fit->readouts;
-  for (const auto& [name, label] : kRows) {
+  for (const auto& kv : kRows) {
+    // Plain variables, not a structured binding: clang 14 (the TSan build) cannot capture one.
+    const std::string_view name = kv.first, label = kv.second;
     const auto it = std::find_if(first.begin(), first.end(),
                                  [&](const io::ReadoutRecord& x) { return x.name == name; });
     if (it == first.end()) continue;
-    std::vector<std::string> row = {label, it->unit_datasheet_alt.empty() ? it->unit_datasheet
-                                                                          : it->unit_datasheet_alt};
+    std::vector<std::string> row = {std::string(label), it->unit_datasheet_alt.empty()
+                                                            ? it->unit_datasheet
+                                                            : it->unit_datasheet_alt};
     for (const auto* ch : chans) {
       const auto& xs = ch->fit->readouts;
       const auto x = std::find_if(xs.begin(), xs.end(),
