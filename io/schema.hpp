@@ -117,6 +117,18 @@ struct RowColumn {
 std::span<const RowColumn<SummaryRow>> summary_columns();        // /summary, lot_summary.csv
 std::span<const RowColumn<StatisticsRow>> statistics_columns();  // /statistics, lot_statistics.csv
 
+/// One column of the lot summary or lot statistics, typed by the schema: numbers (integers,
+/// flags and NaN included) as double, strings and statuses as text.
+struct TableColumn {
+  std::string name;  // as in the CSV header
+  bool numeric = false;
+  std::vector<double> numbers;    // numeric columns
+  std::vector<std::string> text;  // the others
+};
+/// The rows column by column, in CSV column order (for the Python module's read_lot_summary).
+std::vector<TableColumn> summary_table(const std::vector<SummaryRow>& rows);
+std::vector<TableColumn> statistics_table(const std::vector<StatisticsRow>& rows);
+
 /// The summary rows as text columns in column order (name, one text per row): strings and
 /// statuses as written, numbers with up to 10 significant digits, "" for NaN.
 std::vector<std::pair<std::string, std::vector<std::string>>>

@@ -317,27 +317,54 @@ Handle open_summary_file(const std::string& file) {
 
 std::vector<std::pair<std::string, std::vector<std::string>>>
 schema::summary_text(const std::vector<SummaryRow>& rows) {
-  const Layout<SummaryRow> l = layout(schema::summary_columns());
   std::vector<std::pair<std::string, std::vector<std::string>>> out;
-  for (const FlatColumn<SummaryRow>& c : l.columns) {
-    std::vector<std::string> text;
-    for (const SummaryRow& r : rows)
+  for (schema::TableColumn& c : schema::summary_table(rows)) {
+    if (c.numeric)
+      for (const double x : c.numbers) {
+        char buf[40];
+        std::snprintf(buf, sizeof buf, "%.10g", x);
+        c.text.push_back(std::isnan(x) ? "" : buf);
+      }
+    out.emplace_back(std::move(c.name), std::move(c.text));
+  }
+  return out;
+}
+
+namespace {
+
+template <class Row>
+std::vector<schema::TableColumn> table_of(const std::vector<Row>& rows,
+                                          std::span<const schema::RowColumn<Row>> table) {
+  const Layout<Row> l = layout(table);
+  std::vector<schema::TableColumn> out;
+  for (const FlatColumn<Row>& c : l.columns) {
+    schema::TableColumn col;
+    col.name = c.name;
+    for (const Row& r : rows)
       with_element(r, c, [&](const auto& v) {
         using V = std::remove_cvref_t<decltype(v)>;
         if constexpr (std::is_same_v<V, std::string>) {
-          text.push_back(v);
+          col.text.push_back(v);
         } else if constexpr (std::is_same_v<V, ChannelStatus>) {
-          text.push_back(to_string(v));
+          col.text.push_back(to_string(v));
         } else {
-          const double x = static_cast<double>(v);
-          char buf[40];
-          std::snprintf(buf, sizeof buf, "%.10g", x);
-          text.push_back(std::isnan(x) ? "" : buf);
+          col.numeric = true;
+          col.numbers.push_back(static_cast<double>(v));
         }
       });
-    out.emplace_back(c.name, std::move(text));
+    out.push_back(std::move(col));
   }
   return out;
+}
+
+}  // namespace
+
+std::vector<schema::TableColumn> schema::summary_table(const std::vector<SummaryRow>& rows) {
+  return table_of(rows, summary_columns());
+}
+
+std::vector<schema::TableColumn> schema::statistics_table(const std::vector<StatisticsRow>& rows) {
+  return table_of(rows, statistics_columns());
 }
 
 void write_lot_summary(const std::filesystem::path& outdir, const std::vector<SummaryRow>& rows,

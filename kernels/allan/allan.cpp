@@ -240,11 +240,10 @@ StatResult mdev(const PhaseData& p, std::span<const std::int64_t> m_list, int nt
   });
 }
 
+// TDEV is always MDEV scaled (SP1065 eq. (16)), so that a TDEV computed alone has the same
+// bits as the one the pipeline derives from the MDEV it has already computed.
 StatResult tdev(const PhaseData& p, std::span<const std::int64_t> m_list, int nthreads) {
-  return modified_family("tdev", p, m_list, nthreads, [](std::int64_t m) {
-    const double md = static_cast<double>(m);
-    return 6.0 * md * md;
-  });
+  return tdev_from_mdev(mdev(p, m_list, nthreads));
 }
 
 StatResult tdev_from_mdev(const StatResult& mdev) {

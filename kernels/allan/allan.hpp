@@ -58,8 +58,8 @@ StatResult mdev(const PhaseData& p, std::span<const std::int64_t> m_list, int nt
 StatResult tdev(const PhaseData& p, std::span<const std::int64_t> m_list, int nthreads = 0);
 
 /// TDEV from an MDEV result of the same data (SP1065 eq. (16)): dev times tau / sqrt(3), rows
-/// and n unchanged, confidence fields left empty. Equal to tdev() to rounding (a few ulp),
-/// without summing the third differences again.
+/// and n unchanged, confidence fields left empty. tdev() is this of mdev(), so the two agree
+/// bit for bit.
 StatResult tdev_from_mdev(const StatResult& mdev);
 
 namespace detail {

@@ -125,12 +125,12 @@ void SumCache::store_second(std::int64_t m, double sum, std::int64_t n) {
 }
 
 StatResult compute(Stat s, const PhaseData& p, std::span<const std::int64_t> m_list, int nthreads,
-                   SumCache* cache) {
+                   SumCache* cache, MRange range) {
   for (const std::int64_t m : m_list)
     if (m < 1)
       throw std::invalid_argument(std::string(stat_name(s)) + ": m must be >= 1, got " +
                                   std::to_string(m));
-  const std::int64_t mmax = max_m(s, p.n_points());
+  const std::int64_t mmax = range == MRange::Stable32 ? max_m(s, p.n_points()) : p.n_points() - 1;
   std::vector<std::int64_t> ms;
   for (const std::int64_t m : m_list)
     if (m <= mmax) ms.push_back(m);
@@ -148,13 +148,13 @@ StatResult compute(Stat s, const PhaseData& p, std::span<const std::int64_t> m_l
   case Stat::Ohdev:
     return ohdev(p, ms, nthreads);
   case Stat::Totdev:
-    return totdev(p, ms, nthreads, cache);
+    return totdev(p, ms, nthreads, cache, range == MRange::Estimable);
   case Stat::Mtie:
     return mtie(p, ms, nthreads);
   case Stat::Tierms:
     return tierms(p, ms, nthreads);
   case Stat::Theo1:
-    return theo1(p, ms, nthreads);
+    return theo1(p, ms, nthreads, range == MRange::Estimable ? 2 : 10);
   case Stat::Mtotdev:
     return mtotdev(p, ms, nthreads);
   case Stat::Ttotdev:

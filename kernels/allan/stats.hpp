@@ -62,7 +62,15 @@ std::span<const Stat> all_stats();
 /// Stable32 table stops at 998). 0 when N < 2.
 std::int64_t max_m(Stat s, std::int64_t n_points);
 
-/// Computes statistic `s` at every m of `m_list` with m <= max_m(s, N); larger m give no row.
+/// Which averaging factors compute() evaluates.
+enum class MRange {
+  Stable32,  // m <= max_m(s, N): Stable32's stop ratios, the command line's range
+  Estimable  // every m whose estimator has at least one term (AllanTools' range, the Python API)
+};
+
+/// Computes statistic `s` at every m of `m_list` with m <= max_m(s, N) (with MRange::Estimable:
+/// m <= N - 1, and each statistic leaves out the m its estimator has no term for); larger m
+/// give no row.
 /// Throws std::invalid_argument for any m < 1, for gapped data with a statistic that refuses
 /// gaps (supports_gaps), and for the preconditions of the statistic's own function (allan.hpp,
 /// hadamard.hpp, total.hpp, tie.hpp, theo.hpp, total_family.hpp, parabolic.hpp).
@@ -70,6 +78,6 @@ std::int64_t max_m(Stat s, std::int64_t n_points);
 /// thread count because each tau's sum is formed by one thread in a fixed order. With a
 /// cache, OADEV and TOTDEV share their second-difference sums (same bits as without).
 StatResult compute(Stat s, const PhaseData& p, std::span<const std::int64_t> m_list,
-                   int nthreads = 0, SumCache* cache = nullptr);
+                   int nthreads = 0, SumCache* cache = nullptr, MRange range = MRange::Stable32);
 
 }  // namespace allanlot::kernels

@@ -33,11 +33,12 @@ double theo1_inner(const double* x, std::int64_t i, std::int64_t m,
 
 }  // namespace
 
-bool theo1_valid(std::int64_t m, std::int64_t n_points) {
-  return m % 2 == 0 && m >= 10 && m <= n_points - 1;
+bool theo1_valid(std::int64_t m, std::int64_t n_points, std::int64_t m_min) {
+  return m % 2 == 0 && m >= std::max<std::int64_t>(m_min, 2) && m <= n_points - 1;
 }
 
-StatResult theo1(const PhaseData& p, std::span<const std::int64_t> m_list, int nthreads) {
+StatResult theo1(const PhaseData& p, std::span<const std::int64_t> m_list, int nthreads,
+                 std::int64_t m_min) {
   detail::check_m_list("theo1", m_list);
   if (p.has_gaps())
     throw std::invalid_argument("theo1: cannot run on gapped data (" + std::to_string(p.n_gaps) +
@@ -45,13 +46,14 @@ StatResult theo1(const PhaseData& p, std::span<const std::int64_t> m_list, int n
   const std::int64_t n = p.n_points();
   std::int64_t h_max = 0;
   for (const std::int64_t m : m_list)
-    if (theo1_valid(m, n)) h_max = std::max(h_max, m / 2);
+    if (theo1_valid(m, n, m_min)) h_max = std::max(h_max, m / 2);
   // 1/k once, so that the inner loop multiplies (the same double for every thread count).
   std::vector<double> inv(static_cast<std::size_t>(h_max + 1), 0.0);
   for (std::int64_t k = 1; k <= h_max; ++k)
     inv[static_cast<std::size_t>(k)] = 1.0 / static_cast<double>(k);
   const auto chunks = detail::make_chunks(
-      m_list, [n](std::int64_t m) { return theo1_valid(m, n) ? n - m : std::int64_t{0}; },
+      m_list,
+      [n, m_min](std::int64_t m) { return theo1_valid(m, n, m_min) ? n - m : std::int64_t{0}; },
       [](std::int64_t m) { return kTermsPerChunk / std::max<std::int64_t>(1, m / 2); });
   const double* x = p.x.data();
   const auto sums = detail::run_chunks<long double>(
@@ -66,7 +68,7 @@ StatResult theo1(const PhaseData& p, std::span<const std::int64_t> m_list, int n
   StatResult out;
   for (std::size_t j = 0; j < m_list.size(); ++j) {
     const std::int64_t m = m_list[j];
-    if (!theo1_valid(m, n)) continue;
+    if (!theo1_valid(m, n, m_min)) continue;
     const long double tau = static_cast<long double>(m) * p.tau0_s;
     const long double var = sums[j] / (0.75L * static_cast<long double>(n - m) * tau * tau);
     out.m.push_back(m);

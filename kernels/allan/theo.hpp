@@ -27,11 +27,13 @@ namespace allanlot::kernels {
 /// (Howe & Tasset's Avar/Theo1 ratio) that the caller may apply. Cost O((N - m) m / 2) per m,
 /// parallel over chunks of i (kernels/allan/detail/chunked.hpp), so an octave grid up to
 /// m = N - 1 costs about N^2 / 2 operations: meant for records up to ~1e5 points or for m
-/// lists that stop well before N.
-StatResult theo1(const PhaseData& p, std::span<const std::int64_t> m_list, int nthreads = 0);
+/// lists that stop well before N. `m_min` is the smallest m evaluated: 10 as SP1065 and
+/// Stable32 (the default), 2 for AllanTools' range (the formula holds for any even m >= 2).
+StatResult theo1(const PhaseData& p, std::span<const std::int64_t> m_list, int nthreads = 0,
+                 std::int64_t m_min = 10);
 
-/// Whether m is a Thêo1 averaging factor for N phase points (even, 10 <= m <= N - 1).
-bool theo1_valid(std::int64_t m, std::int64_t n_points);
+/// Whether m is a Thêo1 averaging factor for N phase points (even, m_min <= m <= N - 1).
+bool theo1_valid(std::int64_t m, std::int64_t n_points, std::int64_t m_min = 10);
 
 /// ThêoH, the hybrid of Howe & Tasset ("ThêoH: a hybrid, high-confidence statistic that
 /// improves on the Allan deviation", Metrologia 43 (2006); SP1065 sec. 5.2.14 and eqs. (31)-(32),

@@ -40,6 +40,28 @@ struct RightEnd {
   V2 pair(std::int64_t k) const { return V2{(*this)(k), (*this)(k + 1)}; }
 };
 
+// m beyond Stable32's (N-1)/2 (AllanTools' range, MRange::Estimable): a centre may reflect
+// both of its ends, so each term looks its points up through the reflection. x*_k is defined
+// for -(N-1) <= k <= 2(N-1), which covers every centre i = 1 .. N-2 for m <= N-1.
+bool wide_valid(std::int64_t n, std::int64_t m) {
+  return n >= 3 && 2 * m > n - 1 && m <= n - 1;
+}
+double reflected(const double* x, std::int64_t n, std::int64_t k) {
+  if (k < 0) return 2.0 * x[0] - x[-k];
+  if (k > n - 1) return 2.0 * x[n - 1] - x[2 * (n - 1) - k];
+  return x[k];
+}
+double wide_sum(const PhaseData& p, std::int64_t m) {
+  const double* x = p.x.data();
+  const std::int64_t n = p.n_points();
+  double s = 0.0;
+  for (std::int64_t i = 1; i <= n - 2; ++i) {
+    const double d = reflected(x, n, i - m) - 2.0 * x[i] + reflected(x, n, i + m);
+    s += d * d;
+  }
+  return s;
+}
+
 double left_sum(const PhaseData& p, std::int64_t m) {
   return blocked_sum_of_squares(LeftEnd{p.x.data(), m}, m - 1);
 }
@@ -63,7 +85,7 @@ SumCount total_core(const PhaseData& p, std::int64_t m) {
 }  // namespace detail
 
 StatResult totdev(const PhaseData& p, std::span<const std::int64_t> m_list, int nthreads,
-                  SumCache* cache) {
+                  SumCache* cache, bool beyond_half) {
   detail::check_m_list("totdev", m_list);
   if (p.has_gaps())
     throw std::invalid_argument("totdev: cannot run on gapped data (" + std::to_string(p.n_gaps) +
@@ -90,8 +112,14 @@ StatResult totdev(const PhaseData& p, std::span<const std::int64_t> m_list, int 
     if (detail::total_valid(n, m)) lr.sum = detail::right_sum(p, m);
     return lr;
   });
+  const auto wides = detail::sums_per_m(m_list, nthreads, [&p, n, beyond_half](std::int64_t m) {
+    detail::SumCount w;
+    if (beyond_half && detail::wide_valid(n, m)) w = {detail::wide_sum(p, m), n - 2};
+    return w;
+  });
   for (std::size_t j = 0; j < m_list.size(); ++j) {
-    if (sums[j].n == 0) continue;
+    if (wides[j].n > 0) sums[j] = wides[j];
+    if (sums[j].n == 0 || wides[j].n > 0) continue;
     double total = ends[j].sum;
     total += sums[j].sum;
     total += rights[j].sum;

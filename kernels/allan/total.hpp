@@ -19,8 +19,10 @@ namespace allanlot::kernels {
 ///
 /// with x*_k = x_k inside the record and, outside it, the record reflected about each end
 /// point: x*_{-j} = 2 x_0 - x_j and x*_{N-1+j} = 2 x_{N-1} - x_{N-1-j} (0-based indices,
-/// SP1065's x_{1-j} and x_{N+j}). n = N - 2 for every m. Valid for 1 <= m <= (N-1)/2, where
-/// every reflected index lies inside the record; a larger m gives no row.
+/// SP1065's x_{1-j} and x_{N+j}). n = N - 2 for every m. Stable32 stops at m = (N-1)/2
+/// (compute()'s default range), where each centre reflects at most one end; AllanTools goes on
+/// to m = N - 1, where a centre may reflect both, and so does this function with `beyond_half`
+/// (MRange::Estimable). A larger m gives no row.
 /// The reflection is odd about the end points, so a linear phase (constant rate) stays
 /// linear and the removed mean rate of PhaseData does not change the result.
 ///
@@ -30,7 +32,7 @@ namespace allanlot::kernels {
 /// that keeps TOTVAR's meaning (Stable32 fills gaps before a total variance instead); an error
 /// is better than a number of unknown meaning.
 StatResult totdev(const PhaseData& p, std::span<const std::int64_t> m_list, int nthreads = 0,
-                  SumCache* cache = nullptr);
+                  SumCache* cache = nullptr, bool beyond_half = false);
 
 namespace detail {
 

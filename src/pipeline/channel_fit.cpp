@@ -100,7 +100,7 @@ io::FitRecord fit_record(std::string_view method, const Fit& f) {
 
 }  // namespace
 
-io::FitRecord fit_channel(const kernels::StatResult& oadev, const kernels::PhaseData& p,
+io::FitRecord fit_channel(const kernels::StatResult& oadev, double tau0_s, std::int64_t n_samples,
                           const std::string& units,
                           std::array<kernels::TermFit, kernels::kNumTerms>* terms_out) {
   // One fit object per thread: it caches the covariance model of a curve shape, which every
@@ -115,7 +115,7 @@ io::FitRecord fit_channel(const kernels::StatResult& oadev, const kernels::Phase
     sub.n.push_back(oadev.n[i]);
     sub.edf.push_back(oadev.edf[i]);
   }
-  const kernels::FitResult f = fitter.fit(sub, p.tau0_s, p.n_points() - 1);
+  const kernels::FitResult f = fitter.fit(sub, tau0_s, n_samples);
 
   io::FitRecord rec = fit_record(kernels::kFitMethod, f);
   rec.tau = oadev.tau_s;

@@ -14,14 +14,14 @@
 
 namespace allanlot::pipeline {
 
-/// Fits eq. (3) to `oadev` (with edf filled by add_confidence) of a channel with phase data
-/// `p` and channel units `units`. When the curve has more taus than the fit needs (--taus
-/// all), it is fitted on a log-spaced subset of at most 16 taus per decade, which carries the
-/// same information (neighbouring overlapping estimates are correlated above 0.9) at a
-/// fraction of the cost of the covariance model; adev_model is given on every oadev tau.
-/// Uses one reusable kernels::Eq3Fit per thread.
+/// Fits eq. (3) to `oadev` (with edf filled by add_confidence) of a channel of `n_samples` rate
+/// samples (one fewer than its phase points) at interval `tau0_s`, in channel units `units`. When
+/// the curve has more taus than the fit needs (--taus all), it is fitted on a log-spaced subset of
+/// at most 16 taus per decade, which carries the same information (neighbouring overlapping
+/// estimates are correlated above 0.9) at a fraction of the cost of the covariance model;
+/// adev_model is given on every oadev tau. Uses one reusable kernels::Eq3Fit per thread.
 /// `terms_out`, when given, receives the fitted terms (for the comparison with the PSD fit).
-io::FitRecord fit_channel(const kernels::StatResult& oadev, const kernels::PhaseData& p,
+io::FitRecord fit_channel(const kernels::StatResult& oadev, double tau0_s, std::int64_t n_samples,
                           const std::string& units,
                           std::array<kernels::TermFit, kernels::kNumTerms>* terms_out = nullptr);
 

@@ -51,6 +51,14 @@ for section in 'COMMAND: ANALYZE' 'COMMAND: DIAGNOSE' 'EXIT STATUS'; do
   gzip -dc "$man" | grep -q "^\.SH \"$section\"" || fail "the man page has no section $section"
 done
 
+# The Python package, where Debian's Python looks for it (docs/python.md), when it was built.
+if [ -f "$build/python/allanlot/__init__.py" ]; then
+  ls "$prefix"/lib/python3*/dist-packages/allanlot/__init__.py >/dev/null 2>&1 ||
+    fail "the Python package allanlot is not installed under $prefix/lib/python3*/dist-packages"
+  ls "$prefix"/lib/python3*/dist-packages/allanlot/_allanlot*.so >/dev/null 2>&1 ||
+    fail "the extension module _allanlot is not installed"
+fi
+
 # The .deb: Debian's file name, runtime dependencies from dpkg-shlibdeps, the installed tree.
 (cd "$scratch" && cpack --config "$build/CPackConfig.cmake" -G DEB -B "$scratch/deb" \
   >"$scratch/cpack.log") || fail "cpack failed: $(tail -5 "$scratch/cpack.log")"
@@ -66,4 +74,8 @@ for f in ./usr/bin/allanlot ./usr/share/allanlot/slurm/submit-lot \
   ./usr/share/man/man1/allanlot.1.gz ./usr/share/doc/allanlot/copyright; do
   grep -q " $f\$" <<<"$contents" || fail "the .deb has no $f"
 done
+if [ -f "$build/python/allanlot/__init__.py" ]; then
+  grep -q " ./usr/lib/python3/dist-packages/allanlot/__init__.py\$" <<<"$contents" ||
+    fail "the .deb has no Python package in /usr/lib/python3/dist-packages"
+fi
 echo "install test: prefix install, Slurm scripts, docs, man page and $(basename "$deb") checked"

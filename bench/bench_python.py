@@ -1,0 +1,88 @@
+#!/usr/bin/env python3
+"""The Python API against AllanTools, side by side in one process (issue "Python", Done when):
+the six default statistics (adev, oadev, mdev, hdev, ohdev, totdev; octave taus, AllanTools'
+default) on one 90-minute 1 kHz channel (5.4 M fractional-frequency samples), through
+allanlot's AllanTools-compatible functions and through AllanTools itself, each repeated
+--reps times; the medians, their ratio, and the Python call overhead (a call on 100 samples).
+
+  PYTHONPATH=build/python python3 bench/bench_python.py [--allantools DIR] [--samples N]
+                                                        [--reps 3] [--threads T] [--json FILE]
+
+--allantools DIR: a directory holding the package allantools (e.g. a checkout of
+github.com/aewallin/allantools; it needs numpy and scipy). Without it, AllanTools is imported
+from the path, and when it is absent only allanlot is timed. The results are also checked to
+agree (devs within 1e-9 relative): a benchmark of different numbers would mean nothing.
+"""
+import argparse
+import json
+import statistics
+import sys
+import time
+
+import numpy as np
+
+STATS = ("adev", "oadev", "mdev", "hdev", "ohdev", "totdev")
+
+
+def median_time(f, reps):
+    times = []
+    for _ in range(reps):
+        t0 = time.perf_counter()
+        out = f()
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times), out
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--allantools", help="directory holding the package allantools")
+    ap.add_argument("--samples", type=int, default=5_400_000)
+    ap.add_argument("--reps", type=int, default=3)
+    ap.add_argument("--threads", type=int, default=None)
+    ap.add_argument("--json", help="write the figures to this file")
+    a = ap.parse_args()
+    import allanlot
+    if a.allantools:
+        sys.path.insert(0, a.allantools)
+    try:
+        import allantools
+    except ImportError:
+        allantools = None
+    y = np.random.default_rng(1).standard_normal(a.samples) * 1e-9
+    rows = []
+    for stat in STATS:
+        ours = getattr(allanlot, stat)
+        t_al, r_al = median_time(lambda: ours(y, rate=1000.0, data_type="freq",
+                                              threads=a.threads), a.reps)
+        row = {"stat": stat, "allanlot_s": t_al, "taus": len(r_al[0])}
+        if allantools:
+            theirs = getattr(allantools, stat)
+            t_at, r_at = median_time(lambda: theirs(y, rate=1000.0, data_type="freq"),
+                                     max(1, a.reps // 3))
+            if len(r_at[0]) != len(r_al[0]) or not np.allclose(r_at[1], r_al[1], rtol=1e-9):
+                sys.exit("bench_python: %s: allanlot and AllanTools disagree" % stat)
+            row.update(allantools_s=t_at, ratio=t_at / t_al)
+        rows.append(row)
+        print("%-7s allanlot %8.3f s" % (stat, t_al) +
+              ("   AllanTools %8.3f s   ratio %6.1f" % (row["allantools_s"], row["ratio"])
+               if allantools else ""), flush=True)
+    total_al = sum(r["allanlot_s"] for r in rows)
+    summary = {"samples": a.samples, "threads": a.threads, "rows": rows,
+               "allanlot_total_s": total_al}
+    small = np.random.default_rng(2).standard_normal(100)
+    t_small, _ = median_time(lambda: allanlot.oadev(small, data_type="freq"), 200)
+    summary["call_overhead_s"] = t_small
+    print("six statistics: allanlot %.3f s" % total_al, end="")
+    if allantools:
+        total_at = sum(r["allantools_s"] for r in rows)
+        summary.update(allantools_total_s=total_at, ratio=total_at / total_al)
+        print(", AllanTools %.3f s, ratio %.1f (target >= 30)" % (total_at, total_at / total_al),
+              end="")
+    print("\ncall on 100 samples (octave taus): %.1f us" % (t_small * 1e6))
+    if a.json:
+        with open(a.json, "w", encoding="utf-8") as f:
+            json.dump(summary, f, indent=1)
+
+
+if __name__ == "__main__":
+    main()

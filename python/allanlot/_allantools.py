@@ -1,0 +1,151 @@
+"""AllanTools' calling conventions, written from its documented rules (allantools.py of
+AllanTools 2019.9 and later: tau_generator, remove_small_ns and each statistic's docstring), so
+that ``import allanlot as allantools`` gives a notebook the same (taus, devs, errs, ns).
+
+What AllanTools does, and this module therefore does:
+  - ``data_type="freq"`` data are integrated to phase with their mean removed and a leading 0
+    (N frequency points give N + 1 phase points); NaN at either end is trimmed first;
+  - ``taus``: None or [] means "octave"; "all", "octave", "decade" and "log10" are keyword
+    grids over the length of the phase data; an array is in seconds; each tau becomes
+    m = round(tau * rate), and m <= 0, m >= len(data), m above the statistic's largest m and
+    repeated m are dropped (sorted ascending);
+  - ns is the statistic's own term count (below); rows with ns <= 1 are dropped;
+  - errs = devs / sqrt(ns), except where AllanTools defines it otherwise (Thêo1: N - m in the
+    root; TIE rms: 0).
+The deviations themselves come from allanlot's kernels (the command line's, checked against
+Stable32 and long-double references). Differences, documented in docs/python.md: NaN inside the
+data is a gap (AllanTools propagates it); totdev has no rows beyond m = (N - 1) / 2.
+"""
+
+import math
+
+import numpy as np
+
+from . import _allanlot
+
+
+def _phase_length(data, data_type):
+    """Length of the phase record AllanTools builds from `data`."""
+    if data_type == "phase":
+        return len(data)
+    if data_type == "freq":
+        return len(_trim_nan(data)) + 1
+    raise ValueError("unknown data_type: %r (AllanTools accepts 'phase' and 'freq')" % data_type)
+
+
+def _trim_nan(data):
+    valid = np.flatnonzero(~np.isnan(data))
+    if len(valid) == 0:
+        raise ValueError("data holds no number (every sample is NaN)")
+    return data[valid[0]:valid[-1] + 1]
+
+
+def tau_m(n_data, rate, taus=None, even=False, maximum_m=None):
+    """AllanTools' tau_generator: the averaging factors m for a record of n_data points."""
+    if rate == 0:
+        raise ValueError("rate must not be 0")
+    rate = float(rate)
+    if taus is None or (isinstance(taus, (list, tuple)) and len(taus) == 0):
+        taus = "octave"
+    if isinstance(taus, str):
+        if taus == "all":
+            t = (1.0 / rate) * np.linspace(1.0, n_data, n_data)
+        elif taus == "octave":
+            k = int(np.floor(np.log2(n_data)))
+            t = (1.0 / rate) * np.logspace(0, k, k + 1, base=2.0)
+        elif taus == "log10":
+            top = np.log10(n_data)
+            t = (1.0 / rate) * np.logspace(0, top, int(10 * top), base=10.0)
+        elif taus == "decade":
+            k = int(np.floor(np.log10(n_data)))
+            t = np.array([f * (1.0 / rate) * 10.0**j for j in range(k + 1) for f in (1.0, 2.0, 4.0)])
+        else:
+            raise ValueError("taus must be None, 'all', 'octave', 'decade', 'log10' or an "
+                             "array of seconds, got %r" % (taus,))
+    else:
+        t = np.asarray(taus, dtype=float)
+    m = np.round(t * rate)
+    top = n_data if maximum_m is None else maximum_m
+    m = np.unique(m[(m < n_data) & (m > 0) & (m <= top)])
+    if even:
+        m = m[m % 2 == 0]
+    return m.astype(np.int64)
+
+
+def _strided(n, start, m):
+    """len(x[start::m]) for len(x) == n."""
+    return max(0, (n - 1 - start) // m + 1) if n > start else 0
+
+
+# Each statistic's term count ns as AllanTools reports it, for phase length n (for htotdev: the
+# frequency length) and averaging factor m (an array); 0 where its estimator has no term.
+_NS = {
+    "adev": lambda n, m: np.array([_strided(n, 2 * k, k) for k in m]),
+    "oadev": lambda n, m: np.maximum(n - 2 * m, 0),
+    "mdev": lambda n, m: np.maximum(n - 3 * m, 0) + 1,
+    "tdev": lambda n, m: np.maximum(n - 3 * m, 0) + 1,
+    "hdev": lambda n, m: np.array([_strided(n, 3 * k, k) for k in m]),
+    "ohdev": lambda n, m: np.maximum(n - 3 * m, 0),
+    "totdev": lambda n, m: np.full(len(m), n - 2),
+    "mtotdev": lambda n, m: n - 3 * m + 1,
+    "ttotdev": lambda n, m: n - 3 * m + 1,
+    "htotdev": lambda n, m: np.where(m == 1, n + 1 - 3, n - 3 * m + 1),
+    "theo1": lambda n, m: (n - m) * m // 2,
+    "theoh": lambda n, m: (n - m) * m // 2,
+    "mtie": lambda n, m: n - m,
+    "tierms": lambda n, m: n - m,
+    "pdev": lambda n, m: np.where(m == 1, np.maximum(n - 2, 0), np.maximum(n - 2 * m, 0)),
+}
+
+
+def allantools_call(stat, data, rate, data_type, taus, threads):
+    """(taus, devs, errs, ns) of `stat` with AllanTools' conventions."""
+    data = np.asarray(data, dtype=np.float64)
+    if data.ndim != 1:
+        raise ValueError("data must be one-dimensional, got %d dimensions" % data.ndim)
+    if data_type == "freq":
+        data = _trim_nan(data)
+        if stat in ("mtie", "tierms"):
+            # AllanTools integrates frequency with its mean removed; allanlot's time-error
+            # kernels keep the offset (a real time error, as Stable32 does), so remove it here.
+            data = data - np.nanmean(data)
+    n_phase = _phase_length(data, data_type)
+    n = n_phase - 1 if stat == "htotdev" else n_phase  # htotdev works on frequency data
+    maximum_m = n / 3.0 if stat in ("mtotdev", "ttotdev", "htotdev") else None
+    m = tau_m(n, rate, taus, even=stat in ("theo1", "theoh"), maximum_m=maximum_m)
+    ns = _NS[stat](n, m).astype(np.int64) if len(m) else np.zeros(0, np.int64)
+    keep = ns > 1
+    m, ns = m[keep], ns[keep]
+    kernel_type = "freq" if data_type == "freq" else "phase"
+    r = _allanlot.deviation(data, stat, float(rate), kernel_type, m.tolist(), "", 0.0,
+                            threads, True)
+    got = dict(zip(r["m"].tolist(), r["dev"].tolist()))
+    rows = [i for i, k in enumerate(m.tolist()) if k in got]
+    m, ns = m[rows], ns[rows]
+    devs = np.array([got[k] for k in m.tolist()], dtype=np.float64)
+    taus_out = m / float(rate)
+    if stat in ("theo1", "theoh"):
+        errs = devs / np.sqrt((n - m).astype(np.float64))
+    elif stat == "tierms":
+        errs = np.zeros_like(devs)
+    else:
+        errs = devs / np.sqrt(ns.astype(np.float64))
+    return taus_out, devs, errs, ns
+
+
+def _make(stat):
+    def f(data, rate=1.0, data_type="phase", taus=None, *, threads=None):
+        return allantools_call(stat, data, rate, data_type, taus, threads or 0)
+
+    f.__name__ = stat
+    f.__doc__ = ("%s with AllanTools' arguments and return value: "
+                 "(taus, devs, errs, ns), as allantools.%s(data, rate, data_type, taus).\n\n"
+                 "data: 1-D array of phase (data_type='phase') or fractional frequency "
+                 "('freq'); rate: samples per second; taus: None, 'all', 'octave', 'decade', "
+                 "'log10' or seconds. threads (keyword only, not in AllanTools): OpenMP "
+                 "threads, None for all. See docs/python.md." % (stat, stat))
+    return f
+
+
+ALLANTOOLS_STATS = tuple(_NS)
+FUNCTIONS = {s: _make(s) for s in ALLANTOOLS_STATS}
