@@ -134,7 +134,7 @@ TermLimit parse_limit(const Checker& c, units::Term term, const Json& j, const s
   if (!j.contains("max") && !j.contains("min")) c.note(path, "needs \"max\", \"min\" or both");
   if (l.max && l.min && *l.min > *l.max)
     c.note(Checker::at(path, "min"),
-           "must not exceed max (" + Json(*l.max).dump() + "), got " + Json(*l.min).dump());
+           "must not exceed max (" + j["max"].dump() + "), got " + j["min"].dump());
   const auto u = j.find("unit");
   if (u == j.end()) {
     c.note(Checker::at(path, "unit"), "missing");

@@ -36,6 +36,14 @@ std::vector<Outlier> lot_outliers(const std::vector<Unit>& units) {
   return out;
 }
 
+// "pass", or the detail when it starts with the status ("fail: gyro_x (N)"), else both
+// ("undecided (no data: gyro_x)").
+std::string unit_verdict_text(const RowExtras& x) {
+  if (x.unit_spec_detail.empty()) return x.unit_spec;
+  if (x.unit_spec_detail.starts_with(x.unit_spec + ":")) return x.unit_spec_detail;
+  return x.unit_spec + " (" + x.unit_spec_detail + ")";
+}
+
 std::string summary_table(const std::string& channel, const std::vector<Member>& members,
                           const ExtrasMap& extras) {
   std::ostringstream h;
@@ -167,9 +175,7 @@ std::string lot_section(const std::string& title, const std::vector<Unit>& units
       << escape(u.rec.device_id);
     // The unit's verdict (pass only when every channel passes) and, otherwise, which channel.
     if (const RowExtras* x = unit_extras(extras, u.rec.device_id))
-      h << " <span class=\"" << x->unit_spec << "\">" << x->unit_spec
-        << (x->unit_spec_detail.empty() ? "" : " (" + escape(x->unit_spec_detail) + ")")
-        << "</span>";
+      h << " <span class=\"" << x->unit_spec << "\">" << escape(unit_verdict_text(*x)) << "</span>";
     h << "</a>";
   }
   h << "</nav>\n";

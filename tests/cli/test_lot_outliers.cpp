@@ -125,8 +125,11 @@ TEST(LotOutliers, SummaryTerminalAndReportListTheSameOutliers) {
   EXPECT_EQ(counted, summary.size());
   // The CSV holds the same column as the HDF5 file.
   const std::string csv = test::file_bytes(dir / "out" / "lot_summary.csv");
-  for (const auto& r : rows)
-    if (r.outlier) EXPECT_NE(csv.find(r.outlier_terms), std::string::npos) << r.outlier_terms;
+  for (const auto& r : rows) {
+    if (r.outlier) {
+      EXPECT_NE(csv.find(r.outlier_terms), std::string::npos) << r.outlier_terms;
+    }
+  }
 
   // The terminal, after analyze and after summarize.
   EXPECT_EQ(terminal_flags(analyze_out), summary) << analyze_out;

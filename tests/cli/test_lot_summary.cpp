@@ -303,6 +303,17 @@ TEST(LotSummary, EndToEndThroughTheBinary) {
   const std::string csv_head = test::file_bytes(dir / "out" / "lot_summary.csv");
   const std::string header = csv_head.substr(0, csv_head.find('\n'));
   EXPECT_TRUE(header.ends_with(",unit_spec_status,unit_spec_detail")) << header;
+  // The report: the unit's verdict beside it in the unit list, and each channel's verdict cell
+  // with the limit it was decided against.
+  ASSERT_EQ(test::run_command(test::binary() + " report " + (dir / "out").string(), &out), 0)
+      << out;
+  const std::string html = test::file_bytes(dir / "out" / "report.html");
+  EXPECT_NE(html.find(">unit_0001 <span class=\"fail\">fail: accel_x (N)</span></a>"),
+            std::string::npos);
+  EXPECT_NE(html.find("<td class=\"l fail\">fail: N "), std::string::npos);
+  EXPECT_NE(html.find(" &gt; 0.01 mg/sqrt(Hz)</td>"), std::string::npos);
+  EXPECT_NE(html.find("<td class=\"l pass\">pass: N "), std::string::npos);
+  EXPECT_NE(html.find(" &lt;= 36 deg/h/sqrt(Hz)</td>"), std::string::npos);  // 0.6 deg/sqrt(h)
   EXPECT_EQ(io::read_lot_statistics(dir / "out" / "lot_summary.h5").size() % 2, 0u);
 
   // summarize from the results alone gives the same rows; a manifest line without results is
