@@ -93,11 +93,13 @@ void readout_rows(std::ostream& text, const io::RecordingResult& r, const io::Ch
   if (!ch.fit) return;
   const std::string prefix = io::csv_field(r.device_id) + "," + io::csv_field(ch.path) + "," +
                              io::csv_field(ch.units) + ",";
-  for (const auto& [name, term] : kReadouts) {
+  for (const auto& kv : kReadouts) {
+    // Plain variables, not a structured binding: clang 14 (the TSan build) cannot capture one.
+    const std::string_view name = kv.first;
+    const char* term = kv.second;
     const auto& xs = ch.fit->readouts;
-    const auto x = std::find_if(
-        xs.begin(), xs.end(),
-        [n = std::string_view(name)](const io::ReadoutRecord& y) { return y.name == n; });
+    const auto x = std::find_if(xs.begin(), xs.end(),
+                                [name](const io::ReadoutRecord& y) { return y.name == name; });
     if (x == xs.end()) continue;
     const bool read = x->tau_s > 0.0 && std::isfinite(x->value_datasheet);
     text << prefix << name << "," << term << "," << csv_number(read ? x->tau_s : kNaN) << ","

@@ -48,9 +48,6 @@ public:
     } catch (const Skip&) {
     }
   }
-  bool clean() const { return errors_.empty(); }
-  std::size_t n_errors() const { return errors_.size(); }
-
   // Throws the spec::Error of every problem noted: one alone as it is, several under a line
   // that counts them.
   void throw_if_any() const {

@@ -100,7 +100,7 @@ std::string summary_table(const std::string& channel, const std::vector<Member>&
       << (m.ch->crosscheck ? number(m.ch->crosscheck->max_abs_log10_ratio, 2) : "&ndash;")
       << "</td>";
     if (any_spec)
-      h << "<td" << (x && !x->spec.empty() ? " class=\"l " + x->spec + "\">" + spec_cell(*x) : ">")
+      h << "<td" << (x && !x->spec.empty() ? " class=\"" + x->spec + "\">" + spec_cell(*x) : ">")
         << "</td>";
     if (any_agree)
       h << "<td" << (x && x->agree == "no" ? " class=\"bad\"" : "") << ">" << (x ? x->agree : "")
