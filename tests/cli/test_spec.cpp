@@ -297,6 +297,27 @@ TEST(Spec, EveryDatasheetFormIsAcceptedAndConvertedRight) {
   }
 }
 
+// Every unit the vocabulary accepts for a term of a gyro or an accelerometer is accepted in a
+// spec, and a limit in it converts to a finite positive value in the channel's units (the
+// values themselves: EveryDatasheetFormIsAcceptedAndConvertedRight).
+TEST(Spec, EveryAcceptedUnitOfTheVocabularyIsAcceptedInASpec) {
+  std::size_t n = 0;
+  for (const char* channel_units : {"deg/s", "m/s^2"})
+    for (const Term t : {Term::R, Term::K, Term::B, Term::N, Term::Q}) {
+      const std::string term(kernels::units::term_name(t));
+      const std::string own = kernels::units::channel_unit(t, channel_units);
+      for (const std::string& unit : kernels::units::accepted_units(t, channel_units)) {
+        const std::string json =
+            R"j({"channels": {"x": {")j" + term + R"j(": {"max": 2, "unit": ")j" + unit + "\"}}}}";
+        EXPECT_NO_THROW(parse(json)) << json;
+        const double v = spec::convert(t, 2.0, unit, own, channel_units);
+        EXPECT_TRUE(std::isfinite(v) && v > 0) << term << " " << unit << " -> " << v;
+        ++n;
+      }
+    }
+  EXPECT_GE(n, 40u);  // the vocabulary's forms (units.cpp), not an empty loop
+}
+
 // One run names every problem of a spec, in file order, each with the file and its key path.
 TEST(Spec, EveryErrorIsReportedAtOnce) {
   const std::string json = R"j({
