@@ -51,12 +51,7 @@ public:
   // Throws the spec::Error of every problem noted: one alone as it is, several under a line
   // that counts them.
   void throw_if_any() const {
-    if (errors_.empty()) return;
-    if (errors_.size() == 1) throw Error(errors_.front(), errors_);
-    std::string all = source_ + ": " + std::to_string(errors_.size()) + " errors:";
-    for (const std::string& e : errors_)
-      all += "\n  " + e;
-    throw Error(all, errors_);
+    if (!errors_.empty()) throw combined_error(source_, errors_);
   }
 
   static std::string at(const std::string& path, const std::string& key) {
@@ -324,6 +319,17 @@ void check_document(const Checker& c, std::string_view json_text, Spec& s) {
 
 }  // namespace
 
+Error combined_error(const std::string& source, std::vector<std::string> messages) {
+  if (messages.size() == 1) {
+    const std::string one = messages.front();  // copied: the vector is moved below
+    return Error(one, std::move(messages));
+  }
+  std::string all = source + ": " + std::to_string(messages.size()) + " errors:";
+  for (const std::string& m : messages)
+    all += "\n  " + m;
+  return Error(all, std::move(messages));
+}
+
 double two_sided_normal_quantile(double confidence) {
   if (!(confidence > 0.0 && confidence < 1.0))
     throw std::invalid_argument("confidence must be in (0, 1), got " + std::to_string(confidence));
@@ -401,6 +407,7 @@ Verdict judge_terms(const Spec& spec, const io::SummaryRow& row) {
   };
   Verdict v;
   std::vector<std::pair<Outcome, std::string>> terms;
+  std::vector<std::string> unit_errors;  // every limit whose unit does not fit this channel
   for (const TermLimit& l : rule->limits) {
     const auto i = static_cast<std::size_t>(l.term);
     const std::string name(units::term_name(l.term));
@@ -416,10 +423,11 @@ Verdict judge_terms(const Spec& spec, const io::SummaryRow& row) {
       if (l.min) min = convert(l.term, *l.min, l.unit, row.unit[i], row.units);
       if (l.max) max = convert(l.term, *l.max, l.unit, row.unit[i], row.units);
     } catch (const std::invalid_argument&) {
-      throw Error(spec.source + ": " + l.key_path + ".unit: '" + l.unit + "' is not a unit of " +
-                  name + " for a '" + row.units + "' channel (" + row.device_id + ":" +
-                  row.channel + "; accepted: " + join(units::accepted_units(l.term, row.units)) +
-                  ")");
+      unit_errors.push_back(spec.source + ": " + l.key_path + ".unit: '" + l.unit +
+                            "' is not a unit of " + name + " for a '" + row.units + "' channel (" +
+                            row.device_id + ":" + row.channel +
+                            "; accepted: " + join(units::accepted_units(l.term, row.units)) + ")");
+      continue;
     }
     const Estimate e{row.value[i], row.sigma[i], row.upper[i], row.detected[i] != 0};
     const Outcome o = decide(e, min, max, spec.k);
@@ -438,6 +446,7 @@ Verdict judge_terms(const Spec& spec, const io::SummaryRow& row) {
                                 : "<" + number(e.upper, 3);
     terms.emplace_back(o, name + " " + est + " " + rel + " " + number(lim, 4) + " " + row.unit[i]);
   }
+  if (!unit_errors.empty()) throw combined_error(spec.source, std::move(unit_errors));
   Outcome worst = Outcome::Pass;
   for (const auto& [o, text] : terms)
     if (o == Outcome::Fail || (o == Outcome::Undecided && worst == Outcome::Pass)) worst = o;

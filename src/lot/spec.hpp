@@ -60,6 +60,10 @@ private:
   std::vector<std::string> messages_;
 };
 
+/// The one Error of several problems of the spec `source` (messages non-empty): a single
+/// problem as it is, several under the line "<source>: <n> errors:", one indented line each.
+Error combined_error(const std::string& source, std::vector<std::string> messages);
+
 /// The limits on one term of one channel rule.
 struct TermLimit {
   kernels::units::Term term = kernels::units::Term::N;
@@ -146,7 +150,7 @@ std::pair<Outcome, std::string> judge_quality(const QualityLimits& q, const io::
 /// undecided, and a rule of quality limits alone passes a screened row within them. The detail
 /// lists the terms behind the status, e.g. "N 18.3±0.04 > 18 deg/h/sqrt(Hz)" (± is k sigma) or "B
 /// <12 ~ 10 deg/h" (undetected: the upper bound). Throws spec::Error when a matching rule's unit
-/// does not fit the channel.
+/// does not fit the channel, naming every such limit of the rule (Error::messages, one each).
 struct Verdict {
   std::string status;
   std::string detail;

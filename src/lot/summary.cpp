@@ -119,6 +119,37 @@ void print_overview(const LotOverview& ov, const spec::Spec* sp, std::ostream& o
   out << "\n";
 }
 
+// The spec's verdict of every row and of every unit. A rule unit that does not fit a matched
+// channel (known only once the channels are seen) is an error; all of them are collected, one
+// per rule, term and channel units (not one per unit of the lot), and thrown together, as
+// parse_spec reports a file's errors.
+void apply_spec(const spec::Spec& sp, std::vector<io::SummaryRow>& rows, std::ostream& err) {
+  std::vector<bool> used(sp.rules.size(), false);
+  std::vector<std::string> problems;
+  std::set<std::string> seen;
+  for (io::SummaryRow& r : rows) {
+    try {
+      const spec::Verdict v = spec::judge(sp, r);
+      r.spec_status = v.status;
+      r.spec_detail = v.detail;
+      r.spec_term_status = v.term_status;
+    } catch (const spec::Error& e) {
+      // "<file>: <key>.unit: '<unit>' is not a unit of N for a '<units>' channel (<unit:chan>...":
+      // the text before " (" names the rule, the term and the channel units.
+      for (const std::string& m : e.messages())
+        if (seen.insert(m.substr(0, m.find(" ("))).second) problems.push_back(m);
+    }
+    if (const spec::Rule* rule = r.channel.empty() ? nullptr : spec::find_rule(sp, r.channel))
+      used[static_cast<std::size_t>(rule - sp.rules.data())] = true;
+  }
+  if (!problems.empty()) throw spec::combined_error(sp.source, std::move(problems));
+  for (std::size_t i = 0; i < used.size(); ++i)
+    if (!used[i])
+      err << "allanlot: warning: " << sp.source << ": channels." << sp.rules[i].glob
+          << ": matches no channel of the lot\n";
+  spec::judge_units(rows);
+}
+
 }  // namespace
 
 std::vector<io::SummaryRow> rows_from_outdir(const fs::path& outdir, std::ostream& err,
@@ -195,22 +226,7 @@ LotOverview write_lot(const fs::path& outdir, std::vector<io::SummaryRow> rows,
     rows.insert(rows.end(), std::make_move_iterator(missing.begin()),
                 std::make_move_iterator(missing.end()));
   }
-  if (sp) {
-    std::vector<bool> used(sp->rules.size(), false);
-    for (io::SummaryRow& r : rows) {
-      const spec::Verdict v = spec::judge(*sp, r);
-      r.spec_status = v.status;
-      r.spec_detail = v.detail;
-      r.spec_term_status = v.term_status;
-      if (const spec::Rule* rule = r.channel.empty() ? nullptr : spec::find_rule(*sp, r.channel))
-        used[static_cast<std::size_t>(rule - sp->rules.data())] = true;
-    }
-    for (std::size_t i = 0; i < used.size(); ++i)
-      if (!used[i])
-        err << "allanlot: warning: " << sp->source << ": channels." << sp->rules[i].glob
-            << ": matches no channel of the lot\n";
-    spec::judge_units(rows);
-  }
+  if (sp) apply_spec(*sp, rows, err);
   const std::vector<io::StatisticsRow> stats = lot_statistics(rows);
   std::vector<std::pair<std::string, std::string>> attrs;
   if (sp) {

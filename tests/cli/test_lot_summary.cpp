@@ -255,6 +255,55 @@ TEST(LotSummary, WriteLotWritesSpecColumnsStatisticsAndOverview) {
   EXPECT_FALSE(fs::exists(dir / "lot_summary.h5"));
 }
 
+// Rule units that do not fit a matched channel are known only once the channels are seen: every
+// such problem is reported together, once per rule, term and channel units (not once per unit),
+// and nothing is written.
+TEST(LotSummary, SpecUnitsThatDoNotFitTheChannelsAreReportedTogether) {
+  const auto dir = test::fresh_dir("lot_spec_units");
+  {
+    std::ofstream s(dir / "spec.json");
+    s << R"j({"channels": {"*": {"N": {"max": 20, "unit": "deg/h/sqrt(Hz)"},
+                                  "B": {"max": 10, "unit": "deg/h"}}}})j";
+  }
+  std::vector<io::SummaryRow> rows;
+  for (int i = 0; i < 3; ++i) {
+    rows.push_back(row("U" + std::to_string(i), "/imu/gyro_x", 18));
+    auto accel = row("U" + std::to_string(i), "/imu/accel_x", 0.05);
+    accel.units = "m/s^2";
+    accel.unit[3] = "mg/sqrt(Hz)";
+    accel.value[2] = 0.02;
+    accel.sigma[2] = 0.001;
+    accel.unit[2] = "mg";
+    accel.detected[2] = 1;
+    rows.push_back(accel);
+  }
+  lot::LotOptions opt;
+  opt.spec_path = dir / "spec.json";
+  std::ostringstream out, err;
+  try {
+    lot::write_lot(dir, rows, opt, out, err);
+    FAIL() << "no error";
+  } catch (const spec::Error& e) {
+    const std::string spec = (dir / "spec.json").string();
+    ASSERT_EQ(e.messages().size(), 2u) << e.what();
+    // In the file's order: N, then B.
+    EXPECT_EQ(e.messages()[0].rfind(spec + ": channels.*.N.unit: 'deg/h/sqrt(Hz)' is not a unit "
+                                           "of N for a 'm/s^2' channel (U0:/imu/accel_x",
+                                    0),
+              0u)
+        << e.messages()[0];
+    EXPECT_EQ(e.messages()[1].rfind(spec + ": channels.*.B.unit: 'deg/h' is not a unit of B for a "
+                                           "'m/s^2' channel (U0:/imu/accel_x",
+                                    0),
+              0u)
+        << e.messages()[1];
+    EXPECT_EQ(std::string(e.what()).rfind(spec + ": 2 errors:\n  " + e.messages()[0], 0), 0u)
+        << e.what();
+  }
+  EXPECT_FALSE(fs::exists(dir / "lot_summary.h5"));
+  EXPECT_FALSE(fs::exists(dir / "lot_summary.csv"));
+}
+
 // The binary: a lot of six simulated two-channel units, one of them given a large N, analysed
 // with --spec; then summarize rebuilds the same summary and lists a manifest entry that has
 // no results.
