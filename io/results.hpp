@@ -195,6 +195,12 @@ struct SummaryRow {
   std::int64_t n_stuck = 0;        // runs long enough to be stuck output
   std::int64_t n_spikes = 0;
   double max_spike_sigmas = nan();  // largest distance from the running median, robust sigmas
+  // The verdict of the whole unit (device_id) against the spec, the same on each of its rows
+  // (src/lot/spec.hpp judge_units): "pass" only when every channel a rule covers passes, else
+  // "fail", "undecided", "no data" or "no spec"; "" without a spec. unit_spec_detail names the
+  // channels behind it, e.g. "fail: gyro_x (N); undecided: accel_z".
+  std::string unit_spec_status;
+  std::string unit_spec_detail;
 
   SummaryRow() = default;
   SummaryRow(std::string device, std::string chan, std::string u, std::int64_t n, ChannelStatus st,

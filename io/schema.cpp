@@ -304,6 +304,9 @@ std::span<const RowColumn<SummaryRow>> summary_columns() {
        quality_count<&S::n_stuck>},
       {"n_spikes", &S::n_spikes, "samples beyond 10 robust sigmas", 0, quality_count<&S::n_spikes>},
       {"max_spike_sigmas", &S::max_spike_sigmas, "largest distance from the running median"},
+      {"unit_spec_status", &S::unit_spec_status,
+       "the unit's verdict: pass only when every channel with a rule passes; empty"},
+      {"unit_spec_detail", &S::unit_spec_detail, "the channels behind it, with their terms"},
   };
   return t;
 }

@@ -13,10 +13,10 @@
 #include "src/cli/interrupt.hpp"
 #include "src/cli/progress.hpp"
 #include "src/cli/resume.hpp"
+#include "src/cli/unit_tables.hpp"
 #include "src/lot/spec.hpp"
 #include "src/lot/summary.hpp"
 #include "src/pipeline/channel.hpp"
-#include "src/pipeline/channel_fit.hpp"
 
 #include <allanlot/version.hpp>
 
@@ -361,6 +361,7 @@ struct Run {
   bool channel_failed = false;
   std::map<std::string, std::string> used_ids;  // sanitized device id -> file that has it
   std::vector<io::SummaryRow> failed_rows;
+  const spec::Spec* spec = nullptr;  // --spec, loaded before the run
 
   void failed(const std::string& file, const std::string& dataset, const std::string& reason) {
     failed_rows.push_back(
@@ -419,7 +420,7 @@ std::uint64_t Run::analyze_one(const std::string& file, std::size_t n_files) {
   claim_id(id, file);
   write(file, rec, id);
   ++n_ok;
-  if (!opt.quiet && (opt.table || n_files <= 10)) out << pipeline::fit_table(rec);
+  if (!opt.quiet && (opt.table || n_files <= 10)) out << unit_tables(rec);
   return samples;
 }
 
@@ -433,6 +434,7 @@ bool write_summary(const Run& run) {
   try {
     lot::LotOptions lot_opt;
     lot_opt.spec_path = run.opt.spec_path;
+    lot_opt.spec = run.spec;
     lot_opt.quiet = run.opt.quiet;
     lot::write_lot(run.opt.outdir, std::move(rows), lot_opt, run.out, run.err);
   } catch (const std::exception& e) {
@@ -465,18 +467,21 @@ void print_closing(const Run& run, std::size_t n_inputs) {
 }  // namespace
 
 int run_analyze(const AnalyzeOptions& opt, std::ostream& out, std::ostream& err) {
-  if (!prepare_outdir(opt.outdir, err)) return 2;
-  // A bad spec is a usage error found before the night's work, not after it.
+  // A bad spec is a usage error found before the night's work, not after it: every problem it
+  // has is named before OUTDIR is touched or a recording read.
+  std::optional<spec::Spec> sp;
   if (!opt.spec_path.empty()) {
     try {
-      (void)spec::load_spec(opt.spec_path);
+      sp = spec::load_spec(opt.spec_path);
     } catch (const std::exception& e) {
       err << "allanlot: error: " << e.what() << "\n";
       return 2;
     }
   }
+  if (!prepare_outdir(opt.outdir, err)) return 2;
   const InterruptGuard interrupts;
   Run run(opt, out, err);
+  run.spec = sp ? &*sp : nullptr;
   run.threads = kernels::resolve_threads(opt.threads);
   run.memory_limit = opt.memory_limit ? opt.memory_limit : physical_memory() / 2;
   run.options = options_stamp(opt);

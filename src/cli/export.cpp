@@ -19,6 +19,8 @@
 #include <memory>
 #include <ostream>
 #include <sstream>
+#include <string_view>
+#include <utility>
 
 namespace allanlot::cli {
 namespace {
@@ -64,6 +66,50 @@ void csv_rows(std::ostream& text, const io::RecordingResult& r, const io::Channe
          << csv_number(ci ? at(s.dev_hi, i, kNaN) : kNaN) << ","
          << csv_number(ci ? at(s.edf, i, kNaN) : kNaN) << ","
          << (ci ? csv_number(s.confidence) : std::string()) << "\n";
+}
+
+// The read-outs in the order of the terminal table: N at 1 s, bias instability, K at 3 s.
+constexpr std::pair<const char*, const char*> kReadouts[] = {
+    {"N_1s", "N"}, {"bias_instability", "B"}, {"K_3s", "K"}};
+
+constexpr const char* kReadoutHeader =
+    "device_id,channel,units,readout,term,tau,value,sigma,unit,value_alt,sigma_alt,unit_alt,"
+    "detected,note\n";
+
+// Why a read-out is not what the fit says, or "" when it is (docs/cli.md "Command: export").
+std::string readout_note(const io::ReadoutRecord& x, const char* term) {
+  if (!(x.tau_s > 0.0) || !std::isfinite(x.value_datasheet))
+    return "the curve does not reach the read-out's tau";
+  if (!x.valid)
+    return std::string("the fit does not detect ") + term +
+           ": read on a branch the curve may not have";
+  return "";
+}
+
+// One row per read-out of a channel with a fit (IEEE Std 952 annex C, as in the terminal table
+// and the lot summary), also when the fit does not detect the term: then detected is 0 and the
+// note says why.
+void readout_rows(std::ostream& text, const io::RecordingResult& r, const io::ChannelResult& ch) {
+  if (!ch.fit) return;
+  const std::string prefix = io::csv_field(r.device_id) + "," + io::csv_field(ch.path) + "," +
+                             io::csv_field(ch.units) + ",";
+  for (const auto& kv : kReadouts) {
+    // Plain variables, not a structured binding: clang 14 (the TSan build) cannot capture one.
+    const std::string_view name = kv.first;
+    const char* term = kv.second;
+    const auto& xs = ch.fit->readouts;
+    const auto x = std::find_if(xs.begin(), xs.end(),
+                                [name](const io::ReadoutRecord& y) { return y.name == name; });
+    if (x == xs.end()) continue;
+    const bool read = x->tau_s > 0.0 && std::isfinite(x->value_datasheet);
+    text << prefix << name << "," << term << "," << csv_number(read ? x->tau_s : kNaN) << ","
+         << csv_number(read ? x->value_datasheet : kNaN) << ","
+         << csv_number(read ? x->sigma_datasheet : kNaN) << "," << io::csv_field(x->unit_datasheet)
+         << "," << csv_number(read ? x->value_datasheet_alt : kNaN) << ","
+         << csv_number(read ? x->sigma_datasheet_alt : kNaN) << ","
+         << io::csv_field(x->unit_datasheet_alt) << "," << (x->valid ? "1" : "0") << ","
+         << io::csv_field(readout_note(*x, term)) << "\n";
+  }
 }
 
 // The results files named (directories expanded, sorted); false after a usage error on `err`.
@@ -115,6 +161,11 @@ int run_export(const ExportOptions& opt, std::ostream& out, std::ostream& err) {
       err << "allanlot: usage error: --stats: unknown statistic '" << s << "'\n";
       return kExitUsage;
     }
+  if (opt.format == ExportFormat::Readouts && !opt.stats.empty()) {
+    err << "allanlot: usage error: --stats selects deviation tables; --format readouts has "
+           "none\n";
+    return kExitUsage;
+  }
   std::vector<fs::path> files;
   if (!results_files(opt, files, err)) return kExitUsage;
   std::error_code ec;
@@ -131,6 +182,7 @@ int run_export(const ExportOptions& opt, std::ostream& out, std::ostream& err) {
   std::ostringstream text;
   if (opt.format == ExportFormat::Csv)
     text << "device_id,channel,units,stat,m,tau,n,alpha,dev_lo,dev,dev_hi,edf,confidence\n";
+  if (opt.format == ExportFormat::Readouts) text << kReadoutHeader;
   std::size_t read_ok = 0, unreadable = 0, tables = 0;
   for (const fs::path& f : files) {
     io::RecordingResult r;
@@ -144,6 +196,10 @@ int run_export(const ExportOptions& opt, std::ostream& out, std::ostream& err) {
     ++read_ok;
     for (const io::ChannelResult& ch : r.channels) {
       if (!channel_matches(opt.channels_glob, ch.path)) continue;
+      if (opt.format == ExportFormat::Readouts) {
+        readout_rows(text, r, ch);
+        continue;
+      }
       for (const auto& [name, s] : ch.stats) {
         if (!opt.stats.empty() &&
             std::find(opt.stats.begin(), opt.stats.end(), name) == opt.stats.end())
@@ -192,11 +248,14 @@ Command add_export_command(CLI::App& app) {
   auto output = std::make_shared<std::string>();
   auto stats = std::make_shared<std::string>();
   auto* sub = app.add_subcommand(
-      "export", "Write the Allan-family tables of results files as Stable32 tables or tidy CSV");
+      "export", "Write the Allan-family tables of results files as Stable32 tables or tidy CSV, "
+                "or their read-outs as tidy CSV");
   sub->add_option("results", *inputs, "Results files (*.allan.h5) or directories of them")
       ->required();
-  sub->add_option("--format", *format, "stable32 (Stable32 1.60 run tables) or csv (tidy)")
-      ->check(CLI::IsMember({"stable32", "csv"}))
+  sub->add_option("--format", *format,
+                  "stable32 (Stable32 1.60 run tables), csv (tidy deviations) or readouts (tidy "
+                  "N at 1 s, bias instability, K at 3 s)")
+      ->check(CLI::IsMember({"stable32", "csv", "readouts"}))
       ->capture_default_str();
   sub->add_option("-o,--output", *output,
                   "File to write (default: standard output); with --format stable32 an existing "
@@ -206,7 +265,9 @@ Command add_export_command(CLI::App& app) {
                   "Only channels whose path or name matches this glob");
   return {sub, [=](const std::string&) {
             opt->inputs.assign(inputs->begin(), inputs->end());
-            opt->format = *format == "stable32" ? ExportFormat::Stable32 : ExportFormat::Csv;
+            opt->format = *format == "stable32"   ? ExportFormat::Stable32
+                          : *format == "readouts" ? ExportFormat::Readouts
+                                                  : ExportFormat::Csv;
             opt->output = *output;
             std::stringstream ss(*stats);
             std::string s;

@@ -2,7 +2,8 @@
 // results files for other tools. `stable32` prints, per unit, channel and statistic, the table
 // Stable32 1.60 prints for a run (io/stable32_table.hpp), one file per table when -o is a
 // directory, so that the two can be diffed; `csv` is one tidy table (one row per tau) for
-// spreadsheets and pandas.
+// spreadsheets and pandas; `readouts` one tidy table of the fit's read-outs (N at 1 s also as
+// ARW/VRW, bias instability with its tau, K at 3 s; one row per channel and read-out).
 #pragma once
 
 #include "kernels/allan/stats.hpp"
@@ -15,7 +16,7 @@
 
 namespace allanlot::cli {
 
-enum class ExportFormat { Stable32, Csv };
+enum class ExportFormat { Stable32, Csv, Readouts };
 
 struct ExportOptions {
   std::vector<std::filesystem::path> inputs;  // results files, or directories of them
@@ -27,7 +28,8 @@ struct ExportOptions {
 
 /// Writes the tables of every readable results file, in sorted file order. Returns 0; 1 when
 /// some inputs could not be read (each named on `err`; the others are exported); 2 usage
-/// error (no results file, none readable, unknown statistic, output not writable).
+/// error (no results file, none readable, unknown statistic, --stats with readouts, output not
+/// writable).
 int run_export(const ExportOptions& opt, std::ostream& out, std::ostream& err);
 
 /// The name of one table's file in an -o directory: device, channel and statistic, e.g.

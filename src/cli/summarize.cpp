@@ -1,12 +1,14 @@
 #include "src/cli/summarize.hpp"
 
 #include "io/atomic_file.hpp"
+#include "src/lot/spec.hpp"
 #include "src/lot/summary.hpp"
 
 #include <CLI/CLI.hpp>
 
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <ostream>
 #include <system_error>
 
@@ -19,6 +21,16 @@ int run_summarize(const SummarizeOptions& opt, std::ostream& out, std::ostream& 
   if (!fs::is_directory(opt.outdir, ec)) {
     err << "allanlot: error: " << opt.outdir.string() << " is not a directory\n";
     return 2;
+  }
+  // A bad spec is refused, with every problem it has, before a results file is read.
+  std::optional<spec::Spec> sp;
+  if (!opt.spec_path.empty()) {
+    try {
+      sp = spec::load_spec(opt.spec_path);
+    } catch (const spec::Error& e) {
+      err << "allanlot: error: " << e.what() << "\n";
+      return 2;
+    }
   }
   const io::DirectoryLock summary_lock(opt.outdir);
   std::size_t unreadable = 0;
@@ -33,6 +45,7 @@ int run_summarize(const SummarizeOptions& opt, std::ostream& out, std::ostream& 
   try {
     lot::LotOptions lot_opt;
     lot_opt.spec_path = opt.spec_path;
+    lot_opt.spec = sp ? &*sp : nullptr;
     lot_opt.manifest = opt.manifest;
     lot_opt.quiet = opt.quiet;
     overview = lot::write_lot(opt.outdir, std::move(rows), lot_opt, out, err);

@@ -11,6 +11,7 @@
 #include <fnmatch.h>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -21,14 +22,36 @@ namespace {
 using Json = nlohmann::ordered_json;  // ordered: the first matching rule in file order wins
 namespace units = kernels::units;
 
-// Checks one JSON document against the spec schema; every message is
-// "<source>: <key path>: <reason>".
+// Checks one JSON document against the spec schema, collecting every problem rather than
+// stopping at the first, so that one run names all a spec's mistakes (docs/lots-and-slurm.md).
+// Each message is "<source>: <key path>: <reason>". note() records a problem and carries on;
+// fail() records one and abandons the value being checked (thrown as Skip, caught by
+// Checker::each around the next enclosing value), since nothing inside it can be read.
 class Checker {
 public:
+  struct Skip {};
+
   explicit Checker(std::string source) : source_(std::move(source)) {}
 
+  void note(const std::string& path, const std::string& reason) const {
+    errors_.push_back(source_ + ": " + (path.empty() ? std::string() : path + ": ") + reason);
+  }
   [[noreturn]] void fail(const std::string& path, const std::string& reason) const {
-    throw Error(source_ + ": " + (path.empty() ? std::string() : path + ": ") + reason);
+    note(path, reason);
+    throw Skip{};
+  }
+  // Runs `check` on one value; a fail() inside it ends that value only.
+  template <class F>
+  void each(F&& check) const {
+    try {
+      check();
+    } catch (const Skip&) {
+    }
+  }
+  // Throws the spec::Error of every problem noted: one alone as it is, several under a line
+  // that counts them.
+  void throw_if_any() const {
+    if (!errors_.empty()) throw combined_error(source_, errors_);
   }
 
   static std::string at(const std::string& path, const std::string& key) {
@@ -44,19 +67,29 @@ public:
              const std::string& path) const {
     for (const auto& [key, value] : j.items())
       if (std::find(keys.begin(), keys.end(), key) == keys.end())
-        fail(at(path, key), "unknown key");
+        note(at(path, key), "unknown key");
   }
 
-  double limit(const Json& j, const std::string& path) const {
-    if (!j.is_number()) fail(path, std::string("must be a number, not ") + j.type_name());
+  std::optional<double> limit(const Json& j, const std::string& path) const {
+    if (!j.is_number()) {
+      note(path, std::string("must be a number, not ") + j.type_name());
+      return std::nullopt;
+    }
     const double v = j.get<double>();
-    if (!std::isfinite(v)) fail(path, "must be finite");
-    if (v < 0) fail(path, "must be >= 0, got " + j.dump());
+    if (!std::isfinite(v)) {
+      note(path, "must be finite");
+      return std::nullopt;
+    }
+    if (v < 0) {
+      note(path, "must be >= 0, got " + j.dump());
+      return std::nullopt;
+    }
     return v;
   }
 
 private:
   std::string source_;
+  mutable std::vector<std::string> errors_;
 };
 
 // The channel units whose datasheet forms a spec may use (kernels/model/units.hpp and
@@ -81,6 +114,7 @@ std::string join(const std::vector<std::string>& v) {
   return s;
 }
 
+// One term's limits; every problem of it is noted (a bad max does not hide a bad unit).
 TermLimit parse_limit(const Checker& c, units::Term term, const Json& j, const std::string& path) {
   c.object(j, path);
   c.allow(j, {"max", "min", "unit"}, path);
@@ -89,21 +123,25 @@ TermLimit parse_limit(const Checker& c, units::Term term, const Json& j, const s
   l.key_path = path;
   if (j.contains("max")) l.max = c.limit(j["max"], Checker::at(path, "max"));
   if (j.contains("min")) l.min = c.limit(j["min"], Checker::at(path, "min"));
-  if (!l.max && !l.min) c.fail(path, "needs \"max\", \"min\" or both");
+  if (!j.contains("max") && !j.contains("min")) c.note(path, "needs \"max\", \"min\" or both");
   if (l.max && l.min && *l.min > *l.max)
-    c.fail(Checker::at(path, "min"),
-           "must not exceed max (" + Json(*l.max).dump() + "), got " + Json(*l.min).dump());
+    c.note(Checker::at(path, "min"),
+           "must not exceed max (" + j["max"].dump() + "), got " + j["min"].dump());
   const auto u = j.find("unit");
-  if (u == j.end()) c.fail(Checker::at(path, "unit"), "missing");
-  if (!u->is_string()) c.fail(Checker::at(path, "unit"), "must be a string");
-  l.unit = u->get<std::string>();
-  if (!is_unit_of(term, l.unit)) {
-    auto datasheet = units::accepted_units(term, "deg/s");
-    for (const auto& a : units::accepted_units(term, "m/s^2"))
-      datasheet.push_back(a);
-    c.fail(Checker::at(path, "unit"), "'" + l.unit + "' is not a unit of " +
-                                          std::string(units::term_name(term)) + " (e.g. " +
-                                          join(datasheet) + ")");
+  if (u == j.end()) {
+    c.note(Checker::at(path, "unit"), "missing");
+  } else if (!u->is_string()) {
+    c.note(Checker::at(path, "unit"), "must be a string");
+  } else {
+    l.unit = u->get<std::string>();
+    if (!is_unit_of(term, l.unit)) {
+      auto datasheet = units::accepted_units(term, "deg/s");
+      for (const auto& a : units::accepted_units(term, "m/s^2"))
+        datasheet.push_back(a);
+      c.note(Checker::at(path, "unit"), "'" + l.unit + "' is not a unit of " +
+                                            std::string(units::term_name(term)) + " (e.g. " +
+                                            join(datasheet) + ")");
+    }
   }
   return l;
 }
@@ -123,31 +161,39 @@ constexpr QualityKey kQualityKeys[] = {
     {"max_time_errors", "time_stamps", &QualityLimits::max_time_errors},
 };
 
+// One key of a "quality" object into `q`; `seen` holds the counts given so far.
+void parse_quality_key(const Checker& c, const std::string& key, const Json& value,
+                       const std::string& at, QualityLimits& q, std::set<const QualityKey*>& seen) {
+  const QualityKey* k = nullptr;
+  for (const QualityKey& cand : kQualityKeys)
+    if (key == cand.max_key || (cand.flag_key && key == cand.flag_key)) k = &cand;
+  if (!k)
+    c.fail(at, "unknown key (max_gaps, max_missing, max_spikes, max_saturated, max_stuck, "
+               "max_time_errors, gaps, spikes, saturation, stuck, time_stamps)");
+  if (!seen.insert(k).second)  // the other spelling of the same count came first
+    c.fail(at, std::string("give ") + k->max_key + " or " + k->flag_key + ", not both");
+  if (key == k->max_key) {
+    if (!value.is_number_integer() || value.get<std::int64_t>() < 0)
+      c.fail(at, "must be an integer >= 0, got " + value.dump());
+    q.*(k->member) = value.get<std::int64_t>();
+  } else if (value == "fail") {
+    q.*(k->member) = 0;
+  } else if (value != "ignore") {
+    c.fail(at, "must be \"fail\" or \"ignore\", got " + value.dump());
+  }
+}
+
 QualityLimits parse_quality(const Checker& c, const Json& j, const std::string& path) {
   c.object(j, path);
   if (j.empty()) c.fail(path, "must limit at least one quality count");
   QualityLimits q;
   q.key_path = path;
   std::set<const QualityKey*> seen;
-  for (const auto& [key, value] : j.items()) {
-    const std::string at = Checker::at(path, key);
-    const QualityKey* k = nullptr;
-    for (const QualityKey& cand : kQualityKeys)
-      if (key == cand.max_key || (cand.flag_key && key == cand.flag_key)) k = &cand;
-    if (!k)
-      c.fail(at, "unknown key (max_gaps, max_missing, max_spikes, max_saturated, max_stuck, "
-                 "max_time_errors, gaps, spikes, saturation, stuck, time_stamps)");
-    if (!seen.insert(k).second)  // the other spelling of the same count came first
-      c.fail(at, std::string("give ") + k->max_key + " or " + k->flag_key + ", not both");
-    if (key == k->max_key) {
-      if (!value.is_number_integer() || value.get<std::int64_t>() < 0)
-        c.fail(at, "must be an integer >= 0, got " + value.dump());
-      q.*(k->member) = value.get<std::int64_t>();
-    } else if (value == "fail") {
-      q.*(k->member) = 0;
-    } else if (value != "ignore") {
-      c.fail(at, "must be \"fail\" or \"ignore\", got " + value.dump());
-    }
+  // Plain variables, not a structured binding: clang 14 (the TSan build) cannot capture one.
+  for (const auto& item : j.items()) {
+    const std::string& key = item.key();
+    const Json& value = item.value();
+    c.each([&] { parse_quality_key(c, key, value, Checker::at(path, key), q, seen); });
   }
   return q;
 }
@@ -161,25 +207,63 @@ std::string number(double v, int digits) {
   return buf;
 }
 
-}  // namespace
-
-double two_sided_normal_quantile(double confidence) {
-  if (!(confidence > 0.0 && confidence < 1.0))
-    throw std::invalid_argument("confidence must be in (0, 1), got " + std::to_string(confidence));
-  return std::sqrt(kernels::chi2_quantile(confidence, 1.0));
+// An unclosed '[' leaves fnmatch(3) free to match it literally or not at all (POSIX leaves it
+// open): such a pattern cannot be meant, so it is refused rather than silently match nothing.
+bool glob_well_formed(const std::string& glob) {
+  for (std::size_t i = 0; i < glob.size(); ++i) {
+    if (glob[i] == '\\') {
+      ++i;
+    } else if (glob[i] == '[') {
+      std::size_t j = i + 1;
+      if (j < glob.size() && (glob[j] == '!' || glob[j] == '^')) ++j;
+      if (j < glob.size() && glob[j] == ']') ++j;  // "[]...]": the first ']' is a member
+      while (j < glob.size() && glob[j] != ']')
+        ++j;
+      if (j == glob.size()) return false;
+      i = j;
+    }
+  }
+  return true;
 }
 
-Spec parse_spec(std::string_view json_text, const std::string& source) {
-  const Checker c(source);
-  // Duplicate keys: JSON leaves their meaning open and nlohmann keeps the last one silently;
-  // a limit that depends on that is refused. Each open object keeps its keys and the key it
-  // was opened under, so the message names the whole path.
+// One rule: every term and the quality limits, each checked on its own.
+Rule parse_rule(const Checker& c, const std::string& glob, const Json& body,
+                const std::string& path) {
+  Rule r;
+  r.glob = glob;
+  if (glob.empty()) c.note(path, "empty channel pattern");
+  if (!glob_well_formed(glob)) c.note(path, "unknown channel pattern: '[' without its ']'");
+  c.object(body, path);
+  if (body.empty()) c.fail(path, "must limit at least one term (R, K, B, N or Q) or quality");
+  for (const auto& item : body.items()) {
+    const std::string& key = item.key();
+    const Json& value = item.value();
+    const std::string at = Checker::at(path, key);
+    c.each([&] {
+      if (key == "quality") {
+        r.quality = parse_quality(c, value, at);
+        return;
+      }
+      const auto term = units::parse_term(key);
+      if (!term) c.fail(at, "unknown key (the terms are R, K, B, N, Q; and quality)");
+      r.limits.push_back(parse_limit(c, *term, value, at));
+    });
+  }
+  return r;
+}
+
+// Parses the JSON into `nlohmann` form, noting every duplicate key: JSON leaves their meaning
+// open and nlohmann keeps the last one silently, so a limit that depends on that is refused.
+// Each open object keeps its keys and the key it was opened under, so the message names the
+// whole path.
+Json parse_json(const Checker& c, std::string_view json_text) {
   struct Open {
     std::string path;
     std::set<std::string> keys;
   };
   std::vector<Open> open;
-  std::string last_key, duplicate;
+  std::string last_key;
+  std::vector<std::string> duplicates;
   const Json::parser_callback_t cb = [&](int, Json::parse_event_t ev, Json& parsed) {
     if (ev == Json::parse_event_t::object_start)
       open.push_back({open.empty() ? std::string() : Checker::at(open.back().path, last_key), {}});
@@ -187,8 +271,8 @@ Spec parse_spec(std::string_view json_text, const std::string& source) {
       open.pop_back();
     else if (ev == Json::parse_event_t::key && !open.empty()) {
       last_key = parsed.get<std::string>();
-      if (!open.back().keys.insert(last_key).second && duplicate.empty())
-        duplicate = Checker::at(open.back().path, last_key);
+      if (!open.back().keys.insert(last_key).second)
+        duplicates.push_back(Checker::at(open.back().path, last_key));
     }
     return true;
   };
@@ -198,47 +282,66 @@ Spec parse_spec(std::string_view json_text, const std::string& source) {
   } catch (const Json::exception& e) {
     c.fail("", std::string("invalid JSON: ") + e.what());
   }
-  if (!duplicate.empty()) c.fail(duplicate, "duplicate key");
+  for (const std::string& d : duplicates)
+    c.note(d, "duplicate key");
+  return root;
+}
+
+// The whole document into `s`; every problem is noted on `c`.
+void check_document(const Checker& c, std::string_view json_text, Spec& s) {
+  const Json root = parse_json(c, json_text);
   c.object(root, "");
   c.allow(root, {"name", "confidence", "channels"}, "");
-
-  Spec s;
-  s.source = source;
-  if (root.contains("name")) {
+  c.each([&] {
+    if (!root.contains("name")) return;
     if (!root["name"].is_string()) c.fail("name", "must be a string");
     s.name = root["name"].get<std::string>();
-  }
-  if (root.contains("confidence")) {
+  });
+  c.each([&] {
+    if (!root.contains("confidence")) return;
     const Json& j = root["confidence"];
     if (!j.is_number()) c.fail("confidence", std::string("must be a number, not ") + j.type_name());
-    s.confidence = j.get<double>();
-    if (!(s.confidence > 0.0 && s.confidence < 1.0))
+    if (!(j.get<double>() > 0.0 && j.get<double>() < 1.0))
       c.fail("confidence", "must be in (0, 1), got " + j.dump());
-  }
+    s.confidence = j.get<double>();
+  });
   s.k = two_sided_normal_quantile(s.confidence);
   const auto chans = root.find("channels");
   if (chans == root.end()) c.fail("channels", "missing");
   c.object(*chans, "channels");
   if (chans->empty()) c.fail("channels", "must not be empty");
-  for (const auto& [glob, body] : chans->items()) {
-    const std::string path = Checker::at("channels", glob);
-    if (glob.empty()) c.fail(path, "empty channel pattern");
-    c.object(body, path);
-    if (body.empty()) c.fail(path, "must limit at least one term (R, K, B, N or Q) or quality");
-    Rule r;
-    r.glob = glob;
-    for (const auto& [key, value] : body.items()) {
-      if (key == "quality") {
-        r.quality = parse_quality(c, value, Checker::at(path, key));
-        continue;
-      }
-      const auto term = units::parse_term(key);
-      if (!term)
-        c.fail(Checker::at(path, key), "unknown key (the terms are R, K, B, N, Q; and quality)");
-      r.limits.push_back(parse_limit(c, *term, value, Checker::at(path, key)));
-    }
-    s.rules.push_back(std::move(r));
+  for (const auto& item : chans->items()) {
+    const std::string& glob = item.key();
+    const Json& body = item.value();
+    c.each([&] { s.rules.push_back(parse_rule(c, glob, body, Checker::at("channels", glob))); });
   }
+}
+
+}  // namespace
+
+Error combined_error(const std::string& source, std::vector<std::string> messages) {
+  if (messages.size() == 1) {
+    const std::string one = messages.front();  // copied: the vector is moved below
+    return Error(one, std::move(messages));
+  }
+  std::string all = source + ": " + std::to_string(messages.size()) + " errors:";
+  for (const std::string& m : messages)
+    all += "\n  " + m;
+  return Error(all, std::move(messages));
+}
+
+double two_sided_normal_quantile(double confidence) {
+  if (!(confidence > 0.0 && confidence < 1.0))
+    throw std::invalid_argument("confidence must be in (0, 1), got " + std::to_string(confidence));
+  return std::sqrt(kernels::chi2_quantile(confidence, 1.0));
+}
+
+Spec parse_spec(std::string_view json_text, const std::string& source) {
+  const Checker c(source);
+  Spec s;
+  s.source = source;
+  c.each([&] { check_document(c, json_text, s); });
+  c.throw_if_any();
   return s;
 }
 
@@ -304,6 +407,7 @@ Verdict judge_terms(const Spec& spec, const io::SummaryRow& row) {
   };
   Verdict v;
   std::vector<std::pair<Outcome, std::string>> terms;
+  std::vector<std::string> unit_errors;  // every limit whose unit does not fit this channel
   for (const TermLimit& l : rule->limits) {
     const auto i = static_cast<std::size_t>(l.term);
     const std::string name(units::term_name(l.term));
@@ -319,10 +423,11 @@ Verdict judge_terms(const Spec& spec, const io::SummaryRow& row) {
       if (l.min) min = convert(l.term, *l.min, l.unit, row.unit[i], row.units);
       if (l.max) max = convert(l.term, *l.max, l.unit, row.unit[i], row.units);
     } catch (const std::invalid_argument&) {
-      throw Error(spec.source + ": " + l.key_path + ".unit: '" + l.unit + "' is not a unit of " +
-                  name + " for a '" + row.units + "' channel (" + row.device_id + ":" +
-                  row.channel + "; accepted: " + join(units::accepted_units(l.term, row.units)) +
-                  ")");
+      unit_errors.push_back(spec.source + ": " + l.key_path + ".unit: '" + l.unit +
+                            "' is not a unit of " + name + " for a '" + row.units + "' channel (" +
+                            row.device_id + ":" + row.channel +
+                            "; accepted: " + join(units::accepted_units(l.term, row.units)) + ")");
+      continue;
     }
     const Estimate e{row.value[i], row.sigma[i], row.upper[i], row.detected[i] != 0};
     const Outcome o = decide(e, min, max, spec.k);
@@ -341,6 +446,7 @@ Verdict judge_terms(const Spec& spec, const io::SummaryRow& row) {
                                 : "<" + number(e.upper, 3);
     terms.emplace_back(o, name + " " + est + " " + rel + " " + number(lim, 4) + " " + row.unit[i]);
   }
+  if (!unit_errors.empty()) throw combined_error(spec.source, std::move(unit_errors));
   Outcome worst = Outcome::Pass;
   for (const auto& [o, text] : terms)
     if (o == Outcome::Fail || (o == Outcome::Undecided && worst == Outcome::Pass)) worst = o;
@@ -392,6 +498,56 @@ Verdict judge(const Spec& spec, const io::SummaryRow& row) {
     return {"pass", "", {}};  // a rule of quality alone needs no fitted value
   }
   return v;
+}
+
+namespace {
+
+// "gyro_x (N, B)": a channel's name and the terms with `status`; the input's file name for a
+// failed input (no channel).
+std::string channel_with_terms(const io::SummaryRow& r, const std::string& status) {
+  std::string name = r.channel.empty() ? "input" : r.channel.substr(r.channel.rfind('/') + 1);
+  std::string terms;
+  for (std::size_t i = 0; i < r.spec_term_status.size(); ++i)
+    if (r.spec_term_status[i] == status)
+      terms +=
+          (terms.empty() ? "" : ", ") + std::string(units::term_name(static_cast<units::Term>(i)));
+  return terms.empty() ? name : name + " (" + terms + ")";
+}
+
+}  // namespace
+
+void judge_units(std::vector<io::SummaryRow>& rows) {
+  std::map<std::string, std::vector<io::SummaryRow*>> units_rows;
+  for (io::SummaryRow& r : rows)
+    if (!r.spec_status.empty()) units_rows[r.device_id].push_back(&r);
+  static constexpr const char* kOrder[] = {"fail", "undecided", "no data"};
+  for (auto& entry : units_rows) {
+    std::vector<io::SummaryRow*>& members = entry.second;
+    std::map<std::string, std::string> by_status;  // status -> "gyro_x (N), accel_y"
+    std::size_t covered = 0, passed = 0, no_data = 0;
+    for (const io::SummaryRow* r : members) {
+      if (r->spec_status == "no spec") continue;
+      ++covered;
+      passed += r->spec_status == "pass" ? 1 : 0;
+      no_data += r->spec_status == "no data" ? 1 : 0;
+      if (r->spec_status == "pass") continue;
+      std::string& list = by_status[r->spec_status];
+      list += (list.empty() ? "" : ", ") + channel_with_terms(*r, r->spec_status);
+    }
+    std::string status = covered == 0              ? "no spec"
+                         : passed == covered       ? "pass"
+                         : by_status.count("fail") ? "fail"
+                         : no_data == covered      ? "no data"
+                                                   : "undecided";
+    std::string detail;
+    for (const char* s : kOrder)
+      if (const auto it = by_status.find(s); it != by_status.end())
+        detail += (detail.empty() ? "" : "; ") + std::string(s) + ": " + it->second;
+    for (io::SummaryRow* r : members) {
+      r->unit_spec_status = status;
+      r->unit_spec_detail = detail;
+    }
+  }
 }
 
 }  // namespace allanlot::spec

@@ -16,8 +16,9 @@
 // B, N, Q) has "max" and/or "min" (finite, >= 0, min <= max) and a "unit": a datasheet unit of
 // the term (kernels/model/units.hpp, primary or secondary form, e.g. N of a gyro in deg/h/sqrt(Hz)
 // or deg/sqrt(h)) or the coefficient's unit in the channel's own units (deg/s*s^0.5). Any other
-// key, a wrong JSON type, a duplicate key or an impossible value is a spec::Error naming the
-// file and the key path, e.g. "spec.json: channels.gyro_*.N.max: must be >= 0, got -1".
+// key, a wrong JSON type, a duplicate key, an impossible value or a malformed channel pattern is
+// a spec::Error naming the file and the key path, e.g. "spec.json: channels.gyro_*.N.max: must
+// be >= 0, got -1"; every such problem of the file is reported at once, in file order.
 //
 // A rule may also limit the data-quality screen (docs/quality.md) under the key "quality":
 //
@@ -44,11 +45,24 @@
 
 namespace allanlot::spec {
 
-/// Every problem with a spec file: "<source>: <key path>: <reason>".
+/// Problems with a spec file, each "<source>: <key path>: <reason>". parse_spec reports every
+/// problem of a file at once: what() is the one message, or "<source>: <n> errors:" followed
+/// by one indented line per problem; messages() lists them one by one.
 class Error : public std::runtime_error {
 public:
-  using std::runtime_error::runtime_error;
+  explicit Error(const std::string& what, std::vector<std::string> messages = {})
+      : std::runtime_error(what), messages_(std::move(messages)) {
+    if (messages_.empty()) messages_.push_back(what);
+  }
+  const std::vector<std::string>& messages() const { return messages_; }
+
+private:
+  std::vector<std::string> messages_;
 };
+
+/// The one Error of several problems of the spec `source` (messages non-empty): a single
+/// problem as it is, several under the line "<source>: <n> errors:", one indented line each.
+Error combined_error(const std::string& source, std::vector<std::string> messages);
 
 /// The limits on one term of one channel rule.
 struct TermLimit {
@@ -136,12 +150,22 @@ std::pair<Outcome, std::string> judge_quality(const QualityLimits& q, const io::
 /// undecided, and a rule of quality limits alone passes a screened row within them. The detail
 /// lists the terms behind the status, e.g. "N 18.3±0.04 > 18 deg/h/sqrt(Hz)" (± is k sigma) or "B
 /// <12 ~ 10 deg/h" (undetected: the upper bound). Throws spec::Error when a matching rule's unit
-/// does not fit the channel.
+/// does not fit the channel, naming every such limit of the rule (Error::messages, one each).
 struct Verdict {
   std::string status;
   std::string detail;
   std::array<std::string, 5> term_status;  // per term R..Q: "pass", "fail", "undecided" or ""
 };
 Verdict judge(const Spec& spec, const io::SummaryRow& row);
+
+/// The per-unit verdict, from the rows' spec_status (judge() first): for each device_id, the
+/// unit fails when any of its channels fails; otherwise it is undecided when any channel is
+/// undecided or has no data (a failed channel or input cannot be said to pass); it passes only
+/// when every channel a rule covers passes. Channels without a rule ("no spec") do not count; a
+/// unit with none covered is "no spec", one whose covered channels all have no data "no data".
+/// Sets unit_spec_status and unit_spec_detail (the channels behind the verdict, by status, with
+/// the terms that decided each, e.g. "fail: gyro_x (N, B); undecided: accel_z") on every row of
+/// the unit; rows without a spec_status (no spec given) are left alone.
+void judge_units(std::vector<io::SummaryRow>& rows);
 
 }  // namespace allanlot::spec

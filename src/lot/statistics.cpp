@@ -91,10 +91,14 @@ LotStatistics compute_lot_statistics(const std::vector<io::SummaryRow>& rows) {
   return out;
 }
 
-std::string outlier_text(const TermOutlier& o) {
+std::string z_text(double z) {
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%+.2g", o.z);
-  return std::string(kTermNames[o.term]) + " z=" + buf;
+  std::snprintf(buf, sizeof buf, "%+.2g", z);
+  return buf;
+}
+
+std::string outlier_text(const TermOutlier& o) {
+  return std::string(kTermNames[o.term]) + " z=" + z_text(o.z);
 }
 
 std::vector<io::StatisticsRow> lot_statistics(std::vector<io::SummaryRow>& rows) {

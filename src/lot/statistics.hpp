@@ -75,6 +75,11 @@ struct LotStatistics {
 /// least half detect the term, and never where both the MAD and the unit's sigma are 0.
 LotStatistics compute_lot_statistics(const std::vector<io::SummaryRow>& rows);
 
+/// A modified z-score as every outlier list prints it (the lot summary's outlier_terms, the
+/// terminal overview, the report's outlier table), so that the three read alike: signed, two
+/// significant digits, e.g. "+26", "-4.1".
+std::string z_text(double z);
+
 /// The text of one flagged term in the lot summary's outlier_terms column, e.g. "N z=+26".
 std::string outlier_text(const TermOutlier& o);
 

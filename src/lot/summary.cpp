@@ -38,6 +38,42 @@ std::string trim(const std::string& s) {
   return s.substr(b, e - b + 1);
 }
 
+// One line per verdict of the units (spec::judge_units), the first kShown named with their
+// channels; the column unit_spec_detail of lot_summary.csv has them all.
+void print_unit_verdicts(const LotOverview& ov, std::size_t shown, std::ostream& out) {
+  out << "  units: " << ov.units_pass << " pass, " << ov.units_fail.size() << " fail, "
+      << ov.units_undecided.size() << " undecided";
+  if (!ov.units_other.empty()) out << ", " << ov.units_other.size() << " no spec or no data";
+  out << "\n";
+  const std::pair<const char*, const std::vector<std::string>*> lists[] = {
+      {"fail", &ov.units_fail}, {"undecided", &ov.units_undecided}};
+  for (const auto& [name, list] : lists) {
+    if (list->empty()) continue;
+    out << "  units " << name << ":";
+    for (std::size_t i = 0; i < std::min(shown, list->size()); ++i)
+      out << (i ? "; " : " ") << (*list)[i];
+    if (list->size() > shown) out << "; ... (column unit_spec_detail of lot_summary.csv)";
+    out << "\n";
+  }
+}
+
+// The per-unit verdicts into the overview: one per device_id, from its first row.
+void count_units(const std::vector<io::SummaryRow>& rows, LotOverview& ov) {
+  std::set<std::string> seen;
+  for (const io::SummaryRow& r : rows) {
+    if (r.unit_spec_status.empty() || !seen.insert(r.device_id).second) continue;
+    const std::string named = r.device_id + " (" + r.unit_spec_detail + ")";
+    if (r.unit_spec_status == "pass")
+      ++ov.units_pass;
+    else if (r.unit_spec_status == "fail")
+      ov.units_fail.push_back(named);
+    else if (r.unit_spec_status == "undecided")
+      ov.units_undecided.push_back(named);
+    else
+      ov.units_other.push_back(r.device_id + " (" + r.unit_spec_status + ")");
+  }
+}
+
 void print_overview(const LotOverview& ov, const spec::Spec* sp, std::ostream& out) {
   out << "lot: " << ov.n_units << " unit(s), " << ov.n_rows - ov.n_failed_inputs << " channel(s)";
   if (ov.n_failed_channels) out << ", " << ov.n_failed_channels << " failed";
@@ -65,6 +101,7 @@ void print_overview(const LotOverview& ov, const spec::Spec* sp, std::ostream& o
   }
   // A lot of thousands can have dozens of outliers; the CSV has them all.
   constexpr std::size_t kShown = 8;
+  if (sp) print_unit_verdicts(ov, kShown, out);
   if (!ov.quality.empty()) {
     out << "quality flags (" << ov.quality.size() << "):";
     for (std::size_t i = 0; i < std::min(kShown, ov.quality.size()); ++i)
@@ -80,6 +117,37 @@ void print_overview(const LotOverview& ov, const spec::Spec* sp, std::ostream& o
   if (ov.outliers.size() > kShown)
     out << "; ... (column outlier of lot_summary.csv lists them all)";
   out << "\n";
+}
+
+// The spec's verdict of every row and of every unit. A rule unit that does not fit a matched
+// channel (known only once the channels are seen) is an error; all of them are collected, one
+// per rule, term and channel units (not one per unit of the lot), and thrown together, as
+// parse_spec reports a file's errors.
+void apply_spec(const spec::Spec& sp, std::vector<io::SummaryRow>& rows, std::ostream& err) {
+  std::vector<bool> used(sp.rules.size(), false);
+  std::vector<std::string> problems;
+  std::set<std::string> seen;
+  for (io::SummaryRow& r : rows) {
+    try {
+      const spec::Verdict v = spec::judge(sp, r);
+      r.spec_status = v.status;
+      r.spec_detail = v.detail;
+      r.spec_term_status = v.term_status;
+    } catch (const spec::Error& e) {
+      // "<file>: <key>.unit: '<unit>' is not a unit of N for a '<units>' channel (<unit:chan>...":
+      // the text before " (" names the rule, the term and the channel units.
+      for (const std::string& m : e.messages())
+        if (seen.insert(m.substr(0, m.find(" ("))).second) problems.push_back(m);
+    }
+    if (const spec::Rule* rule = r.channel.empty() ? nullptr : spec::find_rule(sp, r.channel))
+      used[static_cast<std::size_t>(rule - sp.rules.data())] = true;
+  }
+  if (!problems.empty()) throw spec::combined_error(sp.source, std::move(problems));
+  for (std::size_t i = 0; i < used.size(); ++i)
+    if (!used[i])
+      err << "allanlot: warning: " << sp.source << ": channels." << sp.rules[i].glob
+          << ": matches no channel of the lot\n";
+  spec::judge_units(rows);
 }
 
 }  // namespace
@@ -148,8 +216,9 @@ std::vector<io::SummaryRow> manifest_failures(const fs::path& manifest,
 
 LotOverview write_lot(const fs::path& outdir, std::vector<io::SummaryRow> rows,
                       const LotOptions& opt, std::ostream& out, std::ostream& err) {
-  std::optional<spec::Spec> sp;
-  if (!opt.spec_path.empty()) sp = spec::load_spec(opt.spec_path);
+  std::optional<spec::Spec> loaded;
+  if (!opt.spec && !opt.spec_path.empty()) loaded = spec::load_spec(opt.spec_path);
+  const spec::Spec* sp = opt.spec ? opt.spec : loaded ? &*loaded : nullptr;
   LotOverview ov;
   if (!opt.manifest.empty()) {
     auto missing = manifest_failures(opt.manifest, rows);
@@ -157,21 +226,7 @@ LotOverview write_lot(const fs::path& outdir, std::vector<io::SummaryRow> rows,
     rows.insert(rows.end(), std::make_move_iterator(missing.begin()),
                 std::make_move_iterator(missing.end()));
   }
-  if (sp) {
-    std::vector<bool> used(sp->rules.size(), false);
-    for (io::SummaryRow& r : rows) {
-      const spec::Verdict v = spec::judge(*sp, r);
-      r.spec_status = v.status;
-      r.spec_detail = v.detail;
-      r.spec_term_status = v.term_status;
-      if (const spec::Rule* rule = r.channel.empty() ? nullptr : spec::find_rule(*sp, r.channel))
-        used[static_cast<std::size_t>(rule - sp->rules.data())] = true;
-    }
-    for (std::size_t i = 0; i < used.size(); ++i)
-      if (!used[i])
-        err << "allanlot: warning: " << sp->source << ": channels." << sp->rules[i].glob
-            << ": matches no channel of the lot\n";
-  }
+  if (sp) apply_spec(*sp, rows, err);
   const std::vector<io::StatisticsRow> stats = lot_statistics(rows);
   std::vector<std::pair<std::string, std::string>> attrs;
   if (sp) {
@@ -183,7 +238,7 @@ LotOverview write_lot(const fs::path& outdir, std::vector<io::SummaryRow> rows,
   }
   io::write_lot_summary(outdir, rows, stats, attrs);
 
-  ov.spec = sp.has_value();
+  ov.spec = sp != nullptr;
   ov.n_rows = rows.size();
   std::set<std::string> units;
   std::map<std::string, KindCounts> kinds;
@@ -213,7 +268,8 @@ LotOverview write_lot(const fs::path& outdir, std::vector<io::SummaryRow> rows,
   ov.n_units = units.size();
   for (auto& [path, k] : kinds)
     ov.kinds.push_back(std::move(k));
-  if (!opt.quiet) print_overview(ov, sp ? &*sp : nullptr, out);
+  count_units(rows, ov);
+  if (!opt.quiet) print_overview(ov, sp, out);
   return ov;
 }
 

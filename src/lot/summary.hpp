@@ -7,6 +7,7 @@
 #pragma once
 
 #include "io/results.hpp"
+#include "src/lot/spec.hpp"
 #include "src/lot/statistics.hpp"
 
 #include <cstddef>
@@ -19,8 +20,11 @@ namespace allanlot::lot {
 
 struct LotOptions {
   std::filesystem::path spec_path;  // --spec: limits per channel kind and term ("" = none)
-  std::filesystem::path manifest;   // summarize --manifest: entries without results are failed
-  bool quiet = false;               // no lot overview on `out`
+  // The spec already loaded from spec_path (load_spec), so that a command can refuse a bad spec
+  // before it reads anything; when null and spec_path is set, write_lot loads it.
+  const spec::Spec* spec = nullptr;
+  std::filesystem::path manifest;  // summarize --manifest: entries without results are failed
+  bool quiet = false;              // no lot overview on `out`
 };
 
 /// What write_lot did, for the caller's exit status and messages.
@@ -38,6 +42,9 @@ struct LotOverview {
   std::vector<KindCounts> kinds;      // per channel kind, sorted by path
   std::vector<std::string> outliers;  // "device:channel (N z=+5.2)"
   std::vector<std::string> quality;   // "device:channel (spikes;saturation)": flags raised
+  // Per-unit verdicts (spec::judge_units): units passing, and "device (detail)" of the others.
+  std::size_t units_pass = 0;
+  std::vector<std::string> units_fail, units_undecided, units_other;
 };
 
 /// The summary rows of every complete results file (*.allan.h5, not hidden) in `outdir`, in

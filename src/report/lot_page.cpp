@@ -36,6 +36,14 @@ std::vector<Outlier> lot_outliers(const std::vector<Unit>& units) {
   return out;
 }
 
+// "pass", or the detail when it starts with the status ("fail: gyro_x (N)"), else both
+// ("undecided (no data: gyro_x)").
+std::string unit_verdict_text(const RowExtras& x) {
+  if (x.unit_spec_detail.empty()) return x.unit_spec;
+  if (x.unit_spec_detail.starts_with(x.unit_spec + ":")) return x.unit_spec_detail;
+  return x.unit_spec + " (" + x.unit_spec_detail + ")";
+}
+
 std::string summary_table(const std::string& channel, const std::vector<Member>& members,
                           const ExtrasMap& extras) {
   std::ostringstream h;
@@ -92,7 +100,7 @@ std::string summary_table(const std::string& channel, const std::vector<Member>&
       << (m.ch->crosscheck ? number(m.ch->crosscheck->max_abs_log10_ratio, 2) : "&ndash;")
       << "</td>";
     if (any_spec)
-      h << "<td" << (x && !x->spec.empty() ? " class=\"" + x->spec + "\">" + x->spec : ">")
+      h << "<td" << (x && !x->spec.empty() ? " class=\"" + x->spec + "\">" + spec_cell(*x) : ">")
         << "</td>";
     if (any_agree)
       h << "<td" << (x && x->agree == "no" ? " class=\"bad\"" : "") << ">" << (x ? x->agree : "")
@@ -164,7 +172,11 @@ std::string lot_section(const std::string& title, const std::vector<Unit>& units
     for (const auto& ch : u.rec.channels)
       bad += ch.status.is_ok() ? 0 : 1;
     h << "<a href=\"" << escape(unit_href(u)) << "\"" << (bad ? " class=\"bad\"" : "") << ">"
-      << escape(u.rec.device_id) << "</a>";
+      << escape(u.rec.device_id);
+    // The unit's verdict (pass only when every channel passes) and, otherwise, which channel.
+    if (const RowExtras* x = unit_extras(extras, u.rec.device_id))
+      h << " <span class=\"" << x->unit_spec << "\">" << escape(unit_verdict_text(*x)) << "</span>";
+    h << "</a>";
   }
   h << "</nav>\n";
   h << "<p class=\"small\">Values in datasheet units, &plusmn; 1&sigma;; grey: not detected "
@@ -197,7 +209,7 @@ std::string lot_section(const std::string& title, const std::vector<Unit>& units
         << escape(o.unit->rec.device_id) << "</a></td><td class=\"l\">" << escape(o.channel)
         << "</td><td>" << kTerms[o.term].name << "</td><td>" << number(o.value, 3)
         << "</td><td class=\"l\">" << escape(o.unit_ds) << "</td><td>" << number(o.ratio, 3)
-        << "</td><td>" << number(o.z, 3) << "</td></tr>\n";
+        << "</td><td>" << escape(lot::z_text(o.z)) << "</td></tr>\n";
     h << "</table>\n";
   }
   h << "<h2>Summary by channel</h2>\n<div class=\"tables\">\n"

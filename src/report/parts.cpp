@@ -49,6 +49,18 @@ std::string spec_class(const std::string& v) {
   return v == "pass" || v == "fail" || v == "undecided" ? v : "";
 }
 
+std::string spec_cell(const RowExtras& x) {
+  if (x.spec.empty()) return "";
+  return escape(x.spec_detail.empty() ? x.spec : x.spec + ": " + x.spec_detail);
+}
+
+const RowExtras* unit_extras(const ExtrasMap& extras, const std::string& device_id) {
+  for (auto it = extras.lower_bound({device_id, ""});
+       it != extras.end() && it->first.first == device_id; ++it)
+    if (!it->second.unit_spec.empty()) return &it->second;
+  return nullptr;
+}
+
 namespace {
 
 // fits_agree as read_summary_columns prints the stored i8: 1 agree, 0 not, -1 not compared.
@@ -65,6 +77,11 @@ void read_lot_extras(const io::SummaryColumns& c, ExtrasMap& map,
   const int source = c.find("source_file");
   const auto col = [&](const std::string& a) { return c.find(a); };
   const int spec = col("spec_status"), agree = col("fits_agree");
+  const int spec_detail = col("spec_detail"), unit_spec = col("unit_spec_status"),
+            unit_detail = col("unit_spec_detail");
+  const auto cell = [&](int column, std::size_t r) {
+    return column < 0 ? std::string() : c.values[static_cast<std::size_t>(column)][r];
+  };
   std::array<int, 5> tspec{};
   for (std::size_t t = 0; t < 5; ++t)
     tspec[t] = col(std::string(kTerms[t].name) + "_spec_status");
@@ -79,6 +96,9 @@ void read_lot_extras(const io::SummaryColumns& c, ExtrasMap& map,
     }
     RowExtras x;
     if (spec >= 0) x.spec = spec_class(c.values[static_cast<std::size_t>(spec)][r]);
+    x.spec_detail = cell(spec_detail, r);
+    x.unit_spec = spec_class(cell(unit_spec, r));
+    x.unit_spec_detail = cell(unit_detail, r);
     if (agree >= 0) x.agree = agree_value(c.values[static_cast<std::size_t>(agree)][r]);
     for (std::size_t t = 0; t < 5; ++t)
       if (tspec[t] >= 0)

@@ -49,7 +49,11 @@ inline constexpr std::array<TermStyle, 5> kTerms = {{
 // (device, channel). Absent columns leave every field empty: no colouring.
 
 struct RowExtras {
-  std::string spec;  // whole-row spec status: pass, fail, undecided, or ""
+  std::string spec;         // whole-row spec status: pass, fail, undecided, or ""
+  std::string spec_detail;  // the terms that decided it, each with its limit (spec_detail)
+  // The unit's verdict over all its channels (unit_spec_status, unit_spec_detail): the same on
+  // every channel of the unit; the status is pass, fail, undecided or "" like `spec`.
+  std::string unit_spec, unit_spec_detail;
   std::array<std::string, 5> term_spec;
   std::string agree;  // "yes", "no" or ""
 };
@@ -95,6 +99,11 @@ std::string stat_color(const std::string& s);
 int term_index(const std::string& name);
 // "pass", "fail", "undecided" as the lot summary writes them, or "" (no colouring).
 std::string spec_class(const std::string& v);
+// The verdict cell of a channel: "fail: N 0.21±0.02 > 0.15 deg/sqrt(h)", the status and the
+// terms behind it with their limits, escaped; "" without a spec status.
+std::string spec_cell(const RowExtras& x);
+// The unit's verdict from any of its channels' extras, nullptr when the lot summary has none.
+const RowExtras* unit_extras(const ExtrasMap& extras, const std::string& device_id);
 // The spec and fits_agree columns of a lot summary by (device, channel), and its failed inputs.
 void read_lot_extras(const io::SummaryColumns& c, ExtrasMap& map, std::vector<FailedInput>& failed);
 

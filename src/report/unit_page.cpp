@@ -181,7 +181,7 @@ std::string channel_section(const Unit& u, const io::ChannelResult& ch, const Ex
     h << "; eq. (2) max |log&#8321;&#8320; ratio| "
       << number(ch.crosscheck->max_abs_log10_ratio, 3);
   if (x && !x->spec.empty())
-    h << "; spec: <span class=\"" << x->spec << "\">" << x->spec << "</span>";
+    h << "; spec: <span class=\"" << x->spec << "\">" << spec_cell(*x) << "</span>";
   if (x && x->agree == "no") h << "; <span class=\"bad\">time- and PSD-domain fits disagree</span>";
   h << "</p>\n";
   if (!ch.status.is_ok()) h << "<p class=\"bad\">" << escape(io::to_string(ch.status)) << "</p>\n";

@@ -10,7 +10,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <random>
+#include <sstream>
 
 namespace allanlot {
 namespace {
@@ -333,6 +335,80 @@ TEST(Analyze, StatsAllWritesEveryStatistic) {
     gap_ok += kernels::supports_gaps(s) ? 1 : 0;
   EXPECT_EQ(g.channels[0].stats.size(), gap_ok);
   EXPECT_NE(g.channels[0].notes.find("theo1 not computed"), std::string::npos);
+}
+
+// Clock data get a deviation table in the terminal, not the IMU term table: a unit with a clock
+// (phase data in s, a random-walk phase with white noise) and a gyro prints the gyro's eq. (3)
+// table and, for the clock, tau and each statistic with its bounds, the values those of the
+// results file.
+TEST(Analyze, ClockDataGetADeviationTable) {
+  const fs::path d = test::fresh_dir("analyze_clock_table");
+  {
+    test::H5Fixture f(d / "osc.h5");
+    // Time error in ns (read as s, scaled by 1e-9): white and random-walk phase.
+    f.dataset("/clock/phase", noise(4000, 0.0, 3), H5T_IEEE_F64LE);
+    f.attr("/clock/phase", "sample_rate_hz", 1.0);
+    f.attr("/clock/phase", "data_type", std::string("phase"));
+    f.attr("/clock/phase", "units", std::string("ns"));
+    f.dataset("/imu/gyro_x", noise(4000, 0.1, 4), H5T_IEEE_F64LE);
+    f.attr("/imu/gyro_x", "sample_rate_hz", 100.0);
+    f.attr("/imu/gyro_x", "units", std::string("deg/s"));
+    f.attr("/", "device_id", std::string("OSC1"));
+  }
+  std::string out;
+  ASSERT_EQ(run_command(binary() + " analyze --no-psd --stats oadev,mdev,tdev --taus octave -o " +
+                            (d / "res").string() + " " + (d / "osc.h5").string(),
+                        &out),
+            0)
+      << out;
+  // The gyro keeps the term table; the clock is not in it.
+  const auto terms = out.find("OSC1: noise coefficients of eq. (3)");
+  ASSERT_NE(terms, std::string::npos) << out;
+  const auto clock = out.find("OSC1: /clock/phase (clock data, phase, units 's'): deviations");
+  ASSERT_NE(clock, std::string::npos) << out;
+  const std::string term_table = out.substr(terms, clock - terms);
+  EXPECT_NE(term_table.find("gyro_x"), std::string::npos) << term_table;
+  EXPECT_EQ(term_table.find("phase"), std::string::npos) << term_table;
+  std::istringstream table(out.substr(clock));
+  std::string line;
+  std::getline(table, line);
+  EXPECT_NE(line.find("fractional frequency (dimensionless); time errors in s"), std::string::npos)
+      << line;
+  std::getline(table, line);
+  std::istringstream header(line);
+  std::vector<std::string> columns;
+  for (std::string w; header >> w;)
+    columns.push_back(w);
+  EXPECT_EQ(columns, (std::vector<std::string>{"tau", "[s]", "oadev", "mdev", "tdev"})) << line;
+  // Each row: tau, then "dev [lo, hi]" per statistic, as in the results file.
+  const io::RecordingResult r = io::read_results(d / "res" / "OSC1.allan.h5");
+  const io::ChannelResult& ch = channel(r, "/clock/phase");
+  const kernels::StatResult& oadev = ch.stats[0].second;
+  const kernels::StatResult& tdev = ch.stats[2].second;
+  ASSERT_EQ(ch.stats[2].first, "tdev");
+  // "dev [lo, hi]", or the value alone where the interval has no bounds.
+  const auto cell = [](const kernels::StatResult& st, std::size_t i) {
+    char text[160];
+    if (std::isfinite(st.dev_lo[i]) && std::isfinite(st.dev_hi[i]))
+      std::snprintf(text, sizeof text, "%.3g [%.2g, %.2g]", st.dev[i], st.dev_lo[i], st.dev_hi[i]);
+    else
+      std::snprintf(text, sizeof text, "%.3g", st.dev[i]);
+    return std::string(text);
+  };
+  ASSERT_GT(oadev.size(), 3u);
+  for (std::size_t i = 0; i < oadev.size(); ++i) {
+    ASSERT_TRUE(std::getline(table, line)) << "row " << i;
+    char tau[32];
+    std::snprintf(tau, sizeof tau, "%.4g", oadev.tau_s[i]);
+    EXPECT_EQ(line.rfind("  " + std::string(tau) + " ", 0), 0u) << line;
+    EXPECT_NE(line.find(cell(oadev, i)), std::string::npos) << line << " vs " << cell(oadev, i);
+    for (std::size_t j = 0; j < tdev.size(); ++j) {
+      if (tdev.tau_s[j] == oadev.tau_s[i]) {
+        EXPECT_NE(line.find(cell(tdev, j)), std::string::npos) << line << " vs " << cell(tdev, j);
+      }
+    }
+  }
+  EXPECT_TRUE(std::isfinite(oadev.dev_lo[0]));  // the bounds are there to be shown
 }
 
 }  // namespace

@@ -1,9 +1,11 @@
 // `allanlot export`: Stable32 tables compared row by row with Stable32's own output for
 // PHASE.DAT (AF, Tau, # and Alpha exact, Sigma to the printed digits, the bounds to 1 %), the
 // tidy CSV's shape, and the errors.
+#include "io/results.hpp"
 #include "src/cli/export.hpp"
 #include "support/h5_fixture.hpp"
 
+#include <fstream>
 #include <map>
 
 #include <gtest/gtest.h>
@@ -259,6 +261,102 @@ TEST(Export, Errors) {
   EXPECT_EQ(run_command(binary() + " export --stats bogus " + (d / "bad.allan.h5").string(), &out),
             2);
   EXPECT_NE(out.find("unknown statistic 'bogus'"), std::string::npos) << out;
+}
+
+// CSV fields of one line (no quoted commas in these tables).
+std::vector<std::string> csv_fields(const std::string& line) {
+  std::vector<std::string> f;
+  std::stringstream ss(line);
+  for (std::string x; std::getline(ss, x, ',');)
+    f.push_back(x);
+  if (!line.empty() && line.back() == ',') f.emplace_back();
+  return f;
+}
+
+// `export --format readouts`: one row per channel and read-out, the numbers of the lot
+// summary's readout columns (both from the results file), also for a term the fit does not
+// detect (detected 0, with the reason).
+TEST(Export, ReadoutsAsTidyCsv) {
+  const fs::path d = test::fresh_dir("export_readouts");
+  {
+    std::ofstream m(d / "model.json");
+    m << R"j({"sample_rate_hz": 100, "channels": {
+          "gyro_x": {"units": "deg/s", "terms": {"N": 0.005, "B": 0.00125}},
+          "accel_x": {"units": "m/s^2", "terms": {"N": 0.0005}}}})j";
+  }
+  std::string out;
+  ASSERT_EQ(run_command(binary() + " simulate -q --model " + (d / "model.json").string() +
+                            " --duration 300 --seed 3 -o " + (d / "u1.h5").string(),
+                        &out),
+            0)
+      << out;
+  ASSERT_EQ(run_command(binary() + " analyze -q --stats oadev --no-psd -o " + (d / "res").string() +
+                            " " + (d / "u1.h5").string(),
+                        &out),
+            0)
+      << out;
+  const fs::path csv = d / "readouts.csv";
+  ASSERT_EQ(run_command(binary() + " export --format readouts " + (d / "res").string() + " -o " +
+                            csv.string(),
+                        &out),
+            0)
+      << out;
+  std::istringstream in(test::file_bytes(csv));
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "device_id,channel,units,readout,term,tau,value,sigma,unit,value_alt,sigma_alt,"
+                  "unit_alt,detected,note");
+  const auto rows = io::read_lot_summary(d / "res" / "lot_summary.h5");
+  ASSERT_EQ(rows.size(), 2u);
+  std::size_t n_rows = 0, undetected = 0;
+  while (std::getline(in, line)) {
+    const auto f = csv_fields(line);
+    ASSERT_EQ(f.size(), 14u) << line;
+    ++n_rows;
+    const io::SummaryRow* r = nullptr;
+    for (const auto& x : rows)
+      if (x.device_id == f[0] && x.channel == f[1]) r = &x;
+    ASSERT_NE(r, nullptr) << line;
+    EXPECT_EQ(f[2], r->units);
+    const auto near = [&](const std::string& text, double expected) {
+      EXPECT_NEAR(std::stod(text), expected, 1e-10 * std::abs(expected)) << line;
+    };
+    if (f[3] == "N_1s") {
+      EXPECT_EQ(f[4], "N");
+      near(f[6], r->readout_n);
+      near(f[7], r->readout_n_sigma);
+      EXPECT_EQ(f[8], r->readout_n_unit);
+      near(f[9], r->readout_n_alt);  // ARW or VRW
+      near(f[10], r->readout_n_alt_sigma);
+      EXPECT_EQ(f[11], r->readout_n_alt_unit);
+      EXPECT_TRUE(f[11] == "deg/sqrt(h)" || f[11] == "m/s/sqrt(h)") << line;
+    } else if (f[3] == "bias_instability") {
+      EXPECT_EQ(f[4], "B");
+      near(f[5], r->readout_b_tau);
+      near(f[6], r->readout_b);
+      EXPECT_EQ(f[8], r->readout_b_unit);
+    } else {
+      ASSERT_EQ(f[3], "K_3s") << line;
+      near(f[5], r->readout_k_tau);
+      near(f[6], r->readout_k);
+      EXPECT_EQ(f[8], r->readout_k_unit);
+    }
+    // Detected as readouts_valid says; an undetected one says why.
+    const bool valid = (" " + r->readouts_valid + " ").find(" " + f[4] + " ") != std::string::npos;
+    EXPECT_EQ(f[12], valid ? "1" : "0") << line;
+    EXPECT_EQ(f[13].empty(), valid) << line;
+    if (!valid) {
+      ++undetected;
+      EXPECT_NE(f[13].find("the fit does not detect " + f[4]), std::string::npos) << line;
+    }
+  }
+  EXPECT_EQ(n_rows, 6u);      // three read-outs of two channels
+  EXPECT_GE(undetected, 1u);  // K is in neither model
+  // --stats selects deviation tables, which this format has not.
+  EXPECT_EQ(run_command(
+                binary() + " export --format readouts --stats oadev " + (d / "res").string(), &out),
+            2);
+  EXPECT_NE(out.find("--format readouts"), std::string::npos) << out;
 }
 
 }  // namespace

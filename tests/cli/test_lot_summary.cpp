@@ -255,6 +255,55 @@ TEST(LotSummary, WriteLotWritesSpecColumnsStatisticsAndOverview) {
   EXPECT_FALSE(fs::exists(dir / "lot_summary.h5"));
 }
 
+// Rule units that do not fit a matched channel are known only once the channels are seen: every
+// such problem is reported together, once per rule, term and channel units (not once per unit),
+// and nothing is written.
+TEST(LotSummary, SpecUnitsThatDoNotFitTheChannelsAreReportedTogether) {
+  const auto dir = test::fresh_dir("lot_spec_units");
+  {
+    std::ofstream s(dir / "spec.json");
+    s << R"j({"channels": {"*": {"N": {"max": 20, "unit": "deg/h/sqrt(Hz)"},
+                                  "B": {"max": 10, "unit": "deg/h"}}}})j";
+  }
+  std::vector<io::SummaryRow> rows;
+  for (int i = 0; i < 3; ++i) {
+    rows.push_back(row("U" + std::to_string(i), "/imu/gyro_x", 18));
+    auto accel = row("U" + std::to_string(i), "/imu/accel_x", 0.05);
+    accel.units = "m/s^2";
+    accel.unit[3] = "mg/sqrt(Hz)";
+    accel.value[2] = 0.02;
+    accel.sigma[2] = 0.001;
+    accel.unit[2] = "mg";
+    accel.detected[2] = 1;
+    rows.push_back(accel);
+  }
+  lot::LotOptions opt;
+  opt.spec_path = dir / "spec.json";
+  std::ostringstream out, err;
+  try {
+    lot::write_lot(dir, rows, opt, out, err);
+    FAIL() << "no error";
+  } catch (const spec::Error& e) {
+    const std::string spec = (dir / "spec.json").string();
+    ASSERT_EQ(e.messages().size(), 2u) << e.what();
+    // In the file's order: N, then B.
+    EXPECT_EQ(e.messages()[0].rfind(spec + ": channels.*.N.unit: 'deg/h/sqrt(Hz)' is not a unit "
+                                           "of N for a 'm/s^2' channel (U0:/imu/accel_x",
+                                    0),
+              0u)
+        << e.messages()[0];
+    EXPECT_EQ(e.messages()[1].rfind(spec + ": channels.*.B.unit: 'deg/h' is not a unit of B for a "
+                                           "'m/s^2' channel (U0:/imu/accel_x",
+                                    0),
+              0u)
+        << e.messages()[1];
+    EXPECT_EQ(std::string(e.what()).rfind(spec + ": 2 errors:\n  " + e.messages()[0], 0), 0u)
+        << e.what();
+  }
+  EXPECT_FALSE(fs::exists(dir / "lot_summary.h5"));
+  EXPECT_FALSE(fs::exists(dir / "lot_summary.csv"));
+}
+
 // The binary: a lot of six simulated two-channel units, one of them given a large N, analysed
 // with --spec; then summarize rebuilds the same summary and lists a manifest entry that has
 // no results.
@@ -293,7 +342,27 @@ TEST(LotSummary, EndToEndThroughTheBinary) {
     EXPECT_EQ(io::to_string(r.status), "ok");
     EXPECT_EQ(r.spec_status, r.channel.ends_with("gyro_x") ? "pass" : "fail")
         << r.channel << " " << r.spec_detail;
+    // The unit's verdict: its gyro passes, its accelerometer fails, so the unit fails, and says
+    // which channel and term.
+    EXPECT_EQ(r.unit_spec_status, "fail") << r.device_id;
+    EXPECT_EQ(r.unit_spec_detail, "fail: accel_x (N)") << r.device_id;
   }
+  EXPECT_NE(out.find("units: 0 pass, 6 fail, 0 undecided"), std::string::npos) << out;
+  EXPECT_NE(out.find("units fail: unit_0001 (fail: accel_x (N))"), std::string::npos) << out;
+  const std::string csv_head = test::file_bytes(dir / "out" / "lot_summary.csv");
+  const std::string header = csv_head.substr(0, csv_head.find('\n'));
+  EXPECT_TRUE(header.ends_with(",unit_spec_status,unit_spec_detail")) << header;
+  // The report: the unit's verdict beside it in the unit list, and each channel's verdict cell
+  // with the limit it was decided against.
+  ASSERT_EQ(test::run_command(test::binary() + " report " + (dir / "out").string(), &out), 0)
+      << out;
+  const std::string html = test::file_bytes(dir / "out" / "report.html");
+  EXPECT_NE(html.find(">unit_0001 <span class=\"fail\">fail: accel_x (N)</span></a>"),
+            std::string::npos);
+  EXPECT_NE(html.find("<td class=\"fail\">fail: N "), std::string::npos);
+  EXPECT_NE(html.find(" &gt; 0.01 mg/sqrt(Hz)</td>"), std::string::npos);
+  EXPECT_NE(html.find("<td class=\"pass\">pass: N "), std::string::npos);
+  EXPECT_NE(html.find(" &lt;= 36 deg/h/sqrt(Hz)</td>"), std::string::npos);  // 0.6 deg/sqrt(h)
   EXPECT_EQ(io::read_lot_statistics(dir / "out" / "lot_summary.h5").size() % 2, 0u);
 
   // summarize from the results alone gives the same rows; a manifest line without results is
@@ -317,12 +386,20 @@ TEST(LotSummary, EndToEndThroughTheBinary) {
   const std::string summary_after = test::file_bytes(dir / "out" / "lot_summary.csv");
   EXPECT_EQ(summary_after.substr(0, summary_before.size()), summary_before);
 
-  // A bad spec is a usage error found before any recording is analysed: status 2, the file and
-  // the key named, no results written.
+  // A bad spec is a usage error found before any recording is analysed: status 2, every
+  // problem named with the file and the key, nothing written (not even OUTDIR).
   {
     std::ofstream s(dir / "bad_spec.json");
-    s << R"j({"channels": {"gyro_*": {"N": {"max": 0.6, "unit": "furlongs"}}}})j";
+    s << R"j({"channels": {"gyro_*": {"N": {"max": 0.6, "unit": "furlongs"}},
+                          "accel_*": {"N": {"min": 2, "max": 1, "unit": "mg/sqrt(Hz)"}},
+                          "[mag": {"B": {"max": 1, "unit": "deg/h"}}},
+             "colour": "red"})j";
   }
+  const std::vector<std::string> problems = {
+      "bad_spec.json: 4 errors:", "bad_spec.json: colour: unknown key",
+      "bad_spec.json: channels.gyro_*.N.unit: 'furlongs' is not a unit of N",
+      "bad_spec.json: channels.accel_*.N.min: must not exceed max",
+      "bad_spec.json: channels.[mag: unknown channel pattern"};
   ASSERT_EQ(test::run_command(test::binary() + " analyze --stats oadev --spec " +
                                   (dir / "bad_spec.json").string() + " -o " +
                                   (dir / "out_bad").string() + " " +
@@ -330,10 +407,20 @@ TEST(LotSummary, EndToEndThroughTheBinary) {
                               &out),
             2)
       << out;
-  EXPECT_NE(out.find("bad_spec.json"), std::string::npos) << out;
-  EXPECT_NE(out.find("channels.gyro_*.N"), std::string::npos) << out;
-  EXPECT_FALSE(fs::exists(dir / "out_bad" / "unit_0001.allan.h5"));
-  EXPECT_FALSE(fs::exists(dir / "out_bad" / "lot_summary.h5"));
+  for (const std::string& p : problems)
+    EXPECT_NE(out.find(p), std::string::npos) << p << "\n" << out;
+  EXPECT_FALSE(fs::exists(dir / "out_bad")) << "analyze wrote before refusing the spec";
+  // summarize refuses it before reading a results file: the summary stays as it was.
+  const std::string summary_kept = test::file_bytes(dir / "out" / "lot_summary.csv");
+  ASSERT_EQ(test::run_command(test::binary() + " summarize " + (dir / "out").string() + " --spec " +
+                                  (dir / "bad_spec.json").string(),
+                              &out),
+            2)
+      << out;
+  for (const std::string& p : problems)
+    EXPECT_NE(out.find(p), std::string::npos) << p << "\n" << out;
+  EXPECT_EQ(out.find("unreadable"), std::string::npos) << out;
+  EXPECT_EQ(test::file_bytes(dir / "out" / "lot_summary.csv"), summary_kept);
 }
 
 }  // namespace

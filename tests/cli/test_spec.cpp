@@ -245,5 +245,177 @@ TEST(Spec, LoadNamesTheFile) {
   EXPECT_EQ(sp.confidence, 0.95);
 }
 
+// Each datasheet form of the units vocabulary (kernels/model/units.hpp) in a spec: accepted by
+// the parser, and its limit converted to the channel's own units by the known factor (1 h =
+// 3600 s, sqrt(h) = 60 sqrt(s), g = 9.80665 m/s^2, 1 deg = pi/180 rad), in the spellings
+// datasheets print.
+TEST(Spec, EveryDatasheetFormIsAcceptedAndConvertedRight) {
+  const double g = 9.80665, deg = 180.0 / 3.14159265358979323846;
+  const struct {
+    Term term;
+    const char* channel_units;
+    const char* unit;
+    double limit;
+    double expected;  // in the channel's own units and seconds
+  } cases[] = {
+      {Term::N, "deg/s", "deg/sqrt(h)", 0.3, 0.005},       // ARW: 0.3 / 60
+      {Term::N, "deg/s", "deg/√hr", 0.3, 0.005},           // the same, as printed
+      {Term::N, "deg/s", "deg/h/sqrt(Hz)", 18, 0.005},     // 18 / 3600
+      {Term::N, "deg/s", "°/hr/√Hz", 18, 0.005},           // the same, as printed
+      {Term::N, "deg/s", "deg/s/sqrt(Hz)", 0.005, 0.005},  // the channel's own
+      {Term::N, "deg/s", "rad/s/sqrt(Hz)", 1e-4, 1e-4 * deg},
+      {Term::N, "deg/h", "deg/sqrt(h)", 0.3, 18},  // a deg/h channel: 0.3 * 60
+      {Term::B, "deg/s", "deg/h", 36, 0.01},
+      {Term::B, "deg/s", "deg/hr", 36, 0.01},
+      {Term::B, "deg/s", "rad/s", 1e-5, 1e-5 * deg},
+      {Term::K, "deg/s", "deg/h/sqrt(h)", 2.16, 1e-5},  // 2.16 / (3600 * 60)
+      {Term::R, "deg/s", "deg/h/h", 12.96, 1e-6},       // 12.96 / 3600^2
+      {Term::Q, "deg/s", "urad", 17.453292519943296, 1e-3},
+      {Term::Q, "deg/s", "arcsec", 3.6, 1e-3},
+      {Term::N, "m/s^2", "mg/sqrt(Hz)", 0.1, 1e-4 * g},
+      {Term::N, "m/s^2", "ug/sqrt(Hz)", 100, 1e-4 * g},
+      {Term::N, "m/s^2", "µg/√Hz", 100, 1e-4 * g},
+      {Term::N, "m/s^2", "g/sqrt(Hz)", 1e-4, 1e-4 * g},
+      {Term::N, "m/s^2", "m/s/sqrt(h)", 0.06, 0.001},  // VRW: 0.06 / 60
+      {Term::N, "m/s^2", "m/s^2/sqrt(Hz)", 1e-3, 1e-3},
+      {Term::B, "m/s^2", "mg", 0.05, 5e-5 * g},
+      {Term::B, "m/s^2", "ug", 50, 5e-5 * g},
+      {Term::K, "m/s^2", "mg/sqrt(h)", 0.6, 1e-5 * g},  // 0.6 / 60 mg/sqrt(s)
+  };
+  for (const auto& c : cases) {
+    const std::string term(kernels::units::term_name(c.term));
+    const std::string json = R"j({"channels": {"x": {")j" + term + R"j(": {"max": )j" +
+                             std::to_string(c.limit) + R"j(, "unit": ")j" + c.unit + "\"}}}}";
+    spec::Spec sp;
+    ASSERT_NO_THROW(sp = parse(json)) << json;
+    ASSERT_EQ(sp.rules[0].limits.size(), 1u);
+    EXPECT_EQ(sp.rules[0].limits[0].unit, c.unit);
+    const std::string own = kernels::units::channel_unit(c.term, c.channel_units);
+    EXPECT_NEAR(spec::convert(c.term, c.limit, c.unit, own, c.channel_units), c.expected,
+                1e-12 * c.expected)
+        << term << " " << c.unit << " for a " << c.channel_units << " channel";
+  }
+}
+
+// Every unit the vocabulary accepts for a term of a gyro or an accelerometer is accepted in a
+// spec, and a limit in it converts to a finite positive value in the channel's units (the
+// values themselves: EveryDatasheetFormIsAcceptedAndConvertedRight).
+TEST(Spec, EveryAcceptedUnitOfTheVocabularyIsAcceptedInASpec) {
+  std::size_t n = 0;
+  for (const char* channel_units : {"deg/s", "m/s^2"})
+    for (const Term t : {Term::R, Term::K, Term::B, Term::N, Term::Q}) {
+      const std::string term(kernels::units::term_name(t));
+      const std::string own = kernels::units::channel_unit(t, channel_units);
+      for (const std::string& unit : kernels::units::accepted_units(t, channel_units)) {
+        const std::string json =
+            R"j({"channels": {"x": {")j" + term + R"j(": {"max": 2, "unit": ")j" + unit + "\"}}}}";
+        EXPECT_NO_THROW(parse(json)) << json;
+        const double v = spec::convert(t, 2.0, unit, own, channel_units);
+        EXPECT_TRUE(std::isfinite(v) && v > 0) << term << " " << unit << " -> " << v;
+        ++n;
+      }
+    }
+  EXPECT_GE(n, 40u);  // the vocabulary's forms (units.cpp), not an empty loop
+}
+
+// One run names every problem of a spec, in file order, each with the file and its key path.
+TEST(Spec, EveryErrorIsReportedAtOnce) {
+  const std::string json = R"j({
+    "colour": "red",
+    "confidence": 2,
+    "channels": {
+      "gyro_*": {"N": {"max": -1, "unit": "furlongs"},
+                 "B": {"min": 5, "max": 1, "unit": "deg/h"},
+                 "X": {"max": 1, "unit": "deg/h"}},
+      "[accel": {"N": {"max": 0.05, "unit": "mg/sqrt(Hz)"}},
+      "mag_*": {"quality": {"max_spikes": -3, "sparkle": "fail"}}
+    }})j";
+  try {
+    parse(json);
+    FAIL() << "accepted";
+  } catch (const spec::Error& e) {
+    const std::vector<std::string> expected = {
+        "spec.json: colour: unknown key",
+        "spec.json: confidence: must be in (0, 1), got 2",
+        "spec.json: channels.gyro_*.N.max: must be >= 0, got -1",
+        "spec.json: channels.gyro_*.N.unit: 'furlongs' is not a unit of N",
+        "spec.json: channels.gyro_*.B.min: must not exceed max (1), got 5",
+        "spec.json: channels.gyro_*.X: unknown key",
+        "spec.json: channels.[accel: unknown channel pattern",
+        "spec.json: channels.mag_*.quality.max_spikes: must be an integer >= 0, got -3",
+        "spec.json: channels.mag_*.quality.sparkle: unknown key",
+    };
+    ASSERT_EQ(e.messages().size(), expected.size()) << e.what();
+    for (std::size_t i = 0; i < expected.size(); ++i)
+      EXPECT_EQ(e.messages()[i].rfind(expected[i], 0), 0u) << e.messages()[i];
+    const std::string what = e.what();
+    EXPECT_EQ(what.rfind("spec.json: 9 errors:\n  spec.json: colour: unknown key\n", 0), 0u)
+        << what;
+    for (const auto& m : e.messages())
+      EXPECT_NE(what.find("\n  " + m), std::string::npos) << m;
+  }
+  // One problem alone is the one message, as before.
+  try {
+    parse(R"j({"channels": {"g": {"N": {"max": -1, "unit": "deg/h/sqrt(Hz)"}}}})j");
+    FAIL() << "accepted";
+  } catch (const spec::Error& e) {
+    EXPECT_EQ(std::string(e.what()), "spec.json: channels.g.N.max: must be >= 0, got -1");
+    EXPECT_EQ(e.messages().size(), 1u);
+  }
+  // Bracket expressions that close are patterns like any other.
+  EXPECT_NO_THROW(parse(R"j({"channels": {"gyro_[xy]": {"B": {"max": 1, "unit": "deg/h"}},
+                                          "[]x]*": {"B": {"max": 1, "unit": "deg/h"}}}})j"));
+}
+
+// The unit's verdict: pass only when every channel with a rule passes; otherwise which channel
+// (and term) made it fail or stay undecided.
+TEST(Spec, UnitVerdictPassesOnlyWhenEveryChannelPasses) {
+  const auto sp = parse(R"j({"channels": {"gyro_*": {"N": {"max": 18.5, "unit":
+                            "deg/h/sqrt(Hz)"}, "B": {"max": 5, "unit": "deg/h"}}}})j");
+  std::vector<io::SummaryRow> rows;
+  const auto add = [&](const std::string& dev, const std::string& chan, double n, double b) {
+    auto r = gyro_row(n, 0.01, b, 0.01);
+    r.device_id = dev;
+    r.channel = chan;
+    rows.push_back(r);
+  };
+  add("A", "/imu/gyro_x", 18, 4);    // pass
+  add("A", "/imu/gyro_y", 18, 4);    // pass
+  add("A", "/imu/mag_x", 99, 99);    // no rule: does not count
+  add("B", "/imu/gyro_x", 18, 4);    // pass
+  add("B", "/imu/gyro_y", 19, 6);    // fail on N and B
+  add("B", "/imu/gyro_z", 18.5, 4);  // undecided on N: 18.5 +- 0.0196 straddles 18.5
+  add("C", "/imu/gyro_x", 18, 4);
+  add("C", "/imu/gyro_y", 18.5, 4);  // undecided
+  add("D", "/imu/gyro_x", 18, 4);
+  rows.back().status = io::ChannelStatus::failed("too short");  // no data: cannot pass
+  add("D", "/imu/gyro_y", 18, 4);
+  add("E", "/imu/mag_x", 1, 1);  // nothing covered
+  for (auto& r : rows) {
+    const auto v = spec::judge(sp, r);
+    r.spec_status = v.status;
+    r.spec_term_status = v.term_status;
+  }
+  spec::judge_units(rows);
+  const auto unit = [&](const std::string& dev) {
+    for (const auto& r : rows)
+      if (r.device_id == dev) return std::make_pair(r.unit_spec_status, r.unit_spec_detail);
+    return std::make_pair(std::string("?"), std::string("?"));
+  };
+  EXPECT_EQ(unit("A"), std::make_pair(std::string("pass"), std::string()));
+  EXPECT_EQ(unit("B"), std::make_pair(std::string("fail"),
+                                      std::string("fail: gyro_y (B, N); undecided: gyro_z (N)")));
+  EXPECT_EQ(unit("C"),
+            std::make_pair(std::string("undecided"), std::string("undecided: gyro_y (N)")));
+  EXPECT_EQ(unit("D"), std::make_pair(std::string("undecided"), std::string("no data: gyro_x")));
+  EXPECT_EQ(unit("E"), std::make_pair(std::string("no spec"), std::string()));
+  for (const auto& r : rows)  // the same on every row of a unit
+    EXPECT_EQ(r.unit_spec_status, unit(r.device_id).first) << r.device_id << r.channel;
+  // Without a spec the columns stay empty.
+  std::vector<io::SummaryRow> plain{gyro_row(18, 0.01, 4, 0.01)};
+  spec::judge_units(plain);
+  EXPECT_EQ(plain[0].unit_spec_status, "");
+}
+
 }  // namespace
 }  // namespace allanlot

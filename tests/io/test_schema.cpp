@@ -312,6 +312,8 @@ TEST(Schema, LotSummaryColumnsRoundTrip) {
   row.n_stuck = 1;
   row.n_spikes = 5;
   row.max_spike_sigmas = 12.5;
+  row.unit_spec_status = "fail";
+  row.unit_spec_detail = "fail: gyro_x (N)";
   io::StatisticsRow st{"/imu/gyro_x", "N", "deg/h/sqrt(Hz)", 7, 6, 1, 1.5, 0.2, 1.1, 1.3, 1.7, 1.9,
                        1.0,           2.0};
   io::write_lot_summary(dir, {row}, {st});
