@@ -1,6 +1,7 @@
 #include "src/report/svg.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -156,6 +157,29 @@ std::string number(double v, int digits) {
   return buf;
 }
 
+double text_width(std::string_view text, double font_px) {
+  // Advance widths in em, rounded up from DejaVu Sans (wider than Helvetica and Arial): narrow
+  // glyphs, wide ones, capitals, and the rest; a multi-byte character (Greek, a minus sign, a
+  // superscript) counts as a capital.
+  double em = 0;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    if ((c & 0xC0) == 0x80) continue;  // continuation byte of a UTF-8 character
+    if (c >= 0x80)
+      em += 0.8;
+    else if (std::string_view(" .,:;'!|()[]ijlrtf/*").find(static_cast<char>(c)) !=
+             std::string_view::npos)
+      em += 0.42;
+    else if (c == 'm' || c == 'w' || c == 'M' || c == 'W')
+      em += 1.0;
+    else if (c >= 'A' && c <= 'Z')
+      em += 0.78;
+    else
+      em += 0.66;
+  }
+  return em * font_px;
+}
+
 std::vector<Tick> log_ticks(double lo, double hi) {
   std::vector<Tick> out;
   if (!(lo > 0) || !(hi > lo) || !std::isfinite(hi)) return out;
@@ -210,11 +234,38 @@ Plot::Plot() : x_min(kNaN), x_max(kNaN), y_min(kNaN), y_max(kNaN) {}
 
 namespace {
 
+constexpr double kLegendFont = 11;  // px
+constexpr double kLegendKey = 28;   // the line or swatch before an entry's text, with its gap
+
+// `label` in lines of at most `max_w` px, broken at blanks (a word longer than that keeps a
+// line of its own).
+std::vector<std::string> wrap_text(const std::string& label, double max_w) {
+  std::vector<std::string> lines;
+  std::string line;
+  std::size_t start = 0;
+  while (start <= label.size()) {
+    auto end = label.find(' ', start);
+    if (end == std::string::npos) end = label.size();
+    const std::string word = label.substr(start, end - start);
+    const std::string joined = line.empty() ? word : line + " " + word;
+    if (!line.empty() && text_width(joined, kLegendFont) > max_w) {
+      lines.push_back(line);
+      line = word;
+    } else {
+      line = joined;
+    }
+    start = end + 1;
+  }
+  if (!line.empty() || lines.empty()) lines.push_back(line);
+  return lines;
+}
+
 // The plot area and the two axes of a plot, in viewBox pixels.
 struct Frame {
   Axis xa, ya;
   double left = 78, top = 14, plot_w = 40, plot_h = 40;
   bool any_legend = false;
+  double legend_w = 0;  // width of the legend's text column
   double X(double v) const { return xa.px(v); }
   double Y(double v) const { return ya.px(v); }
   bool ok_x(double v) const { return usable(v, xa.scale); }
@@ -286,7 +337,17 @@ Frame frame_of(const Plot& p) {
   const double bottom = 50;
   f.left = 78;
   f.top = p.title.empty() ? 14 : 34;
-  const double right = f.any_legend ? 178 : 16;
+  // The legend column is as wide as its longest entry, up to 40 % of the plot; entries longer
+  // than that wrap at blanks (never cut: a legend entry is the only key to its curve).
+  if (f.any_legend) {
+    double widest = 0;
+    for (const Series& s : p.series)
+      widest = std::max(widest, text_width(s.label, kLegendFont));
+    for (const Band& b : p.bands)
+      widest = std::max(widest, text_width(b.label, kLegendFont));
+    f.legend_w = std::min(widest, 0.4 * p.width - kLegendKey - 22);
+  }
+  const double right = f.any_legend ? 14 + kLegendKey + f.legend_w + 8 : 16;
   f.plot_w = std::max(40.0, p.width - f.left - right);
   f.plot_h = std::max(40.0, p.height - f.top - bottom);
   f.xa.p0 = f.left;
@@ -415,8 +476,26 @@ void draw_areas(std::string& o, const Plot& p, const Frame& f) {
   }
 }
 
-// One series: error bars, then the line, then dots (so that dots sit on top).
+// The classes of a series' <g> (and of its legend entry): its own, and "opt" when optional.
+std::string series_class(const Series& s) {
+  std::string c = escape(s.css_class);
+  if (s.optional) c += c.empty() ? "opt" : " opt";
+  return c;
+}
+
+// One series in its <g>: error bars, then the line, then dots (so that dots sit on top).
+void draw_series_marks(std::string& o, const Series& s, const Frame& f);
+
 void draw_series(std::string& o, const Series& s, const Frame& f) {
+  const std::string cls = series_class(s);
+  o += "<g class=\"series" + (cls.empty() ? std::string() : " " + cls) + "\"";
+  if (!s.label.empty()) append_attr(o, "data-label", escape(s.label));
+  o += ">\n";
+  draw_series_marks(o, s, f);
+  o += "</g>\n";
+}
+
+void draw_series_marks(std::string& o, const Series& s, const Frame& f) {
   const std::string color = escape(s.color);
   if (!s.y_lo.empty() && !s.y_hi.empty()) {
     std::string d;
@@ -490,16 +569,136 @@ void draw_series(std::string& o, const Series& s, const Frame& f) {
   }
 }
 
+// A label's box in viewBox px.
+struct Box2 {
+  double l, t, r, b;
+  bool overlaps(const Box2& o) const { return l < o.r && o.l < r && t < o.b && o.t < b; }
+};
+
+// Whether the segment (x0, y0)-(x1, y1) meets `r` (Liang-Barsky clipping).
+bool segment_hits(double x0, double y0, double x1, double y1, const Box2& r) {
+  double t0 = 0, t1 = 1;
+  const double dx = x1 - x0, dy = y1 - y0;
+  const double p[4] = {-dx, dx, -dy, dy}, q[4] = {x0 - r.l, r.r - x0, y0 - r.t, r.b - y0};
+  for (int k = 0; k < 4; ++k) {
+    if (p[k] == 0) {
+      if (q[k] < 0) return false;
+      continue;
+    }
+    const double t = q[k] / p[k];
+    if (p[k] < 0)
+      t0 = std::max(t0, t);
+    else
+      t1 = std::min(t1, t);
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
+// What labels keep clear of: the lines, error bars and dots of the non-optional series, as
+// segments (a dot is the segment across its diameter, widened by the padding).
+struct Obstacles {
+  std::vector<std::array<double, 4>> segments;
+  std::vector<Box2> boxes;  // dots and the labels placed so far
+  int hits(const Box2& b) const {
+    int n = 0;
+    for (const auto& s : segments)
+      n += segment_hits(s[0], s[1], s[2], s[3], b) ? 1 : 0;
+    for (const Box2& o : boxes)
+      n += o.overlaps(b) ? 1 : 0;
+    return n;
+  }
+};
+
+Obstacles obstacles_of(const Plot& p, const Frame& f) {
+  Obstacles ob;
+  for (const Series& s : p.series) {
+    if (s.optional) continue;
+    bool have_prev = false;
+    double px = 0, py = 0;
+    for (std::size_t i = 0; i < s.x.size(); ++i) {
+      if (!f.ok_x(s.x[i]) || !f.ok_y(s.y[i])) {
+        have_prev = false;
+        continue;
+      }
+      const double x = f.X(s.x[i]), y = f.Y(s.y[i]);
+      if (s.line && have_prev) ob.segments.push_back({px, py, x, y});
+      if (s.dots) {
+        const double r = s.dot_size / 2;
+        ob.boxes.push_back({x - r, y - r, x + r, y + r});
+      }
+      if (!s.y_lo.empty() && f.ok_y(s.y_lo[i]) && f.ok_y(s.y_hi[i]))
+        ob.segments.push_back({x, f.Y(s.y_lo[i]), x, f.Y(s.y_hi[i])});
+      px = x;
+      py = y;
+      have_prev = true;
+    }
+  }
+  return ob;
+}
+
+// The centre of a label of size w x h placed near (ax, ay): the nearest of a ring of
+// candidates (below first: the asymptotes the labels name lie under the curves) that meets no
+// obstacle and stays inside the plot area; failing that, the one that meets the fewest.
+std::pair<double, double> place_label(double ax, double ay, double w, double h, const Frame& f,
+                                      const Obstacles& ob) {
+  static constexpr double kDirs[8][2] = {{0, 1},    {-0.7, 0.7}, {0.7, 0.7}, {0, -1},
+                                         {-1, 0},   {1, 0},      {-0.7, -0.7}, {0.7, -0.7}};
+  double best_x = ax, best_y = ay + 12;
+  int best_hits = -1;
+  for (const double r : {11.0, 16.0, 23.0, 32.0, 44.0, 58.0, 75.0, 95.0, 120.0, 150.0})
+    for (const auto& d : kDirs) {
+      const double cx = ax + d[0] * (r + (d[0] != 0 ? w / 2 : 0)), cy = ay + d[1] * r;
+      const Box2 b{cx - w / 2 - 2, cy - h / 2 - 2, cx + w / 2 + 2, cy + h / 2 + 2};
+      if (b.l < f.left || b.r > f.left + f.plot_w || b.t < f.top || b.b > f.top + f.plot_h)
+        continue;
+      const int n = ob.hits(b);
+      if (n == 0) return {cx, cy};
+      if (best_hits < 0 || n < best_hits) {
+        best_hits = n;
+        best_x = cx;
+        best_y = cy;
+      }
+    }
+  return {best_x, best_y};
+}
+
 void draw_annotations(std::string& o, const Plot& p, const Frame& f) {
   // Annotations, clamped into the plot area so that a label is never lost off the edge.
+  Obstacles ob;
+  bool have_obstacles = false;
   for (const Annotation& a : p.annotations) {
     if (!f.ok_x(a.x) || !f.ok_y(a.y)) continue;
-    const double x = std::clamp(f.X(a.x) + a.dx, f.left + 2, f.left + f.plot_w - 2);
-    const double y = std::clamp(f.Y(a.y) + a.dy, f.top + 12, f.top + f.plot_h - 4);
-    o += "<text x=\"" + coord(x) + "\" y=\"" + coord(y) + "\" fill=\"" + escape(a.color) +
-         "\" text-anchor=\"" + escape(a.anchor) +
-         "\" font-size=\"11\" stroke=\"#fff\" stroke-width=\"3\" paint-order=\"stroke\">" +
-         escape(a.text) + "</text>\n";
+    const std::string cls =
+        a.css_class.empty() ? std::string() : " class=\"" + escape(a.css_class) + "\"";
+    const std::string text_attrs =
+        "\" fill=\"" + escape(a.color) +
+        "\" font-size=\"11\" stroke=\"#fff\" stroke-width=\"3\" paint-order=\"stroke\">";
+    if (!a.avoid) {
+      const double x = std::clamp(f.X(a.x) + a.dx, f.left + 2, f.left + f.plot_w - 2);
+      const double y = std::clamp(f.Y(a.y) + a.dy, f.top + 12, f.top + f.plot_h - 4);
+      o += "<text" + cls + " x=\"" + coord(x) + "\" y=\"" + coord(y) + "\" text-anchor=\"" +
+           escape(a.anchor) + text_attrs + escape(a.text) + "</text>\n";
+      continue;
+    }
+    if (!have_obstacles) {
+      ob = obstacles_of(p, f);
+      have_obstacles = true;
+    }
+    const double ax = f.X(a.x), ay = f.Y(a.y), w = text_width(a.text, 11), h = 12;
+    const auto [cx, cy] = place_label(ax, ay, w, h, f, ob);
+    ob.boxes.push_back({cx - w / 2, cy - h / 2, cx + w / 2, cy + h / 2});
+    // A leader from the point to the label's edge when the label had to move away from it.
+    const double vx = ax - cx, vy = ay - cy;
+    if (std::hypot(vx, vy) > 20) {
+      const double t = std::min(vx != 0 ? (w / 2 + 1) / std::abs(vx) : 1e9,
+                                vy != 0 ? (h / 2 + 1) / std::abs(vy) : 1e9);
+      o += "<path class=\"leader\" d=\"M" + coord(ax) + " " + coord(ay) + "L" +
+           coord(cx + vx * t) + " " + coord(cy + vy * t) + "\" stroke=\"" + escape(a.color) +
+           "\" stroke-width=\"0.8\" fill=\"none\"/>\n";
+    }
+    o += "<text" + cls + " x=\"" + coord(cx) + "\" y=\"" + coord(cy + 4) +
+         "\" text-anchor=\"middle" + text_attrs + escape(a.text) + "</text>\n";
   }
 }
 
@@ -548,45 +747,47 @@ void draw_axes(std::string& o, const Plot& p, const Frame& f, const Ticks& ticks
          escape(p.title) + "</text>\n";
 }
 
+// The legend entry's text: one <text>, a <tspan> per wrapped line.
+std::string legend_text(const std::string& label, double x, double y, double max_w,
+                        int& n_lines) {
+  const std::vector<std::string> lines = wrap_text(label, max_w);
+  n_lines = static_cast<int>(lines.size());
+  std::string o = "<text x=\"" + coord(x) + "\" y=\"" + coord(y) + "\">";
+  for (std::size_t i = 0; i < lines.size(); ++i)
+    o += i == 0 ? escape(lines[i])
+                : "<tspan x=\"" + coord(x) + "\" dy=\"1.15em\">" + escape(lines[i]) + "</tspan>";
+  return o + "</text>";
+}
+
 void draw_legend(std::string& o, const Plot& p, const Frame& f) {
-  // Legend.
-  if (f.any_legend) {
-    const double lx = f.left + f.plot_w + 14;
-    double ly = f.top + 10;
-    o += "<g class=\"legend\" font-size=\"11\">\n";
-    const auto short_label = [](const std::string& s) {
-      // About 24 characters fit in the legend column; longer labels are cut with an ellipsis
-      // (at a UTF-8 character boundary).
-      if (s.size() <= 26) return s;
-      std::size_t cut = 24;
-      while (cut > 0 && (static_cast<unsigned char>(s[cut]) & 0xC0) == 0x80)
-        --cut;
-      return s.substr(0, cut) + "\xE2\x80\xA6";
-    };
-    for (const Band& b : p.bands) {
-      if (b.label.empty()) continue;
-      o += "<rect x=\"" + coord(lx) + "\" y=\"" + coord(ly - 6) + "\" width=\"22\" height=\"10\"" +
-           " fill=\"" + escape(b.color) + "\" fill-opacity=\"" + number(b.opacity, 3) + "\"/>";
-      o += "<text x=\"" + coord(lx + 28) + "\" y=\"" + coord(ly + 4) + "\">" +
-           escape(short_label(b.label)) + "</text>\n";
-      ly += 17;
-    }
-    for (const Series& s : p.series) {
-      if (s.label.empty()) continue;
-      if (s.line)
-        o += "<path d=\"M" + coord(lx) + " " + coord(ly) + "h22\" stroke=\"" + escape(s.color) +
-             "\" stroke-width=\"" + number(std::max(s.width, 1.5), 3) + "\"" +
-             (s.dash.empty() ? std::string() : " stroke-dasharray=\"" + escape(s.dash) + "\"") +
-             "/>";
-      if (s.dots)
-        o += "<path d=\"M" + coord(lx + 11) + " " + coord(ly) + "h0\" stroke=\"" + escape(s.color) +
-             "\" stroke-width=\"" + number(s.dot_size + 1, 3) + "\" stroke-linecap=\"round\"/>";
-      o += "<text x=\"" + coord(lx + 28) + "\" y=\"" + coord(ly + 4) + "\">" +
-           escape(short_label(s.label)) + "</text>\n";
-      ly += 17;
-    }
-    o += "</g>\n";
+  if (!f.any_legend) return;
+  const double lx = f.left + f.plot_w + 14;
+  double ly = f.top + 10;
+  int n_lines = 1;
+  o += "<g class=\"legend\" font-size=\"" + number(kLegendFont, 3) + "\">\n";
+  for (const Band& b : p.bands) {
+    if (b.label.empty()) continue;
+    o += "<rect x=\"" + coord(lx) + "\" y=\"" + coord(ly - 6) + "\" width=\"22\" height=\"10\"" +
+         " fill=\"" + escape(b.color) + "\" fill-opacity=\"" + number(b.opacity, 3) + "\"/>";
+    o += legend_text(b.label, lx + kLegendKey, ly + 4, f.legend_w, n_lines) + "\n";
+    ly += 17 + 13 * (n_lines - 1);
   }
+  for (const Series& s : p.series) {
+    if (s.label.empty()) continue;
+    const std::string cls = series_class(s);
+    o += cls.empty() ? "<g>" : "<g class=\"" + cls + "\">";
+    if (s.line)
+      o += "<path d=\"M" + coord(lx) + " " + coord(ly) + "h22\" stroke=\"" + escape(s.color) +
+           "\" stroke-width=\"" + number(std::max(s.width, 1.5), 3) + "\"" +
+           (s.dash.empty() ? std::string() : " stroke-dasharray=\"" + escape(s.dash) + "\"") +
+           "/>";
+    if (s.dots)
+      o += "<path d=\"M" + coord(lx + 11) + " " + coord(ly) + "h0\" stroke=\"" + escape(s.color) +
+           "\" stroke-width=\"" + number(s.dot_size + 1, 3) + "\" stroke-linecap=\"round\"/>";
+    o += legend_text(s.label, lx + kLegendKey, ly + 4, f.legend_w, n_lines) + "</g>\n";
+    ly += 17 + 13 * (n_lines - 1);
+  }
+  o += "</g>\n";
 }
 
 }  // namespace
