@@ -139,7 +139,9 @@ std::string diagnosis_plot(const std::string& id, const io::DiagnosisView& d,
                            const std::string& units);
 // The spread of each detected term of one channel kind across the units, `outliers` in red
 // (distribution.cpp).
-std::string distribution_plot(const std::string& id, const std::string& channel,
+// `title` names the channel's group; "" when no unit detects any term (nothing to plot).
+std::string distribution_plot(const std::string& id, const std::string& title,
+                              const std::string& channel,
                               const std::vector<Member>& members,
                               const std::vector<Outlier>& outliers);
 
