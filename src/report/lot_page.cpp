@@ -211,9 +211,8 @@ std::string lot_section(const std::string& title, const std::vector<Unit>& units
   std::vector<std::string> without_terms;
   for (const ChannelGroup& g : groups) {
     const std::string suffix = group_suffix(groups, g);
-    const std::string plot =
-        distribution_plot("dist-" + sanitize(g.channel) + suffix, g.label(), g.channel,
-                          g.members, outliers);
+    const std::string plot = distribution_plot("dist-" + sanitize(g.channel) + suffix, g.label(),
+                                               g.channel, g.members, outliers);
     if (plot.empty()) without_terms.push_back(g.label());
     dists << plot;
     tables << "<div><h3 id=\"lot-" << sanitize(g.channel) << suffix << "\">" << escape(g.label())

@@ -115,8 +115,8 @@ std::pair<double, double> decade_range(const std::vector<double>& v);
 // datasheet form for a deviation of the rate (deg/h, mg; dimensionless for clocks) and of Q's
 // for a time error (urad, m/s, s), converted by kernels/model/units.hpp, the one owner.
 struct AxisUnits {
-  double factor = 1;  // from the stored channel units
-  std::string unit;   // "" when the channel has no units
+  double factor = 1;         // from the stored channel units
+  std::string unit;          // "" when the channel has no units
   std::string text() const;  // as an axis prints it: "deg/h", "dimensionless", "no units given"
 };
 AxisUnits rate_axis_units(const std::string& channel_units);
@@ -141,8 +141,7 @@ std::string diagnosis_plot(const std::string& id, const io::DiagnosisView& d,
 // (distribution.cpp).
 // `title` names the channel's group; "" when no unit detects any term (nothing to plot).
 std::string distribution_plot(const std::string& id, const std::string& title,
-                              const std::string& channel,
-                              const std::vector<Member>& members,
+                              const std::string& channel, const std::vector<Member>& members,
                               const std::vector<Outlier>& outliers);
 
 // The data-quality screen (quality.cpp): one line of a channel's findings, flagged ones in red,

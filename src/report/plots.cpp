@@ -16,8 +16,8 @@ using svg::number;
 namespace {
 
 // The statistics of one panel, the default one (OADEV, TDEV) first, in the order computed.
-std::vector<const std::pair<std::string, kernels::StatResult>*> panel_stats(
-    const io::ChannelResult& ch, bool time_error) {
+std::vector<const std::pair<std::string, kernels::StatResult>*>
+panel_stats(const io::ChannelResult& ch, bool time_error) {
   std::vector<const std::pair<std::string, kernels::StatResult>*> out;
   for (const auto& named : ch.stats) {
     const auto stat = kernels::parse_stat(named.first);
@@ -149,8 +149,7 @@ std::string toggle_css() {
   return css;
 }
 
-std::string deviation_panel(const std::string& id, const io::ChannelResult& ch,
-                            bool time_error) {
+std::string deviation_panel(const std::string& id, const io::ChannelResult& ch, bool time_error) {
   const auto stats = panel_stats(ch, time_error);
   if (stats.empty()) return "";
   const AxisUnits u = time_error ? time_error_axis_units(ch.units) : rate_axis_units(ch.units);
@@ -163,8 +162,8 @@ std::string deviation_panel(const std::string& id, const io::ChannelResult& ch,
     p.y_label = "time error (" + u.text() + ")";
   } else {
     p.title = clock ? "Allan deviation of the fractional frequency" : "Allan deviation";
-    p.y_label = std::string(clock ? "\xCF\x83y(\xCF\x84)" : "\xCF\x83(\xCF\x84)") + " (" + u.text() +
-                ")";
+    p.y_label =
+        std::string(clock ? "\xCF\x83y(\xCF\x84)" : "\xCF\x83(\xCF\x84)") + " (" + u.text() + ")";
   }
   std::vector<double> all_tau;
   for (const auto* s : stats)
@@ -332,8 +331,8 @@ std::string diagnosis_plot(const std::string& id, const io::DiagnosisView& d,
     return v;
   };
   if (!d.band_before_lo.empty() && !d.band_before_hi.empty())
-    p.bands.push_back({d.tau, scaled(d.band_before_lo), scaled(d.band_before_hi), "#d62728", 0.10, false,
-                       "Monte Carlo band, before"});
+    p.bands.push_back({d.tau, scaled(d.band_before_lo), scaled(d.band_before_hi), "#d62728", 0.10,
+                       false, "Monte Carlo band, before"});
   if (!d.band_lo.empty() && !d.band_hi.empty())
     p.bands.push_back({d.tau, scaled(d.band_lo), scaled(d.band_hi), "#2ca02c", 0.20, false,
                        d.band_before_lo.empty() ? "Monte Carlo band" : "Monte Carlo band, after"});

@@ -642,8 +642,8 @@ Obstacles obstacles_of(const Plot& p, const Frame& f) {
 // obstacle and stays inside the plot area; failing that, the one that meets the fewest.
 std::pair<double, double> place_label(double ax, double ay, double w, double h, const Frame& f,
                                       const Obstacles& ob) {
-  static constexpr double kDirs[8][2] = {{0, 1},    {-0.7, 0.7}, {0.7, 0.7}, {0, -1},
-                                         {-1, 0},   {1, 0},      {-0.7, -0.7}, {0.7, -0.7}};
+  static constexpr double kDirs[8][2] = {{0, 1},  {-0.7, 0.7}, {0.7, 0.7},   {0, -1},
+                                         {-1, 0}, {1, 0},      {-0.7, -0.7}, {0.7, -0.7}};
   double best_x = ax, best_y = ay + 12;
   int best_hits = -1;
   for (const double r : {11.0, 16.0, 23.0, 32.0, 44.0, 58.0, 75.0, 95.0, 120.0, 150.0})
@@ -693,8 +693,8 @@ void draw_annotations(std::string& o, const Plot& p, const Frame& f) {
     if (std::hypot(vx, vy) > 20) {
       const double t = std::min(vx != 0 ? (w / 2 + 1) / std::abs(vx) : 1e9,
                                 vy != 0 ? (h / 2 + 1) / std::abs(vy) : 1e9);
-      o += "<path class=\"leader\" d=\"M" + coord(ax) + " " + coord(ay) + "L" +
-           coord(cx + vx * t) + " " + coord(cy + vy * t) + "\" stroke=\"" + escape(a.color) +
+      o += "<path class=\"leader\" d=\"M" + coord(ax) + " " + coord(ay) + "L" + coord(cx + vx * t) +
+           " " + coord(cy + vy * t) + "\" stroke=\"" + escape(a.color) +
            "\" stroke-width=\"0.8\" fill=\"none\"/>\n";
     }
     o += "<text" + cls + " x=\"" + coord(cx) + "\" y=\"" + coord(cy + 4) +
@@ -748,8 +748,7 @@ void draw_axes(std::string& o, const Plot& p, const Frame& f, const Ticks& ticks
 }
 
 // The legend entry's text: one <text>, a <tspan> per wrapped line.
-std::string legend_text(const std::string& label, double x, double y, double max_w,
-                        int& n_lines) {
+std::string legend_text(const std::string& label, double x, double y, double max_w, int& n_lines) {
   const std::vector<std::string> lines = wrap_text(label, max_w);
   n_lines = static_cast<int>(lines.size());
   std::string o = "<text x=\"" + coord(x) + "\" y=\"" + coord(y) + "\">";
@@ -779,8 +778,7 @@ void draw_legend(std::string& o, const Plot& p, const Frame& f) {
     if (s.line)
       o += "<path d=\"M" + coord(lx) + " " + coord(ly) + "h22\" stroke=\"" + escape(s.color) +
            "\" stroke-width=\"" + number(std::max(s.width, 1.5), 3) + "\"" +
-           (s.dash.empty() ? std::string() : " stroke-dasharray=\"" + escape(s.dash) + "\"") +
-           "/>";
+           (s.dash.empty() ? std::string() : " stroke-dasharray=\"" + escape(s.dash) + "\"") + "/>";
     if (s.dots)
       o += "<path d=\"M" + coord(lx + 11) + " " + coord(ly) + "h0\" stroke=\"" + escape(s.color) +
            "\" stroke-width=\"" + number(s.dot_size + 1, 3) + "\" stroke-linecap=\"round\"/>";

@@ -46,7 +46,7 @@ struct Series {
   // Classes of the <g> that holds the series and its legend entry, e.g. "s-mdev": the page's
   // CSS can show or hide a series by them. `optional` series get the class "opt" too (the page
   // hides them until the reader ticks their box) and labels do not avoid them.
-  std::string css_class;
+  std::string css_class = "";
   bool optional = false;
 };
 
@@ -60,7 +60,7 @@ struct Annotation {
   // Placed near (x, y) but clear of the marks of the plot's non-optional series and of the
   // labels placed before it (a label on a curve hides both), with a leader line when moved far.
   bool avoid = false;
-  std::string css_class;  // class of the <text>, e.g. "slope"
+  std::string css_class = "";  // class of the <text>, e.g. "slope"
 };
 
 /// A shaded area between two curves over x (e.g. a Monte Carlo band), or, with `vertical`
@@ -98,8 +98,8 @@ struct Plot {
   // data span more than about one decade, as the paper's figures are).
   double x_min, x_max, y_min, y_max;
   double width = 720, height = 420;  // viewBox size in px; CSS scales the element
-  bool legend = true;  // legend to the right of the plot area, as wide as its longest entry
-  std::vector<Band> bands;           // drawn first
+  bool legend = true;       // legend to the right of the plot area, as wide as its longest entry
+  std::vector<Band> bands;  // drawn first
   std::vector<HLine> hlines;
   std::vector<Box> boxes;
   std::vector<Series> series;  // in order; the legend follows this order

@@ -32,7 +32,7 @@ td{white-space:nowrap}th{background:#f1f1f1}td.l,th.l{text-align:left}td.wrap{wh
 .plots>*{min-width:0}
 .panel>label{font-size:12px;margin-right:10px;white-space:nowrap}.panel>input{margin:0 3px 0 0;vertical-align:middle}
 .sw{display:inline-block;width:10px;height:10px;margin-right:3px;vertical-align:middle}
-svg.plot{width:100%;height:auto;display:block;border:1px solid #e4e4e4}
+svg.plot{width:100%;height:auto;display:block;border:1px solid #e4e4e4;box-sizing:border-box}
 .dists{display:grid;grid-template-columns:repeat(auto-fill,minmax(420px,1fr));gap:10px}
 .tables{display:flex;flex-wrap:wrap;gap:0 28px;align-items:flex-start}.tables>*{max-width:100%}
 details.devtables>summary{cursor:pointer;margin:4px 0}table.dev caption{font-weight:bold;text-align:left}
