@@ -30,6 +30,7 @@ td{white-space:nowrap}th{background:#f1f1f1}td.l,th.l{text-align:left}td.wrap{wh
 .nd{color:#999}.bad{color:#b00;font-weight:bold}.small{font-size:12px;color:#555}
 .plots{display:grid;grid-template-columns:repeat(auto-fill,minmax(520px,1fr));gap:10px;margin:6px 0}
 .plots>*{min-width:0}
+.panel{border:1px solid #e4e4e4;padding-top:3px}.panel>svg.plot{border:0}.panel>span.small{margin:0 6px}
 .panel>label{font-size:12px;margin-right:10px;white-space:nowrap}.panel>input{margin:0 3px 0 0;vertical-align:middle}
 .sw{display:inline-block;width:10px;height:10px;margin-right:3px;vertical-align:middle}
 svg.plot{width:100%;height:auto;display:block;border:1px solid #e4e4e4;box-sizing:border-box}
@@ -208,6 +209,7 @@ std::string channel_section(const Unit& u, const io::ChannelResult& ch, const Ex
     << ", " << number(ch.sample_rate_hz, 6) << " Hz, " << ch.n_samples << " samples ("
     << number(ch.n_samples / std::max(ch.sample_rate_hz, 1e-300), 4) << " s), " << ch.n_gaps
     << " gaps, " << escape(ch.data_type) << " data";
+  if (is_clock(ch.units)) h << " (deviations of the fractional frequency, dimensionless)";
   if (ch.fit) {
     h << "; fit " << escape(io::fit_status_text(*ch.fit)) << ", &chi;&sup2;/dof "
       << number(ch.fit->chi2_dof, 3);
