@@ -25,7 +25,7 @@ h1{font-size:24px;margin:18px 0 6px}h2{font-size:19px;border-bottom:2px solid #c
 h3{font-size:16px;margin:22px 0 6px}h4{font-size:14px;margin:12px 0 4px}
 table{border-collapse:collapse;margin:6px 0 14px;font-size:13px;max-width:100%}
 th,td{border:1px solid #ccc;padding:2px 7px;text-align:right;vertical-align:top;overflow-wrap:anywhere}
-td{white-space:nowrap}th{background:#f1f1f1}td.l,th.l{text-align:left}td.wrap{white-space:normal;max-width:900px;word-break:break-word;font-size:12px}
+th{background:#f1f1f1}td.l,th.l{text-align:left}td.wrap{white-space:normal;max-width:900px;word-break:break-word;font-size:12px}
 .pass{background:#cdeccf}.fail{background:#f6c4c4}.undecided{background:#fbeab5}
 .nd{color:#999}.bad{color:#b00;font-weight:bold}.small{font-size:12px;color:#555}
 .plots{display:grid;grid-template-columns:repeat(auto-fill,minmax(520px,1fr));gap:10px;margin:6px 0}
