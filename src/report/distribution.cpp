@@ -11,12 +11,12 @@ namespace allanlot::report {
 using svg::escape;
 using svg::number;
 
-std::string distribution_plot(const std::string& id, const std::string& channel,
-                              const std::vector<Member>& members,
+std::string distribution_plot(const std::string& id, const std::string& title,
+                              const std::string& channel, const std::vector<Member>& members,
                               const std::vector<Outlier>& outliers) {
   svg::Plot p;
   p.id = id;
-  p.title = "Spread across units: " + channel;
+  p.title = title;
   p.x_scale = svg::Scale::Categorical;
   p.y_label = "value / lot median";
   p.height = 300;
@@ -87,6 +87,7 @@ std::string distribution_plot(const std::string& id, const std::string& channel,
       }
     }
   }
+  if (p.boxes.empty()) return "";  // no term detected by any unit: no empty frame
   p.hlines.push_back({1.0, "#999", "4 3"});
   p.series.push_back(std::move(normal));
   if (!out.x.empty()) p.series.push_back(std::move(out));

@@ -111,15 +111,49 @@ std::string summary_table(const std::string& channel, const std::vector<Member>&
   return h.str();
 }
 
+// The channels of one kind across the lot: one channel path, units and data type.
+struct ChannelGroup {
+  std::string channel, units, data_type;
+  std::vector<Member> members;
+  std::string label() const {
+    return channel + " (" + (units.empty() ? std::string("no units") : units) + ", " + data_type +
+           " data)";
+  }
+};
+
+// "rate (default)" is rate data too.
+std::string data_kind(const std::string& data_type) {
+  return data_type.rfind("phase", 0) == 0 ? "phase" : "rate";
+}
+
+void add_to_group(std::vector<ChannelGroup>& groups, const Member& m) {
+  const std::string kind = data_kind(m.ch->data_type);
+  for (ChannelGroup& g : groups)
+    if (g.channel == m.ch->path && g.units == m.ch->units && g.data_type == kind) {
+      g.members.push_back(m);
+      return;
+    }
+  groups.push_back({m.ch->path, m.ch->units, kind, {m}});
+}
+
+// Ids stay "dist-<channel>" and "lot-<channel>" while a channel path has one group; the groups
+// of a path shared by different kinds of channel add their units and data type.
+std::string group_suffix(const std::vector<ChannelGroup>& groups, const ChannelGroup& g) {
+  const auto n = std::count_if(groups.begin(), groups.end(),
+                               [&](const ChannelGroup& o) { return o.channel == g.channel; });
+  return n > 1 ? "-" + sanitize(g.units) + "-" + g.data_type : std::string();
+}
+
 }  // namespace
 
 std::string lot_section(const std::string& title, const std::vector<Unit>& units,
                         const ExtrasMap& extras, const std::vector<FailedInput>& failed_inputs,
                         const std::vector<std::string>& problems) {
   std::ostringstream h;
-  // Channels in the order of their first appearance across the (sorted) units.
-  std::vector<std::string> channels;
-  std::map<std::string, std::vector<Member>> by_channel;
+  // Channels in the order of their first appearance across the (sorted) units, one group per
+  // channel path, units and data type: devices of different kinds that share a channel name
+  // (a clock's /data and a gyro's) are never pooled.
+  std::vector<ChannelGroup> groups;
   std::size_t n_channels = 0, n_failed = 0;
   std::set<std::string> versions;
   std::string first_created, last_created;
@@ -129,8 +163,7 @@ std::string lot_section(const std::string& title, const std::vector<Unit>& units
       first_created = u.rec.created_utc;
     last_created = std::max(last_created, u.rec.created_utc);
     for (const auto& ch : u.rec.channels) {
-      if (!by_channel.count(ch.path)) channels.push_back(ch.path);
-      by_channel[ch.path].push_back({&u, &ch});
+      add_to_group(groups, {&u, &ch});
       ++n_channels;
       n_failed += ch.status.is_ok() ? 0 : 1;
     }
@@ -187,19 +220,39 @@ std::string lot_section(const std::string& title, const std::vector<Unit>& units
     << " units, at least half of them detecting the term).</p>\n";
   const std::vector<Outlier> outliers = lot_outliers(units);
   std::ostringstream dists, tables;
-  for (const std::string& c : channels) {
-    const auto& members = by_channel[c];
-    dists << distribution_plot("dist-" + sanitize(c), c, members, outliers);
-    tables << "<div><h3 id=\"lot-" << sanitize(c) << "\">" << escape(c) << "</h3>\n"
-           << summary_table(c, members, extras) << "</div>\n";
+  std::vector<std::string> without_terms;
+  for (const ChannelGroup& g : groups) {
+    const std::string suffix = group_suffix(groups, g);
+    const std::string plot = distribution_plot("dist-" + sanitize(g.channel) + suffix, g.label(),
+                                               g.channel, g.members, outliers);
+    if (plot.empty()) without_terms.push_back(g.label());
+    dists << plot;
+    tables << "<div><h3 id=\"lot-" << sanitize(g.channel) << suffix << "\">" << escape(g.label())
+           << "</h3>\n"
+           << summary_table(g.channel, g.members, extras) << "</div>\n";
   }
-  h << "<h2>Distributions across units</h2>\n<p class=\"small\">Each detected term of each "
-       "unit relative to the lot median (labelled under its term), with the quartile box and "
-       "1.5 IQR whiskers; outliers in red link to the unit.</p>\n<div class=\"dists\">\n"
-    << dists.str() << "</div>\n";
+  h << "<h2>Distributions across units</h2>\n";
+  if (without_terms.size() == groups.size()) {
+    h << "<p>None: no unit has a fitted noise term (the results were analysed without the "
+         "model fit, <code>--no-fit</code>).</p>\n";
+  } else {
+    h << "<p class=\"small\">Each detected term of each unit relative to the lot median "
+         "(labelled under its term), with the quartile box and 1.5 IQR whiskers; outliers in red "
+         "link to the unit. One plot per channel, units and data type.</p>\n<div "
+         "class=\"dists\">\n"
+      << dists.str() << "</div>\n";
+    if (!without_terms.empty()) {
+      h << "<p class=\"small\">No detected term in: ";
+      for (std::size_t i = 0; i < without_terms.size(); ++i)
+        h << (i ? ", " : "") << escape(without_terms[i]);
+      h << ".</p>\n";
+    }
+  }
   h << quality_section(units);
   h << "<h2>Outlier units</h2>\n";
-  if (outliers.empty()) {
+  if (without_terms.size() == groups.size()) {
+    h << "<p>None: no fitted terms to compare.</p>\n";
+  } else if (outliers.empty()) {
     h << "<p>None.</p>\n";
   } else {
     h << "<table><tr><th class=\"l\">unit</th><th class=\"l\">channel</th><th>term</th>"

@@ -1,5 +1,6 @@
 #include "src/report/parts.hpp"
 
+#include "kernels/model/units.hpp"
 #include "src/report/svg.hpp"
 
 #include <algorithm>
@@ -156,6 +157,34 @@ std::pair<double, double> decade_range(const std::vector<double>& v) {
   double a = std::floor(std::log10(lo) + 1e-9), b = std::ceil(std::log10(hi) - 1e-9);
   if (b <= a) b = a + 1;
   return {std::pow(10.0, a), std::pow(10.0, b)};
+}
+
+std::string AxisUnits::text() const {
+  if (unit.empty()) return "no units given";
+  if (unit == "1") return "dimensionless";
+  return unit;
+}
+
+namespace {
+
+AxisUnits axis_units(kernels::Term t, const std::string& channel_units) {
+  if (channel_units.empty()) return {1.0, ""};
+  const kernels::units::Datasheet d = kernels::units::to_datasheet(t, 1.0, channel_units);
+  return {d.primary.value, d.primary.unit};
+}
+
+}  // namespace
+
+AxisUnits rate_axis_units(const std::string& channel_units) {
+  return axis_units(kernels::Term::B, channel_units);
+}
+
+AxisUnits time_error_axis_units(const std::string& channel_units) {
+  return axis_units(kernels::Term::Q, channel_units);
+}
+
+bool is_clock(const std::string& channel_units) {
+  return kernels::units::family_of(channel_units) == kernels::units::Family::Clock;
 }
 
 }  // namespace allanlot::report

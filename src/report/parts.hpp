@@ -120,8 +120,27 @@ std::array<double, kernels::kNumTerms> theta_of(const io::FitRecord& f);
 // whole plot.
 std::pair<double, double> decade_range(const std::vector<double>& v);
 
-// Plots of one channel (plots.cpp).
-std::string adev_plot(const std::string& id, const io::ChannelResult& ch);
+// The units the plots of a channel are drawn in: those of the coefficient table, i.e. of B's
+// datasheet form for a deviation of the rate (deg/h, mg; dimensionless for clocks) and of Q's
+// for a time error (urad, m/s, s), converted by kernels/model/units.hpp, the one owner.
+struct AxisUnits {
+  double factor = 1;         // from the stored channel units
+  std::string unit;          // "" when the channel has no units
+  std::string text() const;  // as an axis prints it: "deg/h", "dimensionless", "no units given"
+};
+AxisUnits rate_axis_units(const std::string& channel_units);
+AxisUnits time_error_axis_units(const std::string& channel_units);
+// True when the channel is a clock's (units s or 1): its deviations are of the (dimensionless)
+// fractional frequency.
+bool is_clock(const std::string& channel_units);
+
+// Plots of one channel (plots.cpp). A deviation panel: the Allan-family deviations of the
+// rate (`time_error` false: OADEV, the eq. (3) fit and its terms; the other statistics behind
+// boxes the reader ticks) or the time errors (TDEV; TTOTDEV, MTIE, TIE rms behind boxes), in
+// the table's units; "" when the channel has no statistic of that kind.
+std::string deviation_panel(const std::string& id, const io::ChannelResult& ch, bool time_error);
+// The CSS that shows a statistic when its box is ticked, for every statistic.
+std::string toggle_css();
 std::string psd_plot(const std::string& id, const io::ChannelResult& ch,
                      const io::FitRecord* psd_fit);
 std::string crosscheck_plot(const std::string& id, const io::CrosscheckRecord& c);
@@ -129,8 +148,9 @@ std::string diagnosis_plot(const std::string& id, const io::DiagnosisView& d,
                            const std::string& units);
 // The spread of each detected term of one channel kind across the units, `outliers` in red
 // (distribution.cpp).
-std::string distribution_plot(const std::string& id, const std::string& channel,
-                              const std::vector<Member>& members,
+// `title` names the channel's group; "" when no unit detects any term (nothing to plot).
+std::string distribution_plot(const std::string& id, const std::string& title,
+                              const std::string& channel, const std::vector<Member>& members,
                               const std::vector<Outlier>& outliers);
 
 // The data-quality screen (quality.cpp): one line of a channel's findings, flagged ones in red,

@@ -6,116 +6,191 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 
 namespace allanlot::report {
 
 using svg::escape;
 using svg::number;
 
-std::string adev_plot(const std::string& id, const io::ChannelResult& ch) {
+namespace {
+
+// The statistics of one panel, the default one (OADEV, TDEV) first, in the order computed.
+std::vector<const std::pair<std::string, kernels::StatResult>*>
+panel_stats(const io::ChannelResult& ch, bool time_error) {
+  std::vector<const std::pair<std::string, kernels::StatResult>*> out;
+  for (const auto& named : ch.stats) {
+    const auto stat = kernels::parse_stat(named.first);
+    if (!stat || kernels::is_time_error(*stat) != time_error || named.second.tau_s.empty())
+      continue;
+    out.push_back(&named);
+  }
+  const std::string first = time_error ? "tdev" : "oadev";
+  std::stable_partition(out.begin(), out.end(), [&](const auto* s) { return s->first == first; });
+  return out;
+}
+
+svg::Series stat_series(const std::string& name, const kernels::StatResult& s, double factor,
+                        bool optional) {
+  svg::Series se;
+  se.label = name;
+  se.color = stat_color(name);
+  se.css_class = "s-" + sanitize(name);
+  se.optional = optional;
+  se.x = s.tau_s;
+  for (const double v : s.dev)
+    se.y.push_back(v * factor);
+  if (s.dev_lo.size() == s.dev.size() && s.dev_hi.size() == s.dev.size()) {
+    for (std::size_t i = 0; i < s.dev.size(); ++i) {
+      se.y_lo.push_back(s.dev_lo[i] * factor);
+      se.y_hi.push_back(s.dev_hi[i] * factor);
+    }
+    if (s.confidence > 0) se.label += " (bars: " + number(100 * s.confidence, 3) + " % CI)";
+  }
+  se.dots = true;
+  se.dot_size = optional ? 3.5 : 4.5;
+  se.width = optional ? 1.1 : 1.6;
+  return se;
+}
+
+// The eq. (3) fit on the taus where it was fitted, then each detected term as its
+// straight-line asymptote over the whole axis, labelled with its slope where it touches the
+// curve (the paper's Figure 1); everything times `factor` (channel to axis units).
+void add_fit(svg::Plot& p, const io::FitRecord& fit, const kernels::StatResult* oadev,
+             double factor) {
+  const auto th = theta_of(fit);
+  svg::Series model;
+  model.label = "eq. (3) fit";
+  model.color = "#000";
+  model.width = 2.0;
+  model.css_class = "fit";
+  if (!fit.tau.empty() && fit.tau.size() == fit.adev_model.size()) {
+    model.x = fit.tau;
+    for (const double v : fit.adev_model)
+      model.y.push_back(v * factor);
+  } else if (oadev) {
+    for (const double t : oadev->tau_s) {
+      model.x.push_back(t);
+      model.y.push_back(std::sqrt(kernels::eq3_avar(th, t)) * factor);
+    }
+  }
+  std::vector<svg::Series> asym;
+  for (std::size_t j = 0; j < kTerms.size(); ++j) {
+    const io::TermRecord* t = find_term(fit, kTerms[j].name);
+    if (!t || !t->detected || !(th[j] > 0)) continue;
+    const auto term_dev = [&](double x) {
+      return std::sqrt(th[j] * kernels::eq3_regressors(x)[j]) * factor;
+    };
+    svg::Series a;
+    a.label = std::string(kTerms[j].name) + ": slope " + kTerms[j].slope;
+    a.color = kTerms[j].color;
+    a.dash = "7 4";
+    a.width = 1.4;
+    a.css_class = "term";
+    for (const double x : {p.x_min, p.x_max}) {
+      a.x.push_back(x);
+      a.y.push_back(term_dev(x));
+    }
+    // The label's point: the geometric middle of the taus where the term dominates the model,
+    // else where it comes closest to dominating; svg places the text clear of the curves.
+    double best = -1, bx = kNaN, dom_lo = kNaN, dom_hi = kNaN;
+    for (const double x : model.x) {
+      const double f = th[j] * kernels::eq3_regressors(x)[j] / kernels::eq3_avar(th, x);
+      if (f > best) {
+        best = f;
+        bx = x;
+      }
+      if (f > 0.5) {
+        if (std::isnan(dom_lo)) dom_lo = x;
+        dom_hi = x;
+      }
+    }
+    if (std::isfinite(dom_lo)) bx = std::sqrt(dom_lo * dom_hi);
+    if (std::isfinite(bx)) {
+      svg::Annotation label;
+      label.x = bx;
+      label.y = term_dev(bx);
+      label.text = std::string(kTerms[j].name) + " (" + kTerms[j].slope + ")";
+      label.color = kTerms[j].color;
+      label.avoid = true;
+      label.css_class = "slope";
+      p.annotations.push_back(std::move(label));
+    }
+    asym.push_back(std::move(a));
+  }
+  p.series.push_back(std::move(model));
+  for (auto& a : asym)
+    p.series.push_back(std::move(a));
+}
+
+// The tick boxes that show the optional statistics of panel `id`: siblings before its <svg>,
+// so that the page's CSS (toggle_css) reaches the series from them.
+std::string toggles(const std::string& id, const std::vector<svg::Series>& optional) {
+  if (optional.empty()) return "";
+  std::string h = "<span class=\"small\">Also show:</span>\n";
+  for (const svg::Series& s : optional) {
+    const std::string name = s.css_class.substr(2);  // "s-<stat>"
+    const std::string box = id + "-t-" + name;
+    h += "<input type=\"checkbox\" id=\"" + box + "\" class=\"t-" + name + "\"><label for=\"" +
+         box + "\"><span class=\"sw\" style=\"background:" + escape(s.color) + "\"></span>" +
+         escape(name) + "</label>\n";
+  }
+  return h;
+}
+
+}  // namespace
+
+std::string toggle_css() {
+  std::string css = ".opt{display:none}\n";
+  for (const kernels::Stat s : kernels::all_stats()) {
+    const std::string n = sanitize(kernels::stat_name(s));
+    css += ".t-" + n + ":checked~svg .s-" + n + "{display:inline}\n";
+  }
+  return css;
+}
+
+std::string deviation_panel(const std::string& id, const io::ChannelResult& ch, bool time_error) {
+  const auto stats = panel_stats(ch, time_error);
+  if (stats.empty()) return "";
+  const AxisUnits u = time_error ? time_error_axis_units(ch.units) : rate_axis_units(ch.units);
   svg::Plot p;
   p.id = id;
-  p.title = "Allan-family deviations and the eq. (3) fit";
   p.x_label = "\xCF\x84 (s)";
-  p.y_label = "\xCF\x83(\xCF\x84) (" + (ch.units.empty() ? std::string("u") : ch.units) + ")";
+  const bool clock = is_clock(ch.units);
+  if (time_error) {
+    p.title = "Time deviation (TDEV)";
+    p.y_label = "time error (" + u.text() + ")";
+  } else {
+    p.title = clock ? "Allan deviation of the fractional frequency" : "Allan deviation";
+    p.y_label =
+        std::string(clock ? "\xCF\x83y(\xCF\x84)" : "\xCF\x83(\xCF\x84)") + " (" + u.text() + ")";
+  }
   std::vector<double> all_tau;
-  const kernels::StatResult* oadev = nullptr;
-  for (const auto& [name, s] : ch.stats) {
-    // TDEV, TTOTDEV, MTIE and TIE rms are time (angle) errors, u*s, not deviations of the rate:
-    // another axis. They are in the export tables.
-    const auto stat = kernels::parse_stat(name);
-    if (stat && kernels::is_time_error(*stat)) continue;
-    if (name == "oadev") oadev = &s;
-    all_tau.insert(all_tau.end(), s.tau_s.begin(), s.tau_s.end());
-    svg::Series se;
-    se.label = name;
-    se.color = stat_color(name);
-    se.x = s.tau_s;
-    se.y = s.dev;
-    if (s.dev_lo.size() == s.dev.size() && s.dev_hi.size() == s.dev.size()) {
-      se.y_lo = s.dev_lo;
-      se.y_hi = s.dev_hi;
-      if (s.confidence > 0)
-        p.title = "Allan-family deviations (error bars: " + number(100 * s.confidence, 3) +
-                  " % CI) and the eq. (3) fit";
-    }
-    se.dots = true;
-    se.dot_size = name == "oadev" ? 4.5 : 3.5;
-    se.width = name == "oadev" ? 1.6 : 1.1;
-    p.series.push_back(std::move(se));
+  for (const auto* s : stats)
+    all_tau.insert(all_tau.end(), s->second.tau_s.begin(), s->second.tau_s.end());
+  std::tie(p.x_min, p.x_max) = decade_range(all_tau);
+  std::vector<svg::Series> optional;
+  p.series.push_back(stat_series(stats[0]->first, stats[0]->second, u.factor, false));
+  for (std::size_t i = 1; i < stats.size(); ++i)
+    optional.push_back(stat_series(stats[i]->first, stats[i]->second, u.factor, true));
+  const kernels::StatResult* oadev = stats[0]->first == "oadev" ? &stats[0]->second : nullptr;
+  if (!time_error && ch.fit && !ch.fit->terms.empty() && kernels::has_terms(ch.fit->status)) {
+    p.title += " and the eq. (3) fit";
+    add_fit(p, *ch.fit, oadev, u.factor);
   }
-  const auto [x0, x1] = decade_range(all_tau);
-  p.x_min = x0;
-  p.x_max = x1;
-  if (ch.fit && !ch.fit->terms.empty() && kernels::has_terms(ch.fit->status)) {
-    const auto th = theta_of(*ch.fit);
-    // The fitted curve on the oadev taus where it was fitted, then each detected term as its
-    // straight-line asymptote over the whole axis, labelled with its slope where it dominates.
-    svg::Series model;
-    model.label = "eq. (3) fit";
-    model.color = "#000";
-    model.width = 2.0;
-    if (!ch.fit->tau.empty() && ch.fit->tau.size() == ch.fit->adev_model.size()) {
-      model.x = ch.fit->tau;
-      model.y = ch.fit->adev_model;
-    } else if (oadev) {
-      for (const double t : oadev->tau_s) {
-        model.x.push_back(t);
-        model.y.push_back(std::sqrt(kernels::eq3_avar(th, t)));
-      }
+  // The optional statistics last, so that their legend entries, hidden with them, leave no
+  // gap; the y range over every statistic (not the asymptotes, which run far below).
+  std::vector<double> ys;
+  for (auto& s : optional)
+    p.series.push_back(s);
+  for (const auto& s : p.series)
+    if (s.dash.empty()) {
+      ys.insert(ys.end(), s.y.begin(), s.y.end());
+      ys.insert(ys.end(), s.y_lo.begin(), s.y_lo.end());
+      ys.insert(ys.end(), s.y_hi.begin(), s.y_hi.end());
     }
-    std::vector<svg::Series> asym;
-    for (std::size_t j = 0; j < kTerms.size(); ++j) {
-      const io::TermRecord* t = find_term(*ch.fit, kTerms[j].name);
-      if (!t || !t->detected || !(th[j] > 0)) continue;
-      svg::Series a;
-      a.label = std::string(kTerms[j].name) + ": slope " + kTerms[j].slope;
-      a.color = kTerms[j].color;
-      a.dash = "7 4";
-      a.width = 1.4;
-      for (const double x : {x0, x1}) {
-        a.x.push_back(x);
-        a.y.push_back(std::sqrt(th[j] * kernels::eq3_regressors(x)[j]));
-      }
-      // The label goes where the asymptote touches the curve: the geometric middle of the
-      // taus where the term dominates the model, else where it comes closest to dominating.
-      double best = -1, bx = kNaN, dom_lo = kNaN, dom_hi = kNaN;
-      for (const double x : model.x) {
-        const double f = th[j] * kernels::eq3_regressors(x)[j] / kernels::eq3_avar(th, x);
-        if (f > best) {
-          best = f;
-          bx = x;
-        }
-        if (f > 0.5) {
-          if (std::isnan(dom_lo)) dom_lo = x;
-          dom_hi = x;
-        }
-      }
-      if (std::isfinite(dom_lo)) bx = std::sqrt(dom_lo * dom_hi);
-      if (std::isfinite(bx))
-        p.annotations.push_back({bx, std::sqrt(th[j] * kernels::eq3_regressors(bx)[j]),
-                                 std::string(kTerms[j].name) + " (" + kTerms[j].slope + ")",
-                                 kTerms[j].color, "middle", 0, -10});
-      asym.push_back(std::move(a));
-    }
-    p.series.push_back(std::move(model));
-    for (auto& a : asym)
-      p.series.push_back(std::move(a));
-    // The asymptotes can run far below the data; keep the y range on the curves.
-    std::vector<double> ys;
-    for (const auto& s : p.series)
-      if (s.dash.empty()) {
-        for (std::size_t i = 0; i < s.y.size(); ++i) {
-          ys.push_back(s.y[i]);
-          if (!s.y_lo.empty()) ys.push_back(s.y_lo[i]);
-          if (!s.y_hi.empty()) ys.push_back(s.y_hi[i]);
-        }
-      }
-    const auto [y0, y1] = decade_range(ys);
-    p.y_min = y0;
-    p.y_max = y1;
-  }
-  return svg::render(p);
+  std::tie(p.y_min, p.y_max) = decade_range(ys);
+  return "<div class=\"panel\">\n" + toggles(id, optional) + svg::render(p) + "</div>\n";
 }
 
 std::string psd_plot(const std::string& id, const io::ChannelResult& ch,
@@ -124,14 +199,19 @@ std::string psd_plot(const std::string& id, const io::ChannelResult& ch,
   p.id = id;
   p.title = "Power spectral density (one-sided) and the model";
   p.x_label = "f (Hz)";
-  const std::string u = ch.units.empty() ? std::string("u") : ch.units;
-  p.y_label = "PSD ((" + u + ")\xC2\xB2/Hz)";
+  // In the square of the Allan plot's units, so that the white level reads as N's density.
+  const AxisUnits u = rate_axis_units(ch.units);
+  const double f2 = u.factor * u.factor;
+  p.y_label = u.unit == "1"    ? std::string("PSD (1/Hz)")
+              : u.unit.empty() ? std::string("PSD (units\xC2\xB2/Hz)")
+                               : "PSD ((" + u.unit + ")\xC2\xB2/Hz)";
   const io::PsdRecord& psd = *ch.psd;
   svg::Series m;
   m.label = "measured (Welch)";
   m.color = "#1f77b4";
   m.x = psd.f;
-  m.y = psd.psd;
+  for (const double v : psd.psd)
+    m.y.push_back(v * f2);
   m.dots = true;
   m.dot_size = 3.5;
   m.width = 1.2;
@@ -139,7 +219,7 @@ std::string psd_plot(const std::string& id, const io::ChannelResult& ch,
   const auto [x0, x1] = decade_range(psd.f);
   p.x_min = x0;
   p.x_max = x1;
-  std::vector<double> ys = psd.psd;
+  std::vector<double> ys = m.y;
   // The model's one-sided PSD (kernels::model_psd_one_sided: the forms under the paper's
   // eq. (3), doubled). The ramp R is deterministic and has no density.
   const auto model_curve = [&](const io::FitRecord& f, const char* label, const char* color,
@@ -161,7 +241,7 @@ std::string psd_plot(const std::string& id, const io::ChannelResult& ch,
     for (const double f0 : psd.f)
       if (f0 > 0) {
         s.x.push_back(f0);
-        s.y.push_back(kernels::model_psd_one_sided(spec, f0));
+        s.y.push_back(kernels::model_psd_one_sided(spec, f0) * f2);
       }
     return s;
   };
@@ -242,12 +322,19 @@ std::string diagnosis_plot(const std::string& id, const io::DiagnosisView& d,
   p.id = id;
   p.title = "Diagnosis: measured and model, before and after";
   p.x_label = "\xCF\x84 (s)";
-  p.y_label = "\xCF\x83(\xCF\x84) (" + (units.empty() ? std::string("u") : units) + ")";
+  // In the Allan plot's units, as the channel's other plots.
+  const AxisUnits u = rate_axis_units(units);
+  p.y_label = "\xCF\x83(\xCF\x84) (" + u.text() + ")";
+  const auto scaled = [&](std::vector<double> v) {
+    for (double& x : v)
+      x *= u.factor;
+    return v;
+  };
   if (!d.band_before_lo.empty() && !d.band_before_hi.empty())
-    p.bands.push_back({d.tau, d.band_before_lo, d.band_before_hi, "#d62728", 0.10, false,
-                       "Monte Carlo band, before"});
+    p.bands.push_back({d.tau, scaled(d.band_before_lo), scaled(d.band_before_hi), "#d62728", 0.10,
+                       false, "Monte Carlo band, before"});
   if (!d.band_lo.empty() && !d.band_hi.empty())
-    p.bands.push_back({d.tau, d.band_lo, d.band_hi, "#2ca02c", 0.20, false,
+    p.bands.push_back({d.tau, scaled(d.band_lo), scaled(d.band_hi), "#2ca02c", 0.20, false,
                        d.band_before_lo.empty() ? "Monte Carlo band" : "Monte Carlo band, after"});
   const auto gap = [](double g) { return std::isnan(g) ? std::string() : ", gap " + number(g, 3); };
   // The model before (dashed red) and after (solid black), each labelled with its gap.
@@ -259,7 +346,7 @@ std::string diagnosis_plot(const std::string& id, const io::DiagnosisView& d,
     s.dash = dash;
     s.width = 2.0;
     s.x = d.tau;
-    s.y = y;
+    s.y = scaled(y);
     return s;
   };
   if (!d.model_before.empty())
@@ -271,7 +358,7 @@ std::string diagnosis_plot(const std::string& id, const io::DiagnosisView& d,
     m.label = "measured";
     m.color = "#1f77b4";
     m.x = d.tau;
-    m.y = d.measured;
+    m.y = scaled(d.measured);
     m.dots = true;
     m.line = false;
     m.dot_size = 5;
@@ -280,8 +367,8 @@ std::string diagnosis_plot(const std::string& id, const io::DiagnosisView& d,
     if (d.edf.size() == d.tau.size()) {
       for (std::size_t i = 0; i < d.tau.size(); ++i) {
         const double s = d.edf[i] > 0 ? 0.5 * std::sqrt(2.0 / d.edf[i]) : kNaN;
-        m.y_lo.push_back(d.measured[i] * std::exp(-s));
-        m.y_hi.push_back(d.measured[i] * std::exp(s));
+        m.y_lo.push_back(m.y[i] * std::exp(-s));
+        m.y_hi.push_back(m.y[i] * std::exp(s));
       }
     }
     p.series.push_back(std::move(m));

@@ -1,10 +1,11 @@
 // The HTML report (`allanlot report OUTDIR [-o report.html]`, docs/reports.md): one self-contained
 // HTML page (inline CSS and SVG, no scripts, nothing fetched) from the results files of `analyze`:
 // a lot page (summary tables with pass/fail colouring where the lot summary has spec columns,
-// per-term distributions across units, outliers) and, per unit and channel, the Allan-family curves
-// with confidence intervals, the eq. (3) fit with its terms as slope asymptotes (the paper's
-// Figure 1), the PSD against the model's, the eq. (2) cross-check, the coefficient table and,
-// where `diagnose` has written one, the diagnosis.
+// per-term distributions across units, one per channel, units and data type, outliers) and, per
+// unit and channel, in the coefficient table's units: OADEV with confidence intervals, the eq. (3)
+// fit with its terms as slope asymptotes (the paper's Figure 1) and the other statistics behind
+// tick boxes; TDEV; the PSD against the model's; the eq. (2) cross-check; the coefficient table;
+// the deviation tables, folded; and, where `diagnose` has written one, the diagnosis.
 #pragma once
 
 #include <filesystem>
@@ -22,7 +23,7 @@ enum class UnitPages {
 
 /// Lots with more units than this get per-unit pages under UnitPages::Auto: one page with
 /// every curve of 500 six-channel units would be over 100 MB; the lot page alone stays at a
-/// few MB and each unit page at about 250 kB.
+/// few MB and each unit page at about 650 kB (a third of it the folded deviation tables).
 inline constexpr int kSinglePageMaxUnits = 20;
 
 struct ReportOptions {

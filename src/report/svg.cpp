@@ -1,12 +1,21 @@
 #include "src/report/svg.hpp"
 
+#include "src/report/svg_layout.hpp"
+
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <stdexcept>
 
 namespace allanlot::svg {
+
+using layout::Axis;
+using layout::coord;
+using layout::Frame;
+using layout::usable;
+
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -23,12 +32,6 @@ void append_coord(std::string& out, double v) {
   else
     std::snprintf(buf, sizeof buf, "%s%lld.%lld", t < 0 ? "-" : "", a / 10, a % 10);
   out += buf;
-}
-
-std::string coord(double v) {
-  std::string s;
-  append_coord(s, v);
-  return s;
 }
 
 // Superscript markup for "10^k" style labels: the part after '^' is raised and smaller, with a
@@ -54,18 +57,6 @@ std::string mantissa_label(int d, int k, bool decades_only) {
          "10^" +
          std::to_string(k);
 }
-
-bool usable(double v, Scale s) {
-  return std::isfinite(v) && (s != Scale::Log || v > 0.0);
-}
-
-struct Axis {
-  Scale scale = Scale::Log;
-  double lo = 1, hi = 10;  // data range shown
-  double p0 = 0, p1 = 1;   // pixel positions of lo and hi
-  double t(double v) const { return scale == Scale::Log ? std::log10(v) : v; }
-  double px(double v) const { return p0 + (t(v) - t(lo)) / (t(hi) - t(lo)) * (p1 - p0); }
-};
 
 // Padded data range of one axis; log axes snap to whole decades when the data span more than
 // about a decade (the paper's figures), otherwise pad by a few percent so that the data do
@@ -116,6 +107,16 @@ void append_attr(std::string& out, const char* name, const std::string& value) {
 }
 
 }  // namespace
+
+namespace layout {
+
+std::string coord(double v) {
+  std::string s;
+  append_coord(s, v);
+  return s;
+}
+
+}  // namespace layout
 
 std::string escape(std::string_view text) {
   std::string out;
@@ -210,18 +211,31 @@ Plot::Plot() : x_min(kNaN), x_max(kNaN), y_min(kNaN), y_max(kNaN) {}
 
 namespace {
 
-// The plot area and the two axes of a plot, in viewBox pixels.
-struct Frame {
-  Axis xa, ya;
-  double left = 78, top = 14, plot_w = 40, plot_h = 40;
-  bool any_legend = false;
-  double X(double v) const { return xa.px(v); }
-  double Y(double v) const { return ya.px(v); }
-  bool ok_x(double v) const { return usable(v, xa.scale); }
-  bool ok_y(double v) const { return usable(v, ya.scale); }
-  bool x_log() const { return xa.scale == Scale::Log; }
-  bool y_log() const { return ya.scale == Scale::Log; }
-};
+constexpr double kLegendFont = 11;  // px
+constexpr double kLegendKey = 28;   // the line or swatch before an entry's text, with its gap
+
+// `label` in lines of at most `max_w` px, broken at blanks (a word longer than that keeps a
+// line of its own).
+std::vector<std::string> wrap_text(const std::string& label, double max_w) {
+  std::vector<std::string> lines;
+  std::string line;
+  std::size_t start = 0;
+  while (start <= label.size()) {
+    auto end = label.find(' ', start);
+    if (end == std::string::npos) end = label.size();
+    const std::string word = label.substr(start, end - start);
+    const std::string joined = line.empty() ? word : line + " " + word;
+    if (!line.empty() && text_width(joined, kLegendFont) > max_w) {
+      lines.push_back(line);
+      line = word;
+    } else {
+      line = joined;
+    }
+    start = end + 1;
+  }
+  if (!line.empty() || lines.empty()) lines.push_back(line);
+  return lines;
+}
 
 void validate(const Plot& p) {
   if (p.id.empty()) throw std::invalid_argument("svg::render: empty plot id");
@@ -286,7 +300,17 @@ Frame frame_of(const Plot& p) {
   const double bottom = 50;
   f.left = 78;
   f.top = p.title.empty() ? 14 : 34;
-  const double right = f.any_legend ? 178 : 16;
+  // The legend column is as wide as its longest entry, up to 40 % of the plot; entries longer
+  // than that wrap at blanks (never cut: a legend entry is the only key to its curve).
+  if (f.any_legend) {
+    double widest = 0;
+    for (const Series& s : p.series)
+      widest = std::max(widest, text_width(s.label, kLegendFont));
+    for (const Band& b : p.bands)
+      widest = std::max(widest, text_width(b.label, kLegendFont));
+    f.legend_w = std::min(widest, 0.4 * p.width - kLegendKey - 22);
+  }
+  const double right = f.any_legend ? 14 + kLegendKey + f.legend_w + 8 : 16;
   f.plot_w = std::max(40.0, p.width - f.left - right);
   f.plot_h = std::max(40.0, p.height - f.top - bottom);
   f.xa.p0 = f.left;
@@ -415,8 +439,26 @@ void draw_areas(std::string& o, const Plot& p, const Frame& f) {
   }
 }
 
-// One series: error bars, then the line, then dots (so that dots sit on top).
+// The classes of a series' <g> (and of its legend entry): its own, and "opt" when optional.
+std::string series_class(const Series& s) {
+  std::string c = escape(s.css_class);
+  if (s.optional) c += c.empty() ? "opt" : " opt";
+  return c;
+}
+
+// One series in its <g>: error bars, then the line, then dots (so that dots sit on top).
+void draw_series_marks(std::string& o, const Series& s, const Frame& f);
+
 void draw_series(std::string& o, const Series& s, const Frame& f) {
+  const std::string cls = series_class(s);
+  o += "<g class=\"series" + (cls.empty() ? std::string() : " " + cls) + "\"";
+  if (!s.label.empty()) append_attr(o, "data-label", escape(s.label));
+  o += ">\n";
+  draw_series_marks(o, s, f);
+  o += "</g>\n";
+}
+
+void draw_series_marks(std::string& o, const Series& s, const Frame& f) {
   const std::string color = escape(s.color);
   if (!s.y_lo.empty() && !s.y_hi.empty()) {
     std::string d;
@@ -490,19 +532,6 @@ void draw_series(std::string& o, const Series& s, const Frame& f) {
   }
 }
 
-void draw_annotations(std::string& o, const Plot& p, const Frame& f) {
-  // Annotations, clamped into the plot area so that a label is never lost off the edge.
-  for (const Annotation& a : p.annotations) {
-    if (!f.ok_x(a.x) || !f.ok_y(a.y)) continue;
-    const double x = std::clamp(f.X(a.x) + a.dx, f.left + 2, f.left + f.plot_w - 2);
-    const double y = std::clamp(f.Y(a.y) + a.dy, f.top + 12, f.top + f.plot_h - 4);
-    o += "<text x=\"" + coord(x) + "\" y=\"" + coord(y) + "\" fill=\"" + escape(a.color) +
-         "\" text-anchor=\"" + escape(a.anchor) +
-         "\" font-size=\"11\" stroke=\"#fff\" stroke-width=\"3\" paint-order=\"stroke\">" +
-         escape(a.text) + "</text>\n";
-  }
-}
-
 void draw_axes(std::string& o, const Plot& p, const Frame& f, const Ticks& ticks,
                const std::string& tick_marks) {
   const std::vector<Tick>& xt = ticks.x;
@@ -548,45 +577,45 @@ void draw_axes(std::string& o, const Plot& p, const Frame& f, const Ticks& ticks
          escape(p.title) + "</text>\n";
 }
 
+// The legend entry's text: one <text>, a <tspan> per wrapped line.
+std::string legend_text(const std::string& label, double x, double y, double max_w, int& n_lines) {
+  const std::vector<std::string> lines = wrap_text(label, max_w);
+  n_lines = static_cast<int>(lines.size());
+  std::string o = "<text x=\"" + coord(x) + "\" y=\"" + coord(y) + "\">";
+  for (std::size_t i = 0; i < lines.size(); ++i)
+    o += i == 0 ? escape(lines[i])
+                : "<tspan x=\"" + coord(x) + "\" dy=\"1.15em\">" + escape(lines[i]) + "</tspan>";
+  return o + "</text>";
+}
+
 void draw_legend(std::string& o, const Plot& p, const Frame& f) {
-  // Legend.
-  if (f.any_legend) {
-    const double lx = f.left + f.plot_w + 14;
-    double ly = f.top + 10;
-    o += "<g class=\"legend\" font-size=\"11\">\n";
-    const auto short_label = [](const std::string& s) {
-      // About 24 characters fit in the legend column; longer labels are cut with an ellipsis
-      // (at a UTF-8 character boundary).
-      if (s.size() <= 26) return s;
-      std::size_t cut = 24;
-      while (cut > 0 && (static_cast<unsigned char>(s[cut]) & 0xC0) == 0x80)
-        --cut;
-      return s.substr(0, cut) + "\xE2\x80\xA6";
-    };
-    for (const Band& b : p.bands) {
-      if (b.label.empty()) continue;
-      o += "<rect x=\"" + coord(lx) + "\" y=\"" + coord(ly - 6) + "\" width=\"22\" height=\"10\"" +
-           " fill=\"" + escape(b.color) + "\" fill-opacity=\"" + number(b.opacity, 3) + "\"/>";
-      o += "<text x=\"" + coord(lx + 28) + "\" y=\"" + coord(ly + 4) + "\">" +
-           escape(short_label(b.label)) + "</text>\n";
-      ly += 17;
-    }
-    for (const Series& s : p.series) {
-      if (s.label.empty()) continue;
-      if (s.line)
-        o += "<path d=\"M" + coord(lx) + " " + coord(ly) + "h22\" stroke=\"" + escape(s.color) +
-             "\" stroke-width=\"" + number(std::max(s.width, 1.5), 3) + "\"" +
-             (s.dash.empty() ? std::string() : " stroke-dasharray=\"" + escape(s.dash) + "\"") +
-             "/>";
-      if (s.dots)
-        o += "<path d=\"M" + coord(lx + 11) + " " + coord(ly) + "h0\" stroke=\"" + escape(s.color) +
-             "\" stroke-width=\"" + number(s.dot_size + 1, 3) + "\" stroke-linecap=\"round\"/>";
-      o += "<text x=\"" + coord(lx + 28) + "\" y=\"" + coord(ly + 4) + "\">" +
-           escape(short_label(s.label)) + "</text>\n";
-      ly += 17;
-    }
-    o += "</g>\n";
+  if (!f.any_legend) return;
+  const double lx = f.left + f.plot_w + 14;
+  double ly = f.top + 10;
+  int n_lines = 1;
+  o += "<g class=\"legend\" font-size=\"" + number(kLegendFont, 3) + "\">\n";
+  for (const Band& b : p.bands) {
+    if (b.label.empty()) continue;
+    o += "<rect x=\"" + coord(lx) + "\" y=\"" + coord(ly - 6) + "\" width=\"22\" height=\"10\"" +
+         " fill=\"" + escape(b.color) + "\" fill-opacity=\"" + number(b.opacity, 3) + "\"/>";
+    o += legend_text(b.label, lx + kLegendKey, ly + 4, f.legend_w, n_lines) + "\n";
+    ly += 17 + 13 * (n_lines - 1);
   }
+  for (const Series& s : p.series) {
+    if (s.label.empty()) continue;
+    const std::string cls = series_class(s);
+    o += cls.empty() ? "<g>" : "<g class=\"" + cls + "\">";
+    if (s.line)
+      o += "<path d=\"M" + coord(lx) + " " + coord(ly) + "h22\" stroke=\"" + escape(s.color) +
+           "\" stroke-width=\"" + number(std::max(s.width, 1.5), 3) + "\"" +
+           (s.dash.empty() ? std::string() : " stroke-dasharray=\"" + escape(s.dash) + "\"") + "/>";
+    if (s.dots)
+      o += "<path d=\"M" + coord(lx + 11) + " " + coord(ly) + "h0\" stroke=\"" + escape(s.color) +
+           "\" stroke-width=\"" + number(s.dot_size + 1, 3) + "\" stroke-linecap=\"round\"/>";
+    o += legend_text(s.label, lx + kLegendKey, ly + 4, f.legend_w, n_lines) + "</g>\n";
+    ly += 17 + 13 * (n_lines - 1);
+  }
+  o += "</g>\n";
 }
 
 }  // namespace
@@ -616,7 +645,7 @@ std::string render(const Plot& p) {
   for (const Series& s : p.series)
     draw_series(o, s, f);
   o += "</g>\n";
-  draw_annotations(o, p, f);
+  layout::draw_annotations(o, p, f);
   draw_axes(o, p, f, ticks, tick_marks);
   draw_legend(o, p, f);
   o += "</svg>\n";

@@ -43,6 +43,11 @@ struct Series {
   std::string dash;                   // SVG stroke-dasharray, e.g. "6 4" ("" = solid)
   std::vector<std::string> hrefs;     // per point: a link for the dot ("" = none); empty = none
   std::vector<std::string> tooltips;  // per point: text shown on hover with its link
+  // Classes of the <g> that holds the series and its legend entry, e.g. "s-mdev": the page's
+  // CSS can show or hide a series by them. `optional` series get the class "opt" too (the page
+  // hides them until the reader ticks their box) and labels do not avoid them.
+  std::string css_class = "";
+  bool optional = false;
 };
 
 /// Text placed at data coordinates (clamped into the plot area so it is never lost).
@@ -52,6 +57,10 @@ struct Annotation {
   std::string color = "#333";
   std::string anchor = "start";  // SVG text-anchor: start, middle, end
   double dx = 4, dy = -4;        // offset from the point in px
+  // Placed near (x, y) but clear of the marks of the plot's non-optional series and of the
+  // labels placed before it (a label on a curve hides both), with a leader line when moved far.
+  bool avoid = false;
+  std::string css_class = "";  // class of the <text>, e.g. "slope"
 };
 
 /// A shaded area between two curves over x (e.g. a Monte Carlo band), or, with `vertical`
@@ -89,8 +98,8 @@ struct Plot {
   // data span more than about one decade, as the paper's figures are).
   double x_min, x_max, y_min, y_max;
   double width = 720, height = 420;  // viewBox size in px; CSS scales the element
-  bool legend = true;                // legend to the right of the plot area
-  std::vector<Band> bands;           // drawn first
+  bool legend = true;       // legend to the right of the plot area, as wide as its longest entry
+  std::vector<Band> bands;  // drawn first
   std::vector<HLine> hlines;
   std::vector<Box> boxes;
   std::vector<Series> series;  // in order; the legend follows this order
@@ -111,6 +120,10 @@ struct Tick {
   bool major = true;  // major ticks are labelled; minor ones are short and unlabelled
 };
 std::vector<Tick> log_ticks(double lo, double hi);
+/// A generous estimate of the width in px of `text` at `font_px` in the report's sans-serif
+/// fonts (Helvetica, Arial or the DejaVu Sans that stands in for them, the widest): legends
+/// and labels are laid out with it, so that none is cut or runs off the plot.
+double text_width(std::string_view text, double font_px);
 std::vector<Tick> linear_ticks(double lo, double hi);
 
 }  // namespace allanlot::svg

@@ -1,5 +1,6 @@
 #include "src/report/parts.hpp"
 
+#include "kernels/allan/stats.hpp"
 #include "src/report/svg.hpp"
 
 #include <algorithm>
@@ -16,20 +17,26 @@ using svg::number;
 
 namespace {
 
+// Every table fits its column or wraps (nothing scrolls, nothing is cut); plots sit in a
+// grid of at least 520 px columns, the tables below them.
 const char* kCss =
     R"(body{font:14px/1.45 Helvetica,Arial,sans-serif;color:#222;margin:0 auto;max-width:1600px;padding:0 18px 40px}
 h1{font-size:24px;margin:18px 0 6px}h2{font-size:19px;border-bottom:2px solid #ccc;padding-bottom:3px;margin-top:28px}
 h3{font-size:16px;margin:22px 0 6px}h4{font-size:14px;margin:12px 0 4px}
-table{border-collapse:collapse;margin:6px 0 14px;font-size:13px}
-th,td{border:1px solid #ccc;padding:2px 7px;text-align:right;vertical-align:top;white-space:nowrap}
+table{border-collapse:collapse;margin:6px 0 14px;font-size:13px;max-width:100%}
+th,td{border:1px solid #ccc;padding:2px 7px;text-align:right;vertical-align:top;overflow-wrap:anywhere}
 th{background:#f1f1f1}td.l,th.l{text-align:left}td.wrap{white-space:normal;max-width:900px;word-break:break-word;font-size:12px}
 .pass{background:#cdeccf}.fail{background:#f6c4c4}.undecided{background:#fbeab5}
 .nd{color:#999}.bad{color:#b00;font-weight:bold}.small{font-size:12px;color:#555}
 .plots{display:grid;grid-template-columns:repeat(auto-fill,minmax(520px,1fr));gap:10px;margin:6px 0}
-.plots>div{overflow-x:auto}
-svg.plot{width:100%;height:auto;display:block;border:1px solid #e4e4e4}
+.plots>*{min-width:0}
+.panel{border:1px solid #e4e4e4;padding-top:3px}.panel>svg.plot{border:0}.panel>span.small{margin:0 6px}
+.panel>label{font-size:12px;margin-right:10px;white-space:nowrap}.panel>input{margin:0 3px 0 0;vertical-align:middle}
+.sw{display:inline-block;width:10px;height:10px;margin-right:3px;vertical-align:middle}
+svg.plot{width:100%;height:auto;display:block;border:1px solid #e4e4e4;box-sizing:border-box}
 .dists{display:grid;grid-template-columns:repeat(auto-fill,minmax(420px,1fr));gap:10px}
-.tables{display:flex;flex-wrap:wrap;gap:0 28px}
+.tables{display:flex;flex-wrap:wrap;gap:0 28px;align-items:flex-start}.tables>*{max-width:100%}
+details.devtables>summary{cursor:pointer;margin:4px 0}table.dev caption{font-weight:bold;text-align:left}
 nav.units a{display:inline-block;margin:0 10px 2px 0}
 .legend-key span{display:inline-block;padding:0 8px;margin-right:6px;border:1px solid #ccc}
 @media print{.plots{grid-template-columns:1fr 1fr}section.unit{break-before:page}}
@@ -40,7 +47,8 @@ nav.units a{display:inline-block;margin:0 10px 2px 0}
 std::string html_head(const std::string& title) {
   return "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<meta "
          "name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>" +
-         escape(title) + "</title>\n<style>\n" + kCss + "</style>\n</head>\n<body>\n";
+         escape(title) + "</title>\n<style>\n" + kCss + toggle_css() +
+         "</style>\n</head>\n<body>\n";
 }
 
 namespace {
@@ -159,6 +167,36 @@ std::string readout_table(const io::FitRecord& fit) {
   return h.str();
 }
 
+// Every statistic's table, folded away (a channel has a few hundred rows): tau, the number of
+// terms, the noise exponent and the deviation with its interval, in the plots' units.
+std::string deviation_tables(const std::string& id, const io::ChannelResult& ch) {
+  if (ch.stats.empty()) return "";
+  std::ostringstream h, names;
+  for (const auto& [name, s] : ch.stats) {
+    const auto stat = kernels::parse_stat(name);
+    const bool te = stat && kernels::is_time_error(*stat);
+    const AxisUnits u = te ? time_error_axis_units(ch.units) : rate_axis_units(ch.units);
+    names << (names.tellp() > 0 ? ", " : "") << escape(name);
+    const bool ci = s.dev_lo.size() == s.size() && s.dev_hi.size() == s.size();
+    h << "<table class=\"dev\" id=\"" << id << "-dev-" << sanitize(name) << "\"><caption>"
+      << escape(name) << " (" << escape(u.text()) << ")</caption>\n<tr><th>&tau; (s)</th><th>n</th>"
+      << "<th>&alpha;</th>" << (ci ? "<th>lower</th>" : "") << "<th>" << escape(name) << "</th>"
+      << (ci ? "<th>upper</th>" : "") << "</tr>\n";
+    for (std::size_t i = 0; i < s.size() && i < s.dev.size(); ++i) {
+      h << "<tr><td>" << number(s.tau_s[i], 4) << "</td><td>"
+        << (i < s.n.size() ? std::to_string(s.n[i]) : "") << "</td><td>"
+        << (i < s.alpha.size() ? std::to_string(s.alpha[i]) : "") << "</td>";
+      if (ci) h << "<td>" << number(s.dev_lo[i] * u.factor, 4) << "</td>";
+      h << "<td>" << number(s.dev[i] * u.factor, 4) << "</td>";
+      if (ci) h << "<td>" << number(s.dev_hi[i] * u.factor, 4) << "</td>";
+      h << "</tr>\n";
+    }
+    h << "</table>\n";
+  }
+  return "<details class=\"devtables\" id=\"" + id + "-devtables\"><summary>Deviation tables (" +
+         names.str() + ")</summary>\n<div class=\"tables\">\n" + h.str() + "</div></details>\n";
+}
+
 std::string channel_section(const Unit& u, const io::ChannelResult& ch, const ExtrasMap& extras) {
   std::ostringstream h;
   const std::string id = channel_anchor(u, ch.path);
@@ -171,6 +209,7 @@ std::string channel_section(const Unit& u, const io::ChannelResult& ch, const Ex
     << ", " << number(ch.sample_rate_hz, 6) << " Hz, " << ch.n_samples << " samples ("
     << number(ch.n_samples / std::max(ch.sample_rate_hz, 1e-300), 4) << " s), " << ch.n_gaps
     << " gaps, " << escape(ch.data_type) << " data";
+  if (is_clock(ch.units)) h << " (deviations of the fractional frequency, dimensionless)";
   if (ch.fit) {
     h << "; fit " << escape(io::fit_status_text(*ch.fit)) << ", &chi;&sup2;/dof "
       << number(ch.fit->chi2_dof, 3);
@@ -188,16 +227,19 @@ std::string channel_section(const Unit& u, const io::ChannelResult& ch, const Ex
   if (ch.quality) h << quality_line(*ch.quality, ch.sample_rate_hz);
   if (!ch.notes.empty()) h << "<p class=\"small\">Notes: " << escape(ch.notes) << "</p>\n";
   if (ch.status.is_ok()) {
-    h << "<div class=\"plots\">\n";
-    if (!ch.stats.empty()) h << adev_plot(id + "-adev", ch);
+    // Only the panels whose part was computed: no empty frame for a --no-psd or --no-fit run.
+    h << "<div class=\"plots\">\n"
+      << deviation_panel(id + "-adev", ch, false) << deviation_panel(id + "-tdev", ch, true);
     if (ch.psd && !ch.psd->f.empty()) h << psd_plot(id + "-psd", ch, psd_fit);
     if (ch.crosscheck && !ch.crosscheck->tau.empty())
       h << crosscheck_plot(id + "-xc", *ch.crosscheck);
-    // The coefficient table fills the grid's fourth cell, beside the cross-check.
-    if (ch.fit && !ch.fit->terms.empty())
-      h << "<div><h4>Equation (3) coefficients (datasheet units)</h4>\n"
-        << coefficient_table(ch, psd_fit, x) << readout_table(*ch.fit) << "</div>\n";
     h << "</div>\n";
+    // The tables under the plots, at their own width, wrapping rather than scrolling.
+    if (ch.fit && !ch.fit->terms.empty())
+      h << "<div class=\"tables\"><div><h4>Equation (3) coefficients (datasheet units)</h4>\n"
+        << coefficient_table(ch, psd_fit, x) << "</div><div><h4>Read-outs</h4>\n"
+        << readout_table(*ch.fit) << "</div></div>\n";
+    h << deviation_tables(id, ch);
   }
   const auto d = u.diagnoses.find(ch.path);
   if (d != u.diagnoses.end()) h << diagnosis_section(id + "-diag", d->second, ch.units);

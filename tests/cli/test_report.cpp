@@ -91,12 +91,12 @@ TEST_F(Report, WritesASelfContainedPageWithThePlots) {
   // a distribution plot.
   for (int u = 1; u <= 5; ++u)
     for (const char* c : {"accel_x", "gyro_x"})
-      for (const char* kind : {"adev", "psd", "xc"}) {
+      for (const char* kind : {"adev", "tdev", "psd", "xc"}) {
         const std::string id = "id=\"u-unit_000" + std::to_string(u) + "-_imu_" + c + "-" + kind;
         EXPECT_NE(s.find(id + "\""), std::string::npos) << id;
       }
   EXPECT_NE(s.find("id=\"u-odd_unit-_imu_gyro_x-adev\""), std::string::npos);
-  EXPECT_EQ(count(s, "<svg "), 11u * 3u + 2u);
+  EXPECT_EQ(count(s, "<svg "), 11u * 4u + 2u);
   EXPECT_NE(s.find("id=\"dist-_imu_gyro_x\""), std::string::npos);
   EXPECT_NE(s.find("id=\"dist-_imu_accel_x\""), std::string::npos);
   // The fit's asymptotes, labelled with their slopes, and the coefficient table.
@@ -105,6 +105,38 @@ TEST_F(Report, WritesASelfContainedPageWithThePlots) {
             std::string::npos);
   EXPECT_NE(s.find("deg/h/sqrt(Hz)"), std::string::npos);
   EXPECT_NE(s.find("Equation (3) coefficients"), std::string::npos);
+  // The plots in the table's units (a gyro's deviations in deg/h, its TDEV in urad), the other
+  // statistics behind tick boxes, the deviation tables folded away.
+  EXPECT_NE(s.find("\xCF\x83(\xCF\x84) (deg/h)</text>"), std::string::npos);
+  EXPECT_NE(s.find("\xCF\x83(\xCF\x84) (mg)</text>"), std::string::npos);
+  EXPECT_NE(s.find("time error (urad)</text>"), std::string::npos);
+  EXPECT_EQ(s.find("(deg/s)</text>"), std::string::npos);
+  EXPECT_NE(s.find("<input type=\"checkbox\" id=\"u-unit_0001-_imu_gyro_x-adev-t-mdev\""),
+            std::string::npos);
+  EXPECT_NE(s.find(".t-mdev:checked~svg .s-mdev{display:inline}"), std::string::npos);
+  EXPECT_NE(s.find("<details class=\"devtables\" id=\"u-unit_0001-_imu_gyro_x-devtables\">"),
+            std::string::npos);
+  EXPECT_NE(s.find("id=\"u-unit_0001-_imu_gyro_x-dev-oadev\""), std::string::npos);
+}
+
+// Without the fit and the PSD, only what was computed: no fit wording, no PSD or cross-check
+// panel, no empty distribution frame; the deviations and TDEV are still there.
+TEST_F(Report, ShowsOnlyWhatWasComputed) {
+  const fs::path nofit = dir() / "nofit";
+  std::string out;
+  ASSERT_EQ(run_command(binary() + " analyze -q --no-fit --no-psd -o " + nofit.string() + " " +
+                            (dir() / "lot").string(),
+                        &out),
+            0)
+      << out;
+  report(nofit.string() + " -q");
+  const std::string s = read_file(nofit / "report.html");
+  EXPECT_EQ(s.find("eq. (3) fit"), std::string::npos);
+  EXPECT_EQ(s.find("id=\"dist-"), std::string::npos);
+  EXPECT_EQ(s.find("-psd\""), std::string::npos);
+  EXPECT_EQ(s.find("-xc\""), std::string::npos);
+  EXPECT_EQ(count(s, "<svg "), 11u * 2u);
+  EXPECT_NE(s.find("no unit has a fitted noise term"), std::string::npos);
 }
 
 TEST_F(Report, IsDeterministic) {
@@ -180,7 +212,7 @@ TEST_F(Report, SplitsIntoLinkedUnitPages) {
   EXPECT_GT(checked, 10u);
   const std::string page = read_file(out / "lot_units" / "unit_0002.html");
   EXPECT_NE(page.find("href=\"../lot.html#lot\""), std::string::npos);
-  EXPECT_EQ(count(page, "<svg "), 6u);
+  EXPECT_EQ(count(page, "<svg "), 8u);  // per channel: Allan, TDEV, PSD, cross-check
 }
 
 // A diagnose output as io/diagnosis.hpp writes it: /<channel>/diagnosis with the curves as

@@ -218,6 +218,66 @@ TEST(Svg, LinksAndCategories) {
   EXPECT_NE(out.find(">n.d.</tspan>"), std::string::npos);  // second line of a category label
 }
 
+// A legend entry is the only key to its curve: the legend column widens to the longest
+// entry (up to 40 % of the plot) and wraps a longer one at blanks, never cutting it.
+TEST(Svg, LegendEntriesAreNeverCut) {
+  svg::Plot p = allan_like_plot();
+  p.series[1].label = "ratio (outside the valid range of the cross-check)";
+  const std::string out = svg::render(p);
+  EXPECT_EQ(xml_problem(out), "");
+  EXPECT_EQ(out.find("\xE2\x80\xA6"), std::string::npos);  // no ellipsis
+  const auto legend = out.substr(out.find("<g class=\"legend\""));
+  for (const char* word : {"ratio", "(outside", "valid", "range", "cross-check)"})
+    EXPECT_NE(legend.find(word), std::string::npos) << word;
+  EXPECT_NE(legend.find("<tspan"), std::string::npos);  // wrapped onto a second line
+  // The estimate errs wide: DejaVu Sans, the widest of the report's fonts, sets this text at
+  // 11 px in 215.6 px (measured in Chromium).
+  EXPECT_GE(svg::text_width("ratio (outside the valid range) N (\xE2\x88\x92"
+                            "1/2)",
+                            11),
+            215.6);
+}
+
+// A label with `avoid` set is moved off the curve it names: here a flat line through its
+// point, so the label's middle lies at least half its height above or below the line.
+TEST(Svg, AvoidingLabelsLeaveTheCurve) {
+  svg::Plot p;
+  p.id = "flat";
+  p.legend = false;
+  svg::Series s;
+  s.x = {1, 10, 100};
+  s.y = {1, 1, 1};
+  s.dots = true;
+  p.series.push_back(s);
+  svg::Annotation a;
+  a.x = 10;
+  a.y = 1;
+  a.text = "B (0)";
+  a.avoid = true;
+  a.css_class = "slope";
+  p.annotations.push_back(a);
+  const std::string out = svg::render(p);
+  EXPECT_EQ(xml_problem(out), "");
+  const auto path = out.find("<path d=\"M", out.find("<g class=\"series"));
+  const double line_y = std::stod(out.substr(out.find(' ', path + 10) + 1));
+  const auto text = out.find("<text class=\"slope\" x=\"");
+  ASSERT_NE(text, std::string::npos) << out;
+  const double baseline = std::stod(out.substr(out.find("y=\"", text) + 3));
+  EXPECT_GE(std::abs(baseline - 4 - line_y), 6.0) << out;
+}
+
+// Optional series (statistics the reader ticks on) and their legend entries carry their class
+// and "opt", which the page hides until the box is ticked.
+TEST(Svg, OptionalSeriesCarryTheirClasses) {
+  svg::Plot p = allan_like_plot();
+  p.series[0].css_class = "s-mdev";
+  p.series[0].optional = true;
+  const std::string out = svg::render(p);
+  EXPECT_EQ(xml_problem(out), "");
+  EXPECT_NE(out.find("<g class=\"series s-mdev opt\" data-label=\"oadev\">"), std::string::npos);
+  EXPECT_NE(out.find("<g class=\"s-mdev opt\">"), std::string::npos);
+}
+
 TEST(Svg, RejectsInconsistentInput) {
   svg::Plot p;
   EXPECT_THROW(svg::render(p), std::invalid_argument);  // no id
