@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -32,13 +33,14 @@ std::vector<double> white(std::size_t n, double sigma, std::uint64_t seed) {
 
 // A phase recording: /clock/phase (s) at `rate_hz`, optionally a second channel.
 void write_phase(const std::filesystem::path& file, const std::vector<double>& x,
-                 double rate_hz = 1.0, bool second_channel = false) {
+                 double rate_hz = 1.0, bool second_channel = false, const std::string& units = "s",
+                 const std::string& data_type = "phase") {
   test::H5Fixture f(file);
   f.group("/clock");
   f.attr("/clock", "sample_rate_hz", rate_hz);
   f.dataset("/clock/phase", x, H5T_IEEE_F64LE);
-  f.attr("/clock/phase", "units", "s");
-  f.attr("/clock/phase", "data_type", "phase");
+  f.attr("/clock/phase", "units", units);
+  f.attr("/clock/phase", "data_type", data_type);
   if (second_channel) {
     f.dataset("/clock/other", x, H5T_IEEE_F64LE);
     f.attr("/clock/other", "data_type", "phase");
@@ -216,6 +218,21 @@ TEST(HatCommand, BadInputsAreUsageErrors) {
   write_phase(shorty, white(4, 1.0, 10));
   expect_usage_error("codev " + shorty.string() + " " + shorty.string(), out,
                      shorty.string() + ":/clock/phase: 4 samples give 4 phase points, no tau");
+  const auto rate = f.dir / "rate.h5";
+  write_phase(rate, f.k.ca, 1.0, false, "s", "rate");
+  expect_usage_error("hat " + ab + " " + bc + " " + rate.string(), out,
+                     rate.string() + ":/clock/phase: data type rate differs from the first "
+                                     "record's phase");
+  const auto deg = f.dir / "deg.h5";
+  write_phase(deg, f.k.ca, 1.0, false, "deg");
+  expect_usage_error("codev " + ab + " " + deg.string(), out,
+                     deg.string() +
+                         ":/clock/phase: units 'deg' differ from the first record's 's'");
+  auto gapped = f.k.ca;
+  std::fill(gapped.begin(), gapped.end(), std::nan(""));
+  const auto empty = f.dir / "allnan.h5";
+  write_phase(empty, gapped);
+  expect_usage_error("codev " + ab + " " + empty.string(), out, empty.string() + ":/clock/phase: ");
   const auto two = f.dir / "two.h5";
   write_phase(two, f.k.ca, 1.0, true);
   expect_usage_error("hat " + ab + " " + bc + " " + two.string(), out,
