@@ -27,8 +27,8 @@ namespace allanlot::kernels {
 /// when either record misses an increment inside its span x_i .. x_{i+2m}, and n counts the
 /// terms used; an m without terms gives no row; m_list is taken as given (the caller applies
 /// max_m(Stat::Oadev, N)). Cost O(N) per m. Parallel over fixed chunks of 2^16 terms per m
-/// (detail/chunked.hpp), each summed by one thread in long double in index order and the chunks
-/// added in chunk order: bit-identical for any thread count.
+/// (detail/chunked.hpp), each summed by one thread in sixteen interleaved partial sums reduced
+/// in a fixed tree, and the chunks added in chunk order: bit-identical for any thread count.
 /// Preconditions (std::invalid_argument naming the parameter): x and y have the same number of
 /// phase points and the same tau0_s; every m >= 1.
 StatResult gcodev(const PhaseData& x, const PhaseData& y, std::span<const std::int64_t> m_list,
