@@ -2,6 +2,7 @@
 // kernels compute (bit for bit, for any thread count), sealed; codev of a record with itself is
 // its OADEV; bad inputs are usage errors (exit 2) naming the file and the reason, with nothing
 // written.
+#include "io/error.hpp"
 #include "io/results.hpp"
 #include "io/seal.hpp"
 #include "io/stat_group.hpp"
@@ -153,6 +154,8 @@ TEST(CodevCommand, WritesTheSignedCodeviation) {
             0)
       << text;
   const auto g = io::read_stat_group(out, "/codev/allan/gcodev");
+  EXPECT_THROW(io::read_stat_group(out, "/codev/allan/nope"), io::Error);
+  EXPECT_THROW(io::read_stat_group(out, "/nope/allan/gcodev"), io::Error);
   const auto px = kernels::phase_from_phase(f.k.ab, 1.0, 1);
   const auto py = kernels::phase_from_phase(f.k.ca, 1.0, 1);
   kernels::TauGridSpec octave;
