@@ -30,7 +30,10 @@ namespace allanlot::kernels {
 ///   var(A) = [var(s_ab) + var(s_ca) + var(s_bc)
 ///             + 2 cov(s_ab, s_ca) - 2 cov(s_ab, s_bc) - 2 cov(s_ca, s_bc)] / 4,
 /// which for equal nu is (2 A^2 + A B + A C + B C) / nu: nu's chi-square variance 2 A^2 / nu
-/// when the other clocks are silent, and larger as they grow. Clocks B and C by rotation.
+/// when the other clocks are silent, and larger as they grow. Exact for Gaussian clocks of one
+/// noise type (the terms' correlations then scale alike in every pair, and one nu describes
+/// them all); with different types, sqrt(nu_xy nu_zx) is a stand-in. Clocks B and C by
+/// rotation.
 double hat_estimate_variance(double s_ab, double s_bc, double s_ca, double nu_ab, double nu_bc,
                              double nu_ca);
 
