@@ -217,6 +217,31 @@ TEST(Hat, NegativeVarianceIsSignedWithoutInterval) {
   EXPECT_TRUE(h.notes[1].empty()) << h.notes[1];
 }
 
+TEST(Hat, IsMinusTheCodeviationWhenTheRecordsClose) {
+  // AB + BC + CA = 0 (one instrument): (AB^2 + CA^2 - BC^2) / 2 = -AB CA term by term, so clock
+  // A's hat variance is -Gcod(AB, CA) (docs/statistics.md), to the rounding of the sums.
+  const auto a = white(5000, 1.0, 81), b = white(5000, 2.0, 82), c = white(5000, 3.0, 83);
+  std::vector<double> ab(5000), bc(5000), ca(5000);
+  for (std::size_t i = 0; i < ab.size(); ++i) {
+    ab[i] = a[i] - b[i];
+    bc[i] = b[i] - c[i];
+    ca[i] = -(ab[i] + bc[i]);
+  }
+  const auto pab = kernels::phase_from_phase(ab, 1.0, 1);
+  const auto pbc = kernels::phase_from_phase(bc, 1.0, 1);
+  const auto pca = kernels::phase_from_phase(ca, 1.0, 1);
+  const auto ms = octave(pab.n_points());
+  const auto h = kernels::three_cornered_hat(pab, pbc, pca, ms, 0.683, 1);
+  const auto g = kernels::gcodev(pab, pca, ms, 1);
+  ASSERT_EQ(h.clock[0].size(), g.size());
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    const double scale = h.pair[0].dev[i] * h.pair[2].dev[i];
+    EXPECT_NEAR(h.clock[0].dev[i] * std::fabs(h.clock[0].dev[i]), -g.dev[i] * std::fabs(g.dev[i]),
+                kNaiveRel * scale)
+        << "m=" << g.m[i];
+  }
+}
+
 TEST(Hat, BitIdenticalForAnyThreadCount) {
   const auto p = pair_records(200000, 1.0, 2.0, 3.0, 71);
   const auto ab = kernels::phase_from_phase(p.ab, 1.0, 1);
