@@ -319,9 +319,9 @@ TEST(Hat, RecoversSimulatedClockLevels) {
 // to the clocks), gcodev(AB, CA) -sigma_A (the instruments' noise is not shared). At m = 1, 4
 // and 16 (at least 30 averages: the lag-1 noise identification sees white PM, so the pairs' edf
 // is right) each 68.3 % interval must hold the truth in 68.3 % of the records, within 4
-// binomial standard deviations, sqrt(0.683 0.317 / 400) = 0.023 each. Larger m, where the B1
-// ratio cannot tell white from flicker PM and the pairs' edf is that of flicker PM, give wider,
-// conservative intervals (0.75 at m = 64, 0.99 at m = 128 when measured).
+// binomial standard deviations, sqrt(0.683 0.317 / 400) = 0.023 each. Larger m, where the
+// noise identification often takes white PM for flicker PM (B1 cannot tell them apart) and the
+// pairs' edf is flicker PM's, give conservative intervals (0.75 at m = 64, 0.99 at m = 128).
 TEST(Hat, IntervalsCoverTheTruthAsOftenAsTheyClaim) {
   const int reps = 400;
   const std::size_t n = 2000;
