@@ -157,7 +157,9 @@ io::ChannelResult paired_channel(const PairedRecord& r, const std::string& path,
   ch.sample_rate_hz = r.channel.sample_rate_hz;
   ch.n_samples = r.channel.n_samples;
   ch.n_gaps = r.phase.n_gaps;
-  ch.data_type = data_type_text(r.channel.data_type);
+  // As analyze writes it (docs/formats.md): a rate neither the file nor --data-type named.
+  ch.data_type =
+      r.channel.data_type_default ? "rate (default)" : data_type_text(r.channel.data_type);
   ch.status = io::ChannelStatus::ok();
   ch.stats.emplace_back(stat_name, stat);
   return ch;
