@@ -4,7 +4,7 @@
 # Inputs: HELP2MAN, ALLANLOT (the binary), OUTPUT (the page; OUTPUT.gz is the installed copy,
 # compressed with gzip -9n as Debian policy asks), WORKDIR (scratch).
 file(MAKE_DIRECTORY ${WORKDIR})
-set(_commands analyze summarize simulate diagnose report export convert)
+set(_commands analyze summarize simulate diagnose report export convert hat codev)
 set(_include "${WORKDIR}/allanlot.h2m")
 file(WRITE ${_include} "[DESCRIPTION]
 allanlot characterizes the noise of inertial sensors (MEMS gyroscopes and accelerometers) and

@@ -1,7 +1,8 @@
 // libFuzzer target: the kernels' entry points with arbitrary lengths and values, in the order
 // `analyze` calls them for one channel (src/pipeline/channel.cpp analyze_channel): phase building,
 // each statistic on an arbitrary m list, confidence intervals and noise identification, the
-// eq. (3) fit, and the Welch PSD with its log binning, eq. (2) cross-check and PSD fit.
+// eq. (3) fit, and the Welch PSD with its log binning, eq. (2) cross-check and PSD fit; then the
+// two-recording statistics (gcodev, the three-cornered hat) on the record and its reverse.
 // Documented preconditions throw std::invalid_argument (docs/development.md "Errors");
 // anything else that escapes (another exception, a crash, a sanitizer report) is a finding, and
 // so is a deviation that is negative, or NaN where no input sample was.
@@ -13,6 +14,7 @@
 #include "kernels/model/psd_fit.hpp"
 #include "kernels/spectral/psd.hpp"
 #include "kernels/uncertainty/confidence.hpp"
+#include "kernels/uncertainty/hat.hpp"
 
 #include <fuzzer/FuzzedDataProvider.h>
 
@@ -122,6 +124,17 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     add_confidence(Stat::Oadev, p, oadev_r, kDefaultConfidence, 1);
     Eq3Fit fit;
     (void)fit.fit(oadev_r, p.tau0_s, static_cast<std::int64_t>(samples.size()));
+  });
+  // gcodev and the hat: signed deviations, so only the intervals' order is checked.
+  std::vector<double> reversed(samples.rbegin(), samples.rend());
+  expect_precondition_or_success([&] {
+    const PhaseData q = make_phase(reversed, type, rate_hz, 1);
+    const CodevResult c = gcodev_with_confidence(p, q, oms, confidence, 1);
+    for (std::size_t i = 0; i < c.codev.size(); ++i)
+      if (c.codev.dev_lo[i] > c.codev.dev[i] || c.codev.dev_hi[i] < c.codev.dev[i]) std::abort();
+    const HatResult h = three_cornered_hat(p, q, p, oms, confidence, 1);
+    for (const StatResult& k : h.clock)
+      if (k.dev.size() != k.size() || k.dev_lo.size() != k.size()) std::abort();
   });
   std::vector<double> rate(p.x.size() > 0 ? p.x.size() - 1 : 0);
   const double r_hz = 1.0 / p.tau0_s;

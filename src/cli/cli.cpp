@@ -1,9 +1,11 @@
 #include "src/cli/cli.hpp"
 
 #include "src/cli/analyze.hpp"
+#include "src/cli/codev.hpp"
 #include "src/cli/convert.hpp"
 #include "src/cli/diagnose.hpp"
 #include "src/cli/export.hpp"
+#include "src/cli/hat.hpp"
 #include "src/cli/report.hpp"
 #include "src/cli/simulate.hpp"
 #include "src/cli/summarize.hpp"
@@ -65,10 +67,10 @@ int run(int argc, char** argv) {
   app.require_subcommand(1);
 
   // In the order of `allanlot --help` (and the man page).
-  const std::vector<Command> commands = {add_analyze_command(app),   add_simulate_command(app),
-                                         add_summarize_command(app), add_diagnose_command(app),
-                                         add_report_command(app),    add_export_command(app),
-                                         add_convert_command(app)};
+  const std::vector<Command> commands = {
+      add_analyze_command(app),  add_simulate_command(app), add_summarize_command(app),
+      add_diagnose_command(app), add_report_command(app),   add_export_command(app),
+      add_convert_command(app),  add_hat_command(app),      add_codev_command(app)};
 
   try {
     app.parse(argc, argv);
