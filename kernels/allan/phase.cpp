@@ -72,7 +72,8 @@ PhaseData integrate(std::int64_t n, Increment inc, double scale, int nthreads) {
   out.tau0_s = 1.0;  // set by the caller
   out.n_gaps = n - valid;
   out.mean_rate = static_cast<double>(mean);
-  out.x.assign(static_cast<std::size_t>(n + 1), 0.0);
+  out.x.resize(static_cast<std::size_t>(n + 1));  // every element is written below
+  out.x[0] = 0.0;
   if (out.n_gaps > 0) out.gaps.assign(static_cast<std::size_t>(n + 1), 0);
 
   // Pass 2: per-chunk sums of the mean-removed increments (exclusive scan combined in index

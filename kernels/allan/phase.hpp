@@ -5,6 +5,8 @@
 // tau's window sums into differences of two array elements (O(N) per tau, independent of m).
 #pragma once
 
+#include "kernels/common/large_vector.hpp"
+
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -28,7 +30,7 @@ enum class DataType {
 struct PhaseData {
   /// Phase points x_0 .. x_N (N+1 points for N rate samples), in u*s for rate input (u = the
   /// channel's units) and in the input's own units for phase input.
-  std::vector<double> x;
+  LargeVector<double> x;
   /// Empty when the channel has no gap. Otherwise gaps[k] is the number of missing
   /// increments (rate samples) before phase point k, so a term that uses x_a .. x_b is
   /// valid exactly when gaps[b] == gaps[a].

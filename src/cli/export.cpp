@@ -7,6 +7,8 @@
 #include "io/recording.hpp"
 #include "io/results.hpp"
 #include "io/stable32_table.hpp"
+#include "kernels/allan/stats.hpp"
+#include "kernels/model/units.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -54,10 +56,23 @@ io::Stable32Head stable32_head(const io::RecordingResult& r, const io::ChannelRe
   return h;
 }
 
+// The unit of a statistic's dev, lo and hi: a deviation of the rate is in the rate's unit (B's
+// unit in channel units: deg/s for a gyro, dimensionless for a clock, whether its samples are a
+// time error in s or a fractional frequency), a time error in the rate's unit times seconds
+// (Q's: deg/s*s, s for a clock); "" when the channel has no units.
+std::string dev_unit(const std::string& name, const std::string& channel_units) {
+  if (channel_units.empty()) return "";
+  const auto stat = kernels::parse_stat(name);
+  const bool time_error = stat && kernels::is_time_error(*stat);
+  return kernels::units::channel_unit(time_error ? kernels::Term::Q : kernels::Term::B,
+                                      channel_units);
+}
+
 void csv_rows(std::ostream& text, const io::RecordingResult& r, const io::ChannelResult& ch,
               const std::string& name, const kernels::StatResult& s) {
   const std::string prefix = io::csv_field(r.device_id) + "," + io::csv_field(ch.path) + "," +
                              io::csv_field(ch.units) + "," + name + ",";
+  const std::string unit = "," + io::csv_field(dev_unit(name, ch.units));
   const bool ci = s.confidence > 0.0;
   for (std::size_t i = 0; i < s.size(); ++i)
     text << prefix << s.m[i] << "," << csv_number(s.tau_s[i]) << "," << s.n[i] << ","
@@ -65,7 +80,7 @@ void csv_rows(std::ostream& text, const io::RecordingResult& r, const io::Channe
          << csv_number(ci ? at(s.dev_lo, i, kNaN) : kNaN) << "," << csv_number(s.dev[i]) << ","
          << csv_number(ci ? at(s.dev_hi, i, kNaN) : kNaN) << ","
          << csv_number(ci ? at(s.edf, i, kNaN) : kNaN) << ","
-         << (ci ? csv_number(s.confidence) : std::string()) << "\n";
+         << (ci ? csv_number(s.confidence) : std::string()) << unit << "\n";
 }
 
 // The read-outs in the order of the terminal table: N at 1 s, bias instability, K at 3 s.
@@ -181,7 +196,8 @@ int run_export(const ExportOptions& opt, std::ostream& out, std::ostream& err) {
   std::map<fs::path, std::string> outputs;
   std::ostringstream text;
   if (opt.format == ExportFormat::Csv)
-    text << "device_id,channel,units,stat,m,tau,n,alpha,dev_lo,dev,dev_hi,edf,confidence\n";
+    text << "device_id,channel,units,stat,m,tau,n,alpha,dev_lo,dev,dev_hi,edf,confidence,"
+            "dev_units\n";
   if (opt.format == ExportFormat::Readouts) text << kReadoutHeader;
   std::size_t read_ok = 0, unreadable = 0, tables = 0;
   for (const fs::path& f : files) {

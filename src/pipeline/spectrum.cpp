@@ -11,7 +11,7 @@
 namespace allanlot::pipeline {
 
 std::vector<double> rate_from_phase(const kernels::PhaseData& phase) {
-  const std::vector<double>& x = phase.x;
+  const kernels::LargeVector<double>& x = phase.x;
   std::vector<double> rate(x.size() - 1);
   const double rate_hz = 1.0 / phase.tau0_s;
   for (std::size_t k = 0; k + 1 < x.size(); ++k)

@@ -144,6 +144,25 @@ std::string group_suffix(const std::vector<ChannelGroup>& groups, const ChannelG
   return n > 1 ? "-" + sanitize(g.units) + "-" + g.data_type : std::string();
 }
 
+// The unit list with each unit's verdict (pass only when every channel passes) and, otherwise,
+// which channel.
+std::string units_nav(const std::vector<Unit>& units, const ExtrasMap& extras) {
+  std::ostringstream h;
+  h << "<nav class=\"units\"><b>Units:</b> ";
+  for (const Unit& u : units) {
+    std::size_t bad = 0;
+    for (const auto& ch : u.rec.channels)
+      bad += ch.status.is_ok() ? 0 : 1;
+    h << "<a href=\"" << escape(unit_href(u)) << "\"" << (bad ? " class=\"bad\"" : "") << ">"
+      << escape(u.rec.device_id);
+    if (const RowExtras* x = unit_extras(extras, u.rec.device_id))
+      h << " <span class=\"" << x->unit_spec << "\">" << escape(unit_verdict_text(*x)) << "</span>";
+    h << "</a>";
+  }
+  h << "</nav>\n";
+  return h.str();
+}
+
 }  // namespace
 
 std::string lot_section(const std::string& title, const std::vector<Unit>& units,
@@ -199,19 +218,7 @@ std::string lot_section(const std::string& title, const std::vector<Unit>& units
         << "): " << escape(f.status) << "</li>\n";
     h << "</ul>\n";
   }
-  h << "<nav class=\"units\"><b>Units:</b> ";
-  for (const Unit& u : units) {
-    std::size_t bad = 0;
-    for (const auto& ch : u.rec.channels)
-      bad += ch.status.is_ok() ? 0 : 1;
-    h << "<a href=\"" << escape(unit_href(u)) << "\"" << (bad ? " class=\"bad\"" : "") << ">"
-      << escape(u.rec.device_id);
-    // The unit's verdict (pass only when every channel passes) and, otherwise, which channel.
-    if (const RowExtras* x = unit_extras(extras, u.rec.device_id))
-      h << " <span class=\"" << x->unit_spec << "\">" << escape(unit_verdict_text(*x)) << "</span>";
-    h << "</a>";
-  }
-  h << "</nav>\n";
+  h << units_nav(units, extras);
   h << "<p class=\"small\">Values in datasheet units, &plusmn; 1&sigma;; grey: not detected "
        "(the 95 % upper bound is shown). Outliers, as in the lot summary: |value &minus; lot "
        "median| / &radic;(spread&sup2; + &sigma;&sup2;) above "

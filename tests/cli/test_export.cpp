@@ -97,11 +97,14 @@ TEST(Export, Stable32TablesMatchStable32OnPhaseDat) {
   std::istringstream csv(test::file_bytes(d / "all.csv"));
   std::string line;
   std::getline(csv, line);
-  EXPECT_EQ(line, "device_id,channel,units,stat,m,tau,n,alpha,dev_lo,dev,dev_hi,edf,confidence");
+  EXPECT_EQ(line, "device_id,channel,units,stat,m,tau,n,alpha,dev_lo,dev,dev_hi,edf,confidence,"
+                  "dev_units");
   std::size_t rows = 0;
   bool found = false;
   while (std::getline(csv, line)) {
     ++rows;
+    // A clock's time error in s: its deviations (oadev, mdev, ohdev here) are dimensionless.
+    EXPECT_EQ(line.substr(line.rfind(',') + 1), "1") << line;
     if (line.rfind("phasedat,/clock/x,s,oadev,1,1,999,0,", 0) == 0) {
       found = true;
       EXPECT_NEAR(std::stod(line.substr(line.find(",0,") + 3)), 2.8515e-01, 3e-3) << line;

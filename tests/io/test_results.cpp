@@ -164,12 +164,13 @@ TEST(Results, LotSummaryRoundTripAndCsv) {
                       "readout_N_alt_sigma,readout_N_alt_unit,readout_B,readout_B_sigma,"
                       "readout_B_unit,readout_B_tau,readout_K,readout_K_sigma,readout_K_unit,"
                       "readout_K_tau,readouts_valid,quality,n_missing,n_gap_runs,n_time_errors,"
-                      "n_saturated,longest_run,n_stuck,n_spikes,max_spike_sigmas\n",
+                      "n_saturated,longest_run,n_stuck,n_spikes,max_spike_sigmas,"
+                      "unit_spec_status,unit_spec_detail\n",
                       0),
             0u);
   EXPECT_NE(csv.find("SN 1,/imu/gyro_x,deg/s,5400000,ok,/data/sn1.h5,,,,,,,,,,,,,18,0.036,deg/h/"
                      "sqrt(Hz),1,0,1.7,urad,0,0.97,ok,,,0,4.5,,,,18.4,3.5,,,0,,,,,,,18,0.14,"
-                     "deg/h/sqrt(Hz),0.3,0.0024,deg/sqrt(h),,,,,,,,,N,,,,,,,,,\n"),
+                     "deg/h/sqrt(Hz),0.3,0.0024,deg/sqrt(h),,,,,,,,,N,,,,,,,,,,,\n"),
             std::string::npos)
       << csv;
   EXPECT_NE(csv.find("\"failed: not an HDF5 file, \"\"really\"\"\""), std::string::npos);
