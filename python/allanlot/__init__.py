@@ -7,7 +7,7 @@ Two faces (docs/python.md):
   ``import allanlot as allantools`` runs a notebook written for AllanTools unchanged:
   ``oadev(data, rate=1.0, data_type="phase", taus=None) -> (taus, devs, errs, ns)``, and
   likewise adev, mdev, tdev, hdev, ohdev, totdev, mtotdev, ttotdev, htotdev, theo1, mtie,
-  tierms, pdev (and theoh);
+  tierms, pdev, gcodev, three_cornered_hat_phase (and theoh);
 - the richer API of the command line: ``deviation`` (confidence intervals, noise
   identification, Stable32's tau grids and ranges), ``fit``, ``psd``, ``simulate``,
   ``diagnose``, ``read_results``, ``read_lot_summary``.

@@ -17,8 +17,6 @@ Stable32 and long-double references). Differences, documented in docs/python.md:
 data is a gap (AllanTools propagates it); totdev has no rows beyond m = (N - 1) / 2.
 """
 
-import math
-
 import numpy as np
 
 from . import _allanlot
@@ -133,19 +131,64 @@ def allantools_call(stat, data, rate, data_type, taus, threads):
     return taus_out, devs, errs, ns
 
 
+def gcodev(data_1, data_2, rate=1.0, data_type="phase", taus=None, *, threads=None):
+    """Groslambert codeviation of two records measured against the same reference, with
+    AllanTools' arguments and return value (taus, devs, errs, ns), as allantools.gcodev: devs
+    are |codeviation| (sqrt of the absolute Allan covariance), ns = N - 2m, errs = devs /
+    sqrt(ns). The sign AllanTools drops is kept by the command line's `allanlot codev`
+    (docs/statistics.md). Formula: Vernotte et al., Proc. IFCS 2016, the overlapping form of
+    SP1065 eq. (11) with one second difference of each record."""
+    x = np.asarray(data_1, dtype=np.float64)
+    y = np.asarray(data_2, dtype=np.float64)
+    if data_type == "freq":
+        x, y = _trim_nan(x), _trim_nan(y)
+    n = _phase_length(x, data_type)
+    if _phase_length(y, data_type) != n:
+        raise ValueError("data_1 and data_2 must have the same length")
+    m = tau_m(n, rate, taus)
+    ns = np.maximum(n - 2 * m, 0)
+    m = m[ns > 1]
+    kernel_type = "freq" if data_type == "freq" else "phase"
+    r = _allanlot.gcodev(x, y, float(rate), kernel_type, m.tolist(), threads or 0)
+    devs = np.abs(r["dev"])
+    ns = r["n"]
+    return r["m"] / float(rate), devs, devs / np.sqrt(ns.astype(np.float64)), ns
+
+
+def three_cornered_hat_phase(phasedata_ab, phasedata_bc, phasedata_ca, rate, taus, function):
+    """Each clock's deviation from three pairwise phase records, as
+    allantools.three_cornered_hat_phase: `function` (e.g. allanlot.oadev) on each pair,
+    var_A = (var_AB + var_CA - var_BC) / 2 (Gray & Allan 1974), negative variances set to 0 as
+    AllanTools does; returns (taus, dev_a, err_a, ns) with err_a = dev_a / sqrt(ns_ab). The
+    command line's `allanlot hat` gives all three clocks with confidence intervals and reports
+    negative variances instead of clipping them."""
+    tau_ab, dev_ab, _, ns_ab = function(phasedata_ab, data_type="phase", rate=rate, taus=taus)
+    _, dev_bc, _, _ = function(phasedata_bc, data_type="phase", rate=rate, taus=taus)
+    _, dev_ca, _, _ = function(phasedata_ca, data_type="phase", rate=rate, taus=taus)
+    if not len(dev_ab) == len(dev_bc) == len(dev_ca):
+        raise ValueError("the three pairs give different numbers of taus")
+    var_a = 0.5 * (dev_ab**2 + dev_ca**2 - dev_bc**2)
+    dev_a = np.sqrt(np.maximum(var_a, 0.0))
+    return tau_ab, dev_a, dev_a / np.sqrt(np.asarray(ns_ab, dtype=np.float64)), ns_ab
+
+
 def _make(stat):
     def f(data, rate=1.0, data_type="phase", taus=None, *, threads=None):
         return allantools_call(stat, data, rate, data_type, taus, threads or 0)
 
     f.__name__ = stat
+    same = ("as allantools.%s(data, rate, data_type, taus)" % stat if stat != "theoh" else
+            "in the form of AllanTools' functions (AllanTools has no ThêoH)")
     f.__doc__ = ("%s with AllanTools' arguments and return value: "
-                 "(taus, devs, errs, ns), as allantools.%s(data, rate, data_type, taus).\n\n"
+                 "(taus, devs, errs, ns), %s.\n\n"
                  "data: 1-D array of phase (data_type='phase') or fractional frequency "
                  "('freq'); rate: samples per second; taus: None, 'all', 'octave', 'decade', "
                  "'log10' or seconds. threads (keyword only, not in AllanTools): OpenMP "
-                 "threads, None for all. See docs/python.md." % (stat, stat))
+                 "threads, None for all. See docs/python.md." % (stat, same))
     return f
 
 
 ALLANTOOLS_STATS = tuple(_NS)
 FUNCTIONS = {s: _make(s) for s in ALLANTOOLS_STATS}
+FUNCTIONS["gcodev"] = gcodev
+FUNCTIONS["three_cornered_hat_phase"] = three_cornered_hat_phase

@@ -12,7 +12,7 @@ namespace py = pybind11;
 /// array-like (lists, other dtypes, strided views) into one such array, once.
 using Samples = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
-void bind_deviation(py::module_& m);  // deviation, stats, max_m
+void bind_deviation(py::module_& m);  // deviation, gcodev, stats, max_m
 void bind_records(py::module_& m);    // fit, read_results, read_lot_summary, read_lot_statistics
 void bind_tools(py::module_& m);      // psd, simulate, diagnose
 

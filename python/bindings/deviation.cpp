@@ -3,6 +3,7 @@
 #include "python/bindings/bindings.hpp"
 #include "python/bindings/convert.hpp"
 
+#include "kernels/allan/codev.hpp"
 #include "kernels/allan/phase.hpp"
 #include "kernels/allan/stats.hpp"
 #include "kernels/allan/tau_grid.hpp"
@@ -83,6 +84,30 @@ py::dict deviation(const Samples& data, const std::string& stat, double rate,
   return d;
 }
 
+// The signed Groslambert codeviation of two records at the given m (kernels/allan/codev.hpp).
+py::dict codeviation(const Samples& data_1, const Samples& data_2, double rate,
+                     const std::string& data_type, const std::vector<std::int64_t>& m,
+                     int threads) {
+  const std::span<const double> x = samples_of(data_1), y = samples_of(data_2);
+  if (x.size() != y.size())
+    throw std::invalid_argument("data_1 and data_2 must have the same length, got " +
+                                std::to_string(x.size()) + " and " + std::to_string(y.size()));
+  const kernels::DataType type = parse_data_type(data_type);
+  kernels::StatResult r;
+  {
+    const py::gil_scoped_release unlocked;
+    const kernels::PhaseData px = kernels::make_phase(x, type, rate, threads);
+    const kernels::PhaseData py_ = kernels::make_phase(y, type, rate, threads);
+    r = kernels::gcodev(px, py_, m, threads);
+  }
+  py::dict d;
+  d["m"] = to_array(r.m);
+  d["tau"] = to_array(r.tau_s);
+  d["dev"] = to_array(r.dev);
+  d["n"] = to_array(r.n);
+  return d;
+}
+
 py::list stat_names() {
   py::list l;
   for (const kernels::Stat s : kernels::all_stats())
@@ -97,6 +122,9 @@ void bind_deviation(py::module_& m) {
         py::arg("data_type"), py::arg("m"), py::arg("grid"), py::arg("confidence"),
         py::arg("threads"), py::arg("estimable"),
         "One statistic of one record (the public wrapper is allanlot.deviation).");
+  m.def("gcodev", &codeviation, py::arg("data_1"), py::arg("data_2"), py::arg("rate"),
+        py::arg("data_type"), py::arg("m"), py::arg("threads"),
+        "Signed Groslambert codeviation at the given m (public wrapper: allanlot.gcodev).");
   m.def("stats", &stat_names,
         "The statistics this build computes, in the order results list them.");
   m.def(

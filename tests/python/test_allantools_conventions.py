@@ -130,3 +130,40 @@ def test_time_errors_of_frequency_data_have_the_mean_frequency_removed():
     # AllanTools integrates frequency with its mean removed: MTIE of a constant frequency is 0.
     _, devs, _, _ = allantools.mtie(np.full(100, 5.0), rate=1.0, data_type="freq")
     np.testing.assert_allclose(devs, 0.0, atol=1e-12)
+
+
+def test_gcodev_is_the_magnitude_of_the_allan_covariance():
+    other = np.cumsum(rng.standard_normal(len(PHASE))) * 1e-9
+    taus, devs, errs, ns = allantools.gcodev(PHASE, other, rate=RATE, taus="all")
+    n = len(PHASE)
+    for tau, dev, err, k in list(zip(taus, devs, errs, ns))[::9]:
+        m = int(round(tau * RATE))
+        x = PHASE.astype(np.longdouble)
+        y = other.astype(np.longdouble)
+        dx = x[2 * m:] - 2 * x[m:-m] + x[:-2 * m]
+        dy = y[2 * m:] - 2 * y[m:-m] + y[:-2 * m]
+        cov = np.sum(dx * dy) / (2 * (n - 2 * m) * (m / RATE) ** 2)
+        assert k == n - 2 * m
+        assert dev == pytest.approx(float(np.sqrt(abs(cov))), rel=1e-9)
+        assert err == pytest.approx(dev / np.sqrt(k))
+    # With itself it is the overlapping Allan deviation.
+    a = allantools.gcodev(PHASE, PHASE, rate=RATE)
+    b = allantools.oadev(PHASE, rate=RATE)
+    np.testing.assert_array_equal(a[0], b[0])
+    np.testing.assert_allclose(a[1], b[1], rtol=1e-12)
+
+
+def test_three_cornered_hat_combines_the_pairs_and_clips_negative_variances():
+    ab = np.cumsum(rng.standard_normal(len(PHASE)))
+    bc = np.cumsum(rng.standard_normal(len(PHASE))) * 3.0
+    ca = np.cumsum(rng.standard_normal(len(PHASE)))
+    taus, dev_a, err_a, ns = allantools.three_cornered_hat_phase(ab, bc, ca, RATE, "octave",
+                                                                 allantools.oadev)
+    _, d_ab, _, n_ab = allantools.oadev(ab, rate=RATE)
+    _, d_bc, _, _ = allantools.oadev(bc, rate=RATE)
+    _, d_ca, _, _ = allantools.oadev(ca, rate=RATE)
+    var = 0.5 * (d_ab**2 + d_ca**2 - d_bc**2)
+    assert np.any(var < 0)  # BC noisier than AB and CA together: A's estimate goes negative
+    np.testing.assert_allclose(dev_a, np.sqrt(np.maximum(var, 0)), rtol=1e-12)
+    np.testing.assert_array_equal(ns, n_ab)
+    np.testing.assert_allclose(err_a, dev_a / np.sqrt(n_ab))
