@@ -51,15 +51,6 @@ double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-std::string utc_now() {
-  const std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
-}
-
 // Seconds per stage. read and write are wall time of the one thread doing them; kernels
 // (phase, statistics, confidence intervals), psd (PSD, PSD fit, cross-check) and fit (the
 // eq. (3) fit) are summed over the channels, so with channels in parallel they add up to more

@@ -22,6 +22,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <ctime>
 #include <iostream>
 #include <thread>
 #include <vector>
@@ -118,6 +119,15 @@ CLI::Validator seed_number() {
         return fits ? "" : "not a whole number from 0 to 18446744073709551615: " + text;
       },
       "UINT64");
+}
+
+std::string utc_now() {
+  const std::time_t t = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
 }
 
 }  // namespace allanlot::cli

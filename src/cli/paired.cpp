@@ -16,15 +16,6 @@
 namespace allanlot::cli {
 namespace {
 
-std::string utc_now() {
-  const std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
-}
-
 std::string data_type_text(kernels::DataType t) {
   return t == kernels::DataType::Phase ? "phase" : "rate";
 }

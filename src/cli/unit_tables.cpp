@@ -21,14 +21,6 @@ namespace units = kernels::units;
 // results file has every tau).
 constexpr std::size_t kMaxRows = 40;
 
-// Columns are aligned by UTF-8 code points, not bytes.
-std::size_t display_width(const std::string& s) {
-  std::size_t w = 0;
-  for (const unsigned char ch : s)
-    w += (ch & 0xC0) != 0x80;
-  return w;
-}
-
 std::string cell(const kernels::StatResult& s, std::size_t i) {
   char buf[80];
   const bool bounds = i < s.dev_lo.size() && i < s.dev_hi.size() && std::isfinite(s.dev_lo[i]) &&
@@ -100,17 +92,7 @@ std::string deviation_table(const std::string& device_id, const io::ChannelResul
   out << device_id << ": " << ch.path << " (clock data, " << ch.data_type << ", units '" << ch.units
       << "'): deviations";
   if (confidence > 0) out << " [lo, hi] at " << 100 * confidence << " % confidence";
-  out << "; " << units_note(ch) << "\n";
-  std::vector<std::size_t> width(header.size(), 0);
-  for (const auto& row : rows)
-    for (std::size_t c = 0; c < row.size(); ++c)
-      width[c] = std::max(width[c], display_width(row[c]));
-  for (const auto& row : rows) {
-    out << "  ";
-    for (std::size_t c = 0; c < row.size(); ++c)
-      out << row[c] << std::string(width[c] - display_width(row[c]) + 2, ' ');
-    out << "\n";
-  }
+  out << "; " << units_note(ch) << "\n" << pipeline::aligned_rows(rows);
   return out.str();
 }
 

@@ -226,6 +226,23 @@ std::string format_term(const io::TermRecord& t) {
 
 }  // namespace
 
+std::string aligned_rows(const std::vector<std::vector<std::string>>& rows) {
+  std::vector<std::size_t> width;
+  for (const auto& row : rows) {
+    width.resize(std::max(width.size(), row.size()), 0);
+    for (std::size_t c = 0; c < row.size(); ++c)
+      width[c] = std::max(width[c], display_width(row[c]));
+  }
+  std::ostringstream out;
+  for (const auto& row : rows) {
+    out << "  ";
+    for (std::size_t c = 0; c < row.size(); ++c)
+      out << row[c] << std::string(width[c] - display_width(row[c]) + 2, ' ');
+    out << "\n";
+  }
+  return out.str();
+}
+
 std::string fit_table(const io::RecordingResult& r) {
   // Channels with a fit, grouped by their datasheet units (gyros, accelerometers, ...) as in
   // the paper's Table.
@@ -271,16 +288,7 @@ std::string fit_table(const io::RecordingResult& r) {
     }
     rows.push_back(status);
     add_readout_rows(chans, rows, &undetected);
-    std::vector<std::size_t> width(header.size(), 0);
-    for (const auto& row : rows)
-      for (std::size_t c = 0; c < row.size(); ++c)
-        width[c] = std::max(width[c], display_width(row[c]));
-    for (const auto& row : rows) {
-      out << "  ";
-      for (std::size_t c = 0; c < row.size(); ++c)
-        out << row[c] << std::string(width[c] - display_width(row[c]) + 2, ' ');
-      out << "\n";
-    }
+    out << aligned_rows(rows);
   }
   if (undetected)
     out << "  read-outs (IEEE 952 annex C) marked * read a branch the fit does not detect: the "

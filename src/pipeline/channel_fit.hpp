@@ -11,6 +11,7 @@
 #include <array>
 
 #include <string>
+#include <vector>
 
 namespace allanlot::pipeline {
 
@@ -36,5 +37,9 @@ io::FitRecord psd_fit_channel(const kernels::PsdResult& psd, const std::string& 
 /// paper's Table: one block per sensor family, one row per term, one column per channel;
 /// "v ± s" for detected terms, "< u" (95 % upper bound) for the others.
 std::string fit_table(const io::RecordingResult& r);
+
+/// Rows of cells as terminal lines, indented by two spaces, columns aligned by UTF-8 code
+/// points (not bytes: "±" is one column), two spaces apart.
+std::string aligned_rows(const std::vector<std::vector<std::string>>& rows);
 
 }  // namespace allanlot::pipeline
