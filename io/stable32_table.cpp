@@ -57,6 +57,25 @@ std::string e4(double v) {
   return buf;
 }
 
+// A count in e4's form, its halves rounded up as Stable32 does (Thêo1's "#" 102245 prints
+// 1.0225e+05 in phase_dat_theo1.txt, where printf's round-half-even gives 1.0224e+05).
+std::string e4_count(long long n) {
+  if (n < 100000) return e4(static_cast<double>(n));  // exact in 5 digits
+  int e = 0;
+  unsigned long long div = 1;
+  for (long long t = n; t >= 100000; t /= 10, ++e)
+    div *= 10;
+  unsigned long long q = (static_cast<unsigned long long>(n) + div / 2) / div;
+  e += 4;
+  if (q >= 100000) {  // 9.99995e+05 -> 1.0000e+06
+    q /= 10;
+    ++e;
+  }
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%llu.%04llue+%02d", q / 10000, q % 10000, e);
+  return buf;
+}
+
 template <class T>
 T at(const std::vector<T>& v, std::size_t i, T fallback) {
   return i < v.size() ? v[i] : fallback;
@@ -79,8 +98,7 @@ std::string row(std::string_view stat, const kernels::StatResult& s, std::size_t
   if (stat == "theo1" || stat == "theoh") {
     // Thêo1's "#" is a weighted count, printed as a number (phase_dat_theo1.txt).
     std::snprintf(buf, sizeof buf, "%4lld  %s  %s%7d  %s %s %s\n", m, e4(s.tau_s[i]).c_str(),
-                  e4(static_cast<double>(s.n[i])).c_str(), alpha, lo.c_str(), e4(s.dev[i]).c_str(),
-                  hi.c_str());
+                  e4_count(n).c_str(), alpha, lo.c_str(), e4(s.dev[i]).c_str(), hi.c_str());
     return buf;
   }
   std::snprintf(buf, sizeof buf, "%5lld   %s%9lld%6d   %s    %s     %s\n", m,

@@ -8,7 +8,9 @@
 #include "kernels/allan/total.hpp"
 #include "kernels/allan/total_family.hpp"
 
+#include <algorithm>
 #include <array>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -111,6 +113,50 @@ std::int64_t max_m(Stat s, std::int64_t n_points) {
     return (n_points - 1) / 3;
   }
   return 0;
+}
+
+namespace {
+
+// Thêo1's Stable32 all-tau list: twice every m' >= 5 of the Stable32 grid, up to m_max.
+std::vector<std::int64_t> theo1_stable32_m_list(const TauGridSpec& spec, std::int64_t m_max,
+                                                std::int64_t n_points) {
+  TauGridSpec half = spec;
+  half.kind = TauGridKind::Stable32;
+  std::vector<std::int64_t> out;
+  for (const std::int64_t m : make_m_list(half, m_max / 2, n_points))
+    if (m >= 5) out.push_back(2 * m);
+  return out;
+}
+
+}  // namespace
+
+std::vector<std::int64_t> stat_m_list(const TauGridSpec& spec, Stat s, std::int64_t m_max,
+                                      std::int64_t n_points) {
+  if (m_max >= 1 && spec.kind == TauGridKind::Stable32) {
+    if (s == Stat::Mtie) {
+      std::vector<std::int64_t> out;
+      for (std::int64_t w = 2; w - 1 <= m_max; w *= 2) {
+        out.push_back(w - 1);
+        if (w > std::numeric_limits<std::int64_t>::max() / 2) break;
+      }
+      return out;
+    }
+    if (s == Stat::Theo1) return theo1_stable32_m_list(spec, m_max, n_points);
+  }
+  if (m_max >= 1 && spec.kind == TauGridKind::Decade && s == Stat::Theo1) {
+    TauGridSpec all;
+    all.kind = TauGridKind::Stable32;  // K from N
+    const auto list = theo1_stable32_m_list(all, m_max, n_points);
+    std::vector<std::int64_t> out;
+    if (list.empty()) return out;
+    for (const std::int64_t target : make_m_list(spec, m_max, n_points)) {
+      const auto it = std::lower_bound(list.begin(), list.end(), target);
+      const std::int64_t m = it == list.end() ? list.back() : *it;
+      if (out.empty() || out.back() != m) out.push_back(m);
+    }
+    return out;
+  }
+  return make_m_list(spec, m_max, n_points);
 }
 
 std::optional<std::pair<double, std::int64_t>> SumCache::second(std::int64_t m) const {

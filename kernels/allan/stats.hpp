@@ -5,11 +5,13 @@
 #include "kernels/allan/phase.hpp"
 #include "kernels/allan/stat_result.hpp"
 #include "kernels/allan/sum_cache.hpp"
+#include "kernels/allan/tau_grid.hpp"
 
 #include <cstdint>
 #include <optional>
 #include <span>
 #include <string_view>
+#include <vector>
 
 namespace allanlot::kernels {
 
@@ -61,6 +63,21 @@ std::span<const Stat> all_stats();
 /// for MTIE (one window of the whole record), Thêo1 and ThêoH (SP1065 eq. (30): m <= N-1; its
 /// Stable32 table stops at 998). 0 when N < 2.
 std::int64_t max_m(Stat s, std::int64_t n_points);
+
+/// The averaging factors of `spec` for statistic `s`, in increasing order, all in [1, m_max]
+/// (m_max: normally max_m(s, n_points)). As make_m_list(spec, m_max, n_points) except where
+/// Stable32 1.60 gives a statistic an averaging-factor list of its own (tables in
+/// tests/data/stable32/phasedat):
+///  - Stable32 grid, MTIE: m = 2^k - 1, k >= 1 (windows of 2^k points), up to m_max
+///    (PHASE.DAT: 1, 3, 7, ..., 511);
+///  - Stable32 grid, Thêo1: 2 m' for every m' >= 5 of the Stable32 grid (same K) with
+///    2 m' <= m_max (PHASE.DAT, K = 71: 10..142 step 2, 146..286 step 4, ..., 872..998 step 14);
+///  - Decade grid, Thêo1: for each target of the decade grid, the smallest m of Thêo1's
+///    Stable32 list that is >= it, or that list's last m, duplicates removed (PHASE.DAT: 10, 20,
+///    40, 100, 202, 400, 998).
+/// Throws std::invalid_argument as make_m_list does.
+std::vector<std::int64_t> stat_m_list(const TauGridSpec& spec, Stat s, std::int64_t m_max,
+                                      std::int64_t n_points);
 
 /// Which averaging factors compute() evaluates.
 enum class MRange {

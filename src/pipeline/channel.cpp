@@ -56,7 +56,7 @@ kernels::StatResult compute_stat(kernels::Stat s, const kernels::PhaseData& phas
                                  const ChannelOptions& opt, StatCaches& caches,
                                  const kernels::StatResult* mdev) {
   const auto ms =
-      kernels::make_m_list(opt.grid, kernels::max_m(s, phase.n_points()), phase.n_points());
+      kernels::stat_m_list(opt.grid, s, kernels::max_m(s, phase.n_points()), phase.n_points());
   // TDEV is derived from MDEV when both are requested (tau/sqrt(3) times the same sum, SP1065
   // eq. (16)) instead of summing the same third differences twice.
   kernels::StatResult r = (s == kernels::Stat::Tdev && mdev && mdev->m == ms)

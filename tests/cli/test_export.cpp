@@ -247,6 +247,50 @@ TEST(Export, Stable32TablesPrintAsStable32sOnPhaseDat) {
   EXPECT_EQ(allantools_rows(test::file_bytes(d / "all.txt")).size(), octave_rows);
 }
 
+// MTIE, TIE rms and Thêo1 from `analyze --taus stable32` on PHASE.DAT: every row of
+// Stable32's tables is reprinted, with MTIE's and Thêo1's own averaging factors
+// (kernels::stat_m_list), AF, Tau, # and the value exactly as Stable32 prints them (Thêo1's
+// "#" rounded half up, as Stable32: 13 of its 181 counts are ties).
+TEST(Export, Stable32OwnListsOfMtieTieRmsTheo1OnPhaseDat) {
+  const fs::path d = test::fresh_dir("export_stable32_own_lists");
+  const fs::path res = d / "res", tables = d / "tables";
+  fs::create_directories(tables);
+  std::string out;
+  ASSERT_EQ(run_command(binary() +
+                            " analyze -q --no-fit --no-psd --stats mtie,tierms,theo1 --taus "
+                            "stable32 --data-type phase --sample-rate 1 -o " +
+                            res.string() + " " + (kStable32 / "PHASE.DAT").string(),
+                        &out),
+            0)
+      << out;
+  ASSERT_EQ(
+      run_command(binary() + " export --format stable32 " + res.string() + " -o " + tables.string(),
+                  &out),
+      0)
+      << out;
+  const struct {
+    const char* stat;
+    const char* file;
+    std::size_t columns, value;
+  } cases[] = {{"mtie", "phase_dat_mtie.txt", 4, 3},
+               {"tierms", "phase_dat_tierms.txt", 4, 3},
+               {"theo1", "phase_dat_theo1_alpha0.txt", 7, 5}};
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.stat);
+    const auto mine =
+        table_rows(test::file_bytes(tables / cli::stable32_file_name("PHASE", "/data", c.stat)));
+    const auto theirs = table_rows(test::file_bytes(kStable32 / c.file));
+    ASSERT_GT(theirs.size(), 8u);
+    ASSERT_EQ(mine.size(), theirs.size());
+    for (std::size_t i = 0; i < theirs.size(); ++i) {
+      ASSERT_EQ(mine[i].size(), c.columns) << "row " << i;
+      ASSERT_EQ(theirs[i].size(), c.columns) << "row " << i;
+      for (const std::size_t col : {std::size_t{0}, std::size_t{1}, std::size_t{2}, c.value})
+        EXPECT_EQ(mine[i][col], theirs[i][col]) << "row " << i << " column " << col;
+    }
+  }
+}
+
 TEST(Export, Errors) {
   const fs::path d = test::fresh_dir("export_errors");
   std::string out;

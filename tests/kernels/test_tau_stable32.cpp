@@ -114,6 +114,45 @@ TEST(TauStable32, PinkOverlappingWithRunSettings) {
   }
 }
 
+// MTIE and Thêo1 have averaging-factor lists of their own in Stable32 (stat_m_list): MTIE
+// windows of 2^k points (m = 2^k - 1) up to N - 1, Thêo1 twice the K = 71 grid from m' = 5 up to
+// 2 m' <= N - 1, and Thêo1's decade run the first m of that list at or above each decade target.
+TEST(TauStable32, PhaseDatMtieAndTheo1OwnLists) {
+  const auto list = [](const char* text, Stat s) {
+    return kernels::stat_m_list(kernels::parse_tau_grid(text), s,
+                                kernels::max_m(s, kPhaseDatPoints), kPhaseDatPoints);
+  };
+  const auto mtie = table_m("stable32/phasedat/phase_dat_mtie.txt");
+  ASSERT_EQ(mtie.size(), 9u);
+  EXPECT_EQ(list("stable32", Stat::Mtie), mtie);
+  const auto theo1 = table_m("stable32/phasedat/phase_dat_theo1_alpha0.txt");
+  ASSERT_EQ(theo1.size(), 181u);
+  EXPECT_EQ(list("stable32", Stat::Theo1), theo1);
+  EXPECT_EQ(table_m("stable32/phasedat/phase_dat_theo1.txt"), theo1);
+  const auto decade = table_m("stable32/phasedat/phase_dat_theo1_alpha0_decade.txt");
+  ASSERT_EQ(decade.size(), 7u);
+  EXPECT_EQ(list("decade", Stat::Theo1), decade);
+  // Every other grid and statistic: make_m_list's list unchanged.
+  for (const char* text : {"octave", "decade", "all", "log:16", "stable32", "stable32:42", "m:3,9"})
+    for (const Stat s : kernels::all_stats()) {
+      const bool own = (s == Stat::Theo1 && (std::string(text) == "decade" ||
+                                             std::string(text).starts_with("stable32"))) ||
+                       (s == Stat::Mtie && std::string(text).starts_with("stable32"));
+      if (own) continue;
+      const std::int64_t m_max = kernels::max_m(s, kPhaseDatPoints);
+      EXPECT_EQ(kernels::stat_m_list(kernels::parse_tau_grid(text), s, m_max, kPhaseDatPoints),
+                grid(text, m_max, kPhaseDatPoints))
+          << text << " " << kernels::stat_name(s);
+    }
+  // Small records: MTIE up to m_max, Thêo1 empty when no m' >= 5 fits, nothing for m_max < 1.
+  EXPECT_EQ(kernels::stat_m_list(kernels::parse_tau_grid("stable32"), Stat::Mtie, 9, 10),
+            (std::vector<std::int64_t>{1, 3, 7}));
+  EXPECT_TRUE(
+      kernels::stat_m_list(kernels::parse_tau_grid("stable32"), Stat::Theo1, 9, 10).empty());
+  EXPECT_TRUE(kernels::stat_m_list(kernels::parse_tau_grid("decade"), Stat::Theo1, 9, 10).empty());
+  EXPECT_TRUE(kernels::stat_m_list(kernels::parse_tau_grid("stable32"), Stat::Mtie, 0, 1).empty());
+}
+
 TEST(TauStable32, ParsesAndPrints) {
   const auto spec = kernels::parse_tau_grid("stable32");
   EXPECT_EQ(spec.kind, kernels::TauGridKind::Stable32);
