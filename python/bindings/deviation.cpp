@@ -59,7 +59,7 @@ py::dict deviation(const Samples& data, const std::string& stat, double rate,
     const auto range = estimable ? kernels::MRange::Estimable : kernels::MRange::Stable32;
     const std::int64_t m_max = estimable ? p.n_points() - 1 : kernels::max_m(s, p.n_points());
     const std::vector<std::int64_t> ms =
-        m ? *m : kernels::make_m_list(kernels::parse_tau_grid(grid), m_max, p.n_points());
+        m ? *m : kernels::stat_m_list(kernels::parse_tau_grid(grid), s, m_max, p.n_points());
     r = kernels::compute(s, p, ms, threads, nullptr, range);
     if (confidence > 0.0) kernels::add_confidence(s, p, r, confidence, threads);
   }
