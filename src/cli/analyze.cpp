@@ -643,8 +643,10 @@ Command add_analyze_command(CLI::App& app) {
   sub->add_option("--stats", a->stats_text, "Comma-separated statistics, or all")
       ->capture_default_str();
   sub->add_option("--taus", a->taus_text,
-                  "Tau grid: octave, decade, all, stable32 (Stable32's all-tau list), "
-                  "stable32:K, log:K (K per decade) or m:LIST")
+                  "Tau grid: octave, decade, all, stable32 (Stable32's all-tau list: every m "
+                  "up to K = floor(215 / floor(log10(N - 1))), then steps of floor(m / K) + 1; "
+                  "MTIE 2^k - 1; Theo1 twice the list from 5), stable32:K, log:K (K per decade) "
+                  "or m:LIST")
       ->capture_default_str();
   sub->add_option("--confidence", a->opt.confidence,
                   "Confidence level of the intervals dev_lo, dev_hi")
