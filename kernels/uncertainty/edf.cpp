@@ -13,6 +13,29 @@ using Real = long double;  // the filtered covariances are differences of large 
 constexpr Real kInf = std::numeric_limits<Real>::infinity();
 constexpr int kJmax = 100;  // Greenhall & Riley 2003, sec. 3.4: "J_max = 100 is suggested"
 
+// Natural logarithm of t > 0 in long double from +, -, *, / alone. std::log of a long double is
+// the x87 instruction fyl2x on x86-64, whose last bits differ between CPU models, so every edf
+// (and every interval) would differ between machines by an ulp now and then; this gives the
+// same bits everywhere. t = f 2^e with f in [sqrt(1/2), sqrt(2)) (frexp is exact), and
+// ln f = 2 atanh(z), z = (f - 1) / (f + 1), |z| <= 0.172: the odd series to z^41 (15 terms,
+// the first left out below 1e-31) in Horner form, then e ln 2.
+Real log_real(Real t) {
+  constexpr Real kLn2 = 0.693147180559945309417232121458176568L;
+  constexpr Real kSqrtHalf = 0.707106781186547524400844362104849039L;
+  int e = 0;
+  Real f = std::frexp(t, &e);
+  if (f < kSqrtHalf) {
+    f *= 2;
+    --e;
+  }
+  const Real z = (f - 1) / (f + 1);
+  const Real z2 = z * z;
+  Real series = Real(1) / 41;
+  for (int k = 39; k >= 1; k -= 2)
+    series = Real(1) / k + z2 * series;
+  return 2 * z * series + static_cast<Real>(e) * kLn2;
+}
+
 // Generalized autocovariance of the continuous-time power-law process w(t) whose derivative
 // has spectrum f^alpha (Greenhall & Riley 2003, eq. (7)), up to a constant factor per alpha
 // that cancels in the edf (only ratios of covariances of one alpha enter).
@@ -22,15 +45,15 @@ Real sw(Real t, int alpha) {
   case 2:
     return -t;
   case 1:
-    return t == 0 ? Real(0) : t * t * std::log(t);
+    return t == 0 ? Real(0) : t * t * log_real(t);
   case 0:
     return t * t * t;
   case -1:
-    return t == 0 ? Real(0) : -t * t * t * t * std::log(t);
+    return t == 0 ? Real(0) : -t * t * t * t * log_real(t);
   case -2:
     return -t * t * t * t * t;
   case -3:
-    return t == 0 ? Real(0) : t * t * t * t * t * t * std::log(t);
+    return t == 0 ? Real(0) : t * t * t * t * t * t * log_real(t);
   case -4:
     return t * t * t * t * t * t * t;
   default:
@@ -186,7 +209,7 @@ double edf_greenhall(int alpha, FiniteDifferenceKind kind, std::int64_t m, std::
   } else if (alpha == 1) {
     // Case 3 (sec. 3.6.3): unmodified variances, flicker PM, whose variance grows as ln m.
     const Coeff b = kTable3[d - 1];
-    const Real log_den = b.a0 + b.a1 * std::log(mm);
+    const Real log_den = b.a0 + b.a1 * log_real(mm);
     if (J <= kJmax) {
       inv = inv_edf_sum(J, M, S, mm, 1, d);
     } else if (r >= d + 1) {
