@@ -8,6 +8,12 @@ if(ALLANLOT_BUILD_PYTHON AND (ALLANLOT_SANITIZE STREQUAL "TSAN" OR ALLANLOT_FUZZ
   set(ALLANLOT_BUILD_PYTHON OFF)
 endif()
 if(ALLANLOT_BUILD_PYTHON)
+  # Debian's interpreter, whose numpy and pytest scripts/setup installs, rather than whichever
+  # python3 comes first on PATH (a pyenv or conda one has neither); -DPython3_EXECUTABLE=...
+  # chooses another.
+  if(NOT Python3_EXECUTABLE AND EXISTS /usr/bin/python3)
+    set(Python3_EXECUTABLE /usr/bin/python3 CACHE FILEPATH "Python interpreter of the module")
+  endif()
   find_package(Python3 3.9 COMPONENTS Interpreter Development.Module)
   if(Python3_FOUND)
     # pybind11 finds Python through FindPython: point it at the same interpreter.
