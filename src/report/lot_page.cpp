@@ -141,7 +141,14 @@ void add_to_group(std::vector<ChannelGroup>& groups, const Member& m) {
 std::string group_suffix(const std::vector<ChannelGroup>& groups, const ChannelGroup& g) {
   const auto n = std::count_if(groups.begin(), groups.end(),
                                [&](const ChannelGroup& o) { return o.channel == g.channel; });
-  return n > 1 ? "-" + sanitize(g.units) + "-" + g.data_type : std::string();
+  if (n <= 1) return std::string();
+  // Appended piece by piece: GCC 12 at -O3 warns (-Wrestrict, a false positive) on the chain
+  // of operator+ with a literal first.
+  std::string suffix = "-";
+  suffix += sanitize(g.units);
+  suffix += '-';
+  suffix += g.data_type;
+  return suffix;
 }
 
 // The unit list with each unit's verdict (pass only when every channel passes) and, otherwise,
