@@ -20,8 +20,9 @@ inline constexpr double kDefaultConfidence = 0.683;
 /// (SP1065 sec. 5.3.3, eq. (45)): the variance estimate times edf / sigma^2 is chi-square with
 /// edf degrees of freedom, so
 ///   lo = dev sqrt(edf / chi2_{(1+c)/2}(edf)),  hi = dev sqrt(edf / chi2_{(1-c)/2}(edf)),
-/// with chi2_p the p-quantile; lo < dev < hi for any edf > 0 and 0 < c < 1 (the larger
-/// quantile gives the lower bound; AllanTools issue #118 had the two swapped).
+/// with chi2_p the p-quantile; lo < hi for any edf > 0 and 0 < c < 1 (the larger quantile gives
+/// the lower bound; AllanTools issue #118 had the two swapped), and lo < dev < hi at the usual
+/// confidences (at a very small c both quantiles lie on the same side of edf).
 /// Throws std::invalid_argument for c outside (0, 1) or edf <= 0.
 struct Interval {
   double lo = 0.0;
