@@ -4,6 +4,10 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <span>
+#include <stdexcept>
+#include <string>
+
 namespace allanlot::python {
 
 namespace py = pybind11;
@@ -11,6 +15,14 @@ namespace py = pybind11;
 /// Samples as the kernels take them: 1-D float64, C-contiguous. pybind11 converts any other
 /// array-like (lists, other dtypes, strided views) into one such array, once.
 using Samples = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+/// The samples as the kernels read them; std::invalid_argument (ValueError) unless 1-D.
+inline std::span<const double> samples_of(const Samples& data) {
+  if (data.ndim() != 1)
+    throw std::invalid_argument("data must be one-dimensional, got " + std::to_string(data.ndim()) +
+                                " dimensions");
+  return {data.data(), static_cast<std::size_t>(data.size())};
+}
 
 void bind_deviation(py::module_& m);  // deviation, gcodev, stats, max_m
 void bind_records(py::module_& m);    // fit, read_results, read_lot_summary, read_lot_statistics

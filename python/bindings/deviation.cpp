@@ -33,15 +33,6 @@ kernels::Stat parse_stat(const std::string& name) {
   throw std::invalid_argument("unknown statistic '" + name + "' (known: " + known + ")");
 }
 
-// The record's samples as a 1-D float64 array: pybind11's forcecast converts other dtypes and
-// non-contiguous views once; a contiguous float64 array is used in place.
-std::span<const double> samples_of(const Samples& data) {
-  if (data.ndim() != 1)
-    throw std::invalid_argument("data must be one-dimensional, got " + std::to_string(data.ndim()) +
-                                " dimensions");
-  return {data.data(), static_cast<std::size_t>(data.size())};
-}
-
 py::dict deviation(const Samples& data, const std::string& stat, double rate,
                    const std::string& data_type, std::optional<std::vector<std::int64_t>> m,
                    const std::string& grid, double confidence, int threads, bool estimable) {

@@ -18,16 +18,9 @@
 namespace allanlot::python {
 namespace {
 
-std::span<const double> samples_1d(const Samples& data) {
-  if (data.ndim() != 1)
-    throw std::invalid_argument("data must be one-dimensional, got " + std::to_string(data.ndim()) +
-                                " dimensions");
-  return {data.data(), static_cast<std::size_t>(data.size())};
-}
-
 py::dict psd(const Samples& data, double rate, std::int64_t min_segments, int bins_per_decade,
              int threads) {
-  const std::span<const double> y = samples_1d(data);
+  const std::span<const double> y = samples_of(data);
   if (min_segments < 1) throw std::invalid_argument("segments must be >= 1");
   kernels::PsdResult r;
   kernels::BinnedPsd b;
@@ -87,7 +80,8 @@ py::list simulate(const std::string& json_text, const std::string& source, doubl
 std::string diagnose(const Samples& data, double rate, const std::string& data_type,
                      const std::string& json_text, const std::string& source,
                      const std::string& channel, int replicas, std::uint64_t seed, int threads) {
-  std::vector<double> y(samples_1d(data).begin(), samples_1d(data).end());
+  const std::span<const double> samples = samples_of(data);
+  std::vector<double> y(samples.begin(), samples.end());
   if (data_type == "phase") {
     // As `allanlot diagnose` does: successive differences times the rate.
     for (std::size_t k = 0; k + 1 < y.size(); ++k)
