@@ -350,12 +350,13 @@ RecordingReader::RecordingReader(const std::string& path, const InputOptions& op
 
 RecordingReader::~RecordingReader() = default;
 
-std::vector<double> RecordingReader::read(const ChannelInfo& channel, std::size_t chunk) const {
+kernels::LargeVector<double> RecordingReader::read(const ChannelInfo& channel,
+                                                   std::size_t chunk) const {
   const std::string& file = impl_->path;
   if (impl_->text) {
     for (const TextChannel& tc : impl_->text->channels) {
       if (tc.path != channel.path) continue;
-      std::vector<double> out = tc.samples;
+      kernels::LargeVector<double> out(tc.samples.begin(), tc.samples.end());
       if (channel.scale != 1.0 || channel.offset != 0.0)  // a clock's ns or ppb (units.hpp)
         for (double& v : out)
           v = v * channel.scale + channel.offset;
@@ -369,7 +370,7 @@ std::vector<double> RecordingReader::read(const ChannelInfo& channel, std::size_
   hsize_t n = 0;
   H5Sget_simple_extent_dims(fspace.get(), &n, nullptr);
   impl_->check_stored(ds.get(), n, channel.path);
-  std::vector<double> out(static_cast<std::size_t>(n));
+  kernels::LargeVector<double> out(static_cast<std::size_t>(n));  // every element is read
   chunk = std::max<std::size_t>(chunk, 1);
   // Chunked hyperslab reads: HDF5 converts each block (int16, float32, ...) to double in a
   // conversion buffer of the block's size instead of the whole dataset's.

@@ -82,8 +82,9 @@ public:
   const RecordingInfo& info() const { return info_; }
 
   /// Reads a whole channel in chunks of `chunk` samples, converted to double physical values
-  /// (raw * scale + offset). Throws io::Error naming file and dataset on a read failure.
-  std::vector<double> read(const ChannelInfo& channel, std::size_t chunk = 1 << 20) const;
+  /// (raw * scale + offset), in page-fault-cheap storage (kernels/common/large_vector.hpp).
+  /// Throws io::Error naming file and dataset on a read failure.
+  kernels::LargeVector<double> read(const ChannelInfo& channel, std::size_t chunk = 1 << 20) const;
 
 private:
   struct Impl;

@@ -89,7 +89,8 @@ WindowSums make_window_sums(const PhaseData& p, std::int64_t m_cap, int nthreads
   const std::int64_t n = p.n_points();
   const double* x = p.x.data();
   WindowSums w;
-  w.s.assign(static_cast<std::size_t>(n) + 1, 0);
+  w.s.resize(static_cast<std::size_t>(n) + 1);  // s[0] here, the rest by pass 1 below
+  w.s[0] = 0;
   if (n == 0) return w;
   // Fixed chunks: the maximum is exact and the integer sums are associative, so the chunking
   // only decides the work split, never a bit of the result.

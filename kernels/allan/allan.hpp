@@ -108,7 +108,7 @@ std::vector<SumCount> second_difference_sums(const PhaseData& p,
 /// and a running window sum is a serial dependency chain that defeats vectorization.
 /// The build is O(N) and, integer addition being associative, bit-identical for any chunking.
 struct WindowSums {
-  std::vector<std::uint64_t> s;  // s[k] = sum_{i<k} X_i mod 2^64, k = 0 .. N
+  LargeVector<std::uint64_t> s;  // s[k] = sum_{i<k} X_i mod 2^64, k = 0 .. N
   int scale_bits = 0;            // X_i = round(x_i * 2^scale_bits)
   double inv_scale = 1.0;        // 2^-scale_bits
 };

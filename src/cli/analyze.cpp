@@ -81,8 +81,8 @@ constexpr std::uint64_t kBytesPerSampleInFlight = 32;
 // HDF5 calls one at a time, in channel order so that the hash is that of the sequential
 // read). On failure, `result` is the channel's description with the reason in its status.
 bool read_channel(io::RecordingReader& reader, const std::string& file, const io::ChannelInfo& ch,
-                  std::uint64_t memory_limit, std::vector<double>& samples, std::uint64_t& hash,
-                  io::ChannelResult& result) {
+                  std::uint64_t memory_limit, kernels::LargeVector<double>& samples,
+                  std::uint64_t& hash, io::ChannelResult& result) {
   try {
     // A channel that alone needs more than the memory limit is refused before anything is
     // allocated (a chunked dataset whose chunks were never written declares any length in a
@@ -218,7 +218,7 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
 #pragma omp parallel num_threads(workers)
   for (;;) {
     std::size_t i = 0;
-    std::vector<double> samples;
+    kernels::LargeVector<double> samples;
     bool read_ok = false;
     {
       const std::lock_guard<std::mutex> lock(read_mutex);

@@ -64,7 +64,7 @@ fs::path convert_one(const std::string& file, const io::InputOptions& options,
   }
   if (!has_name) w.add_root_attribute("source_file_name", fs::path(file).filename().string());
   for (const io::ChannelInfo& ch : info.channels) {
-    const std::vector<double> samples = reader.read(ch);
+    const kernels::LargeVector<double> samples = reader.read(ch);
     io::ChannelAttributes attributes;
     attributes.sample_rate_hz = ch.sample_rate_hz;
     if (!ch.data_type_default)

@@ -193,7 +193,7 @@ int run_diagnose(const DiagnoseOptions& opt, std::ostream& out, std::ostream& er
       throw UsageError(opt.input + ":" + ch->path + ": units '" + ch->units +
                        "' differ from the model's '" + model.channels[mc].units + "' (" +
                        opt.model_path + ")");
-    std::vector<double> y = reader.read(*ch);
+    kernels::LargeVector<double> y = reader.read(*ch);
     if (ch->data_type == kernels::DataType::Phase) {
       // Phase samples to rate: successive differences times the sample rate (a NaN point makes
       // both of its increments missing, as kernels::phase_from_phase treats it).

@@ -119,7 +119,7 @@ std::vector<PairedRecord> read_paired_records(const PairedOptions& opt) {
     r.device_id = reader.info().device_id;
     r.channel = select_channel(reader.info(), opt.channel);
     if (!out.empty()) check_pairs_with(out.front(), r);
-    const std::vector<double> samples = reader.read(r.channel);
+    const kernels::LargeVector<double> samples = reader.read(r.channel);
     try {
       r.phase =
           kernels::make_phase(samples, r.channel.data_type, r.channel.sample_rate_hz, opt.threads);

@@ -113,7 +113,7 @@ std::optional<kernels::StatResult> compute_stats(io::ChannelResult& result,
 // Largest, smallest and mean of the samples (gaps left out), for the head of a Stable32 table
 // (docs/formats.md); the mean summed in long double, in sample order, so that it does not
 // depend on the thread count.
-void summarize_samples(io::ChannelResult& r, const std::vector<double>& samples) {
+void summarize_samples(io::ChannelResult& r, std::span<const double> samples) {
   long double sum = 0;
   std::int64_t n = 0;
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
@@ -131,8 +131,8 @@ void summarize_samples(io::ChannelResult& r, const std::vector<double>& samples)
 }
 
 // The stages after the samples are read; throws std::exception on a numerical precondition.
-void run_stages(ChannelAnalysis& a, const io::ChannelInfo& channel, std::vector<double>& samples,
-                const ChannelOptions& opt) {
+void run_stages(ChannelAnalysis& a, const io::ChannelInfo& channel,
+                kernels::LargeVector<double>& samples, const ChannelOptions& opt) {
   const auto t_kernels = Clock::now();
   summarize_samples(a.result, samples);
   // The screen sees the samples as read, before the phase replaces them (docs/quality.md).
@@ -140,7 +140,7 @@ void run_stages(ChannelAnalysis& a, const io::ChannelInfo& channel, std::vector<
   kernels::PhaseData phase =
       kernels::make_phase(samples, channel.data_type, channel.sample_rate_hz, opt.threads);
   a.result.n_gaps = phase.n_gaps;
-  samples = std::vector<double>{};  // the phase replaces the samples
+  samples = kernels::LargeVector<double>{};  // the phase replaces the samples
   const std::optional<kernels::StatResult> oadev = compute_stats(a.result, phase, opt);
   a.times.kernels += seconds_since(t_kernels);
   if (!oadev) return;
@@ -174,8 +174,8 @@ io::ChannelResult describe_channel(const io::ChannelInfo& channel) {
   return r;
 }
 
-ChannelAnalysis analyze_channel(const io::ChannelInfo& channel, std::vector<double> samples,
-                                const ChannelOptions& opt) {
+ChannelAnalysis analyze_channel(const io::ChannelInfo& channel,
+                                kernels::LargeVector<double> samples, const ChannelOptions& opt) {
   ChannelAnalysis a;
   a.result = describe_channel(channel);
   try {

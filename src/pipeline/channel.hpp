@@ -45,7 +45,7 @@ io::ChannelResult describe_channel(const io::ChannelInfo& channel);
 /// two arrays of its length at any stage). Never throws: a numerical precondition (a record too
 /// short for any tau, samples whose differences overflow) fails the channel with the reason in
 /// its status; a statistic that cannot run on gaps, or a record too short for a PSD, is a note.
-ChannelAnalysis analyze_channel(const io::ChannelInfo& channel, std::vector<double> samples,
-                                const ChannelOptions& opt);
+ChannelAnalysis analyze_channel(const io::ChannelInfo& channel,
+                                kernels::LargeVector<double> samples, const ChannelOptions& opt);
 
 }  // namespace allanlot::pipeline

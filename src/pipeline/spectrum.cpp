@@ -10,9 +10,9 @@
 
 namespace allanlot::pipeline {
 
-std::vector<double> rate_from_phase(const kernels::PhaseData& phase) {
+kernels::LargeVector<double> rate_from_phase(const kernels::PhaseData& phase) {
   const kernels::LargeVector<double>& x = phase.x;
-  std::vector<double> rate(x.size() - 1);
+  kernels::LargeVector<double> rate(x.size() - 1);  // every element is written below
   const double rate_hz = 1.0 / phase.tau0_s;
   for (std::size_t k = 0; k + 1 < x.size(); ++k)
     rate[k] = phase.clean(static_cast<std::int64_t>(k), static_cast<std::int64_t>(k) + 1)
@@ -64,7 +64,7 @@ void add_spectrum(io::ChannelResult& result, kernels::PhaseData& phase,
                   const kernels::StatResult& oadev, int threads,
                   const std::array<kernels::TermFit, kernels::kNumTerms>* allan_terms) {
   const double rate_hz = 1.0 / phase.tau0_s;
-  const std::vector<double> rate = rate_from_phase(phase);
+  const kernels::LargeVector<double> rate = rate_from_phase(phase);
   // The phase is not needed after this point: freeing it here keeps a channel's peak at the
   // phase plus one working array at every stage.
   phase = kernels::PhaseData{};

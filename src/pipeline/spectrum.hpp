@@ -16,7 +16,7 @@ namespace allanlot::pipeline {
 
 /// The rate rebuilt from the phase: (x[k+1] - x[k]) rate_hz, so mean-removed, and NaN where
 /// the increment is missing (a gap), so that phase and rate input are treated alike.
-std::vector<double> rate_from_phase(const kernels::PhaseData& phase);
+kernels::LargeVector<double> rate_from_phase(const kernels::PhaseData& phase);
 
 /// The crosscheck/ record: eq. (2)'s Allan variance from the PSD (`from_psd`, at the taus of
 /// `oadev`) against the time-domain one, their ratio, and the tau where |log10 ratio| is

@@ -257,7 +257,8 @@ TEST(TextInputs, ConvertKeepsInputsAndDeviceIdsApart) {
   EXPECT_EQ(r.info().channels[0].path, "/clock/x");
   EXPECT_EQ(r.info().channels[0].data_type, kernels::DataType::Phase);
   EXPECT_EQ(r.info().channels[0].sample_rate_hz, 2.0);
-  EXPECT_EQ(r.read(r.info().channels[0]), (std::vector<double>{0.5, 1, 1.5, 2, 2.5, 3, 3.5, 4}));
+  EXPECT_EQ(test::as_vector(r.read(r.info().channels[0])),
+            (std::vector<double>{0.5, 1, 1.5, 2, 2.5, 3, 3.5, 4}));
   fs::remove_all(dir / "out");
   EXPECT_TRUE(test::snapshot(dir) == before) << "an input changed";
   // A recording named by its device id, converted into its own directory: the output would be

@@ -65,12 +65,13 @@ TEST(Recording, DiscoversChannelsWithAncestorLookup) {
   ASSERT_NE(counts, nullptr);
   EXPECT_EQ(counts->units, "counts-as-g");
   EXPECT_EQ(counts->storage_type, "int16");
-  EXPECT_EQ(r.read(*counts), (std::vector<double>{60, -90, 160, 210}));  // raw * 0.5 + 10
+  EXPECT_EQ(test::as_vector(r.read(*counts)),
+            (std::vector<double>{60, -90, 160, 210}));  // raw * 0.5 + 10
   const auto* ph = find(info, "/clock/phase");
   ASSERT_NE(ph, nullptr);
   EXPECT_EQ(ph->data_type, kernels::DataType::Phase);
   EXPECT_EQ(ph->storage_type, "int32");
-  EXPECT_EQ(r.read(*ph), (std::vector<double>{1, 2, 3, 4, 5}));
+  EXPECT_EQ(test::as_vector(r.read(*ph)), (std::vector<double>{1, 2, 3, 4, 5}));
 }
 
 TEST(Recording, ChunkedReadEqualsWholeRead) {
@@ -227,7 +228,7 @@ TEST(Recording, WriterProducesTheSimulateLayoutAtomically) {
   EXPECT_EQ(r.info().channels[0].path, "/imu/gyro_x");
   EXPECT_EQ(r.info().channels[0].units, "deg/s");
   EXPECT_EQ(r.info().channels[0].sample_rate_hz, 250.0);
-  EXPECT_EQ(r.read(r.info().channels[0]), x);
+  EXPECT_EQ(test::as_vector(r.read(r.info().channels[0])), x);
   {
     io::RecordingWriter w((dir / "abandoned.h5").string(), "u", 1.0);
     w.add_channel({"gyro_x", "deg/s", x});

@@ -22,6 +22,12 @@ extern char** environ;  // POSIX: the environment handed to spawned processes
 
 namespace allanlot::test {
 
+/// The samples a reader returned (io::RecordingReader::read), as a plain vector to compare.
+template <class Samples>
+std::vector<double> as_vector(const Samples& x) {
+  return std::vector<double>(x.begin(), x.end());
+}
+
 /// A fresh, empty directory under the build tree's test tmp dir.
 inline std::filesystem::path fresh_dir(const std::string& name) {
   const auto p = std::filesystem::path(ALLANLOT_TEST_TMP) / name;
