@@ -1,11 +1,19 @@
 // The FFTW wrapper; see fft.hpp.
 #include "kernels/spectral/fft.hpp"
 
+#include <algorithm>
+#include <cstdlib>
+#include <new>
 #include <stdexcept>
 #include <string>
 #include <utility>
 
+#include <sys/mman.h>
+
 namespace allanlot::kernels {
+
+// The stored wisdom (fft_wisdom.txt), compiled in by CMake (fft_wisdom.cpp.in).
+extern const char* const kStoredFftWisdom;
 
 namespace detail {
 std::mutex& fftw_planner_mutex() {
@@ -22,7 +30,20 @@ fftw_plan checked(fftw_plan p, const char* who) {
   return p;
 }
 
+constexpr std::size_t kHugePage = std::size_t{2} << 20;
+constexpr std::size_t kHugeBytes = std::size_t{8} << 20;
+
 }  // namespace
+
+void* allocate_aligned(std::size_t bytes) {
+  const bool huge = bytes >= kHugeBytes;
+  const std::size_t align = huge ? kHugePage : 64;
+  const std::size_t rounded = (std::max<std::size_t>(bytes, 1) + align - 1) / align * align;
+  void* p = std::aligned_alloc(align, rounded);
+  if (!p) throw std::bad_alloc();
+  if (huge) madvise(p, rounded, MADV_HUGEPAGE);  // advice only: ignored where THP is off
+  return p;
+}
 
 Plan Plan::r2c(int n, double* in, fftw_complex* out, const char* who) {
   std::lock_guard<std::mutex> lock(detail::fftw_planner_mutex());
@@ -39,6 +60,37 @@ Plan Plan::r2c_batch(int n, int howmany, double* in, fftw_complex* out, const ch
   return Plan(checked(fftw_plan_many_dft_r2c(1, &n, howmany, in, nullptr, 1, n, out, nullptr, 1,
                                              n / 2 + 1, FFTW_ESTIMATE),
                       who));
+}
+
+Plan Plan::r2c_stored(int n, double* in, fftw_complex* out, const char* who, bool* from_wisdom) {
+  std::lock_guard<std::mutex> lock(detail::fftw_planner_mutex());
+  fftw_plan p = nullptr;
+  if (fftw_import_wisdom_from_string(kStoredFftWisdom) != 0)
+    p = fftw_plan_dft_r2c_1d(n, in, out, FFTW_MEASURE | FFTW_WISDOM_ONLY);
+  fftw_forget_wisdom();
+  if (from_wisdom) *from_wisdom = p != nullptr;
+  if (!p) p = fftw_plan_dft_r2c_1d(n, in, out, FFTW_ESTIMATE);
+  return Plan(checked(p, who));
+}
+
+std::string measure_r2c_wisdom(const std::vector<int>& lengths) {
+  std::lock_guard<std::mutex> lock(detail::fftw_planner_mutex());
+  fftw_forget_wisdom();
+  for (const int n : lengths) {
+    const Buffer<double> in = alloc<double>(static_cast<std::size_t>(n));
+    const Buffer<fftw_complex> out = alloc<fftw_complex>(static_cast<std::size_t>(n / 2 + 1));
+    fftw_plan p = fftw_plan_dft_r2c_1d(n, in.get(), out.get(), FFTW_MEASURE);
+    if (!p)
+      throw std::runtime_error("measure_r2c_wisdom: FFTW planning failed for n = " +
+                               std::to_string(n));
+    fftw_destroy_plan(p);
+  }
+  char* text = fftw_export_wisdom_to_string();
+  fftw_forget_wisdom();
+  if (!text) throw std::runtime_error("measure_r2c_wisdom: FFTW exported no wisdom");
+  std::string wisdom(text);
+  std::free(text);
+  return wisdom;
 }
 
 Plan::Plan(Plan&& other) noexcept : plan_(std::exchange(other.plan_, nullptr)) {}

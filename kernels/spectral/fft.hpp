@@ -1,18 +1,24 @@
 // The one FFTW wrapper of the kernels: the planner lock, SIMD-aligned buffers and plans that are
 // made and destroyed under that lock.
 //
-// Determinism: every plan is made with FFTW_ESTIMATE, so the algorithm is chosen by heuristics,
-// not by timing, and every plan of a given size and layout rounds the same way in every run
-// (FFTW_MEASURE could differ between runs and break byte reproducibility). The buffers come
-// from fftw_malloc, which always aligns for SIMD, so the alignment a plan assumes holds for
-// every buffer of this wrapper, including those a plan is later executed on (Plan::execute_r2c).
+// Determinism: no plan is chosen by timing in a run (FFTW_MEASURE at run time could choose
+// differently from run to run and break byte reproducibility). Plans are made with
+// FFTW_ESTIMATE (heuristics), or, for the Welch PSD's transforms, from the wisdom stored with
+// allanlot (fft_wisdom.txt, measured once; Plan::r2c_stored): either way a plan is a function
+// of the transform and the CPU's SIMD level, so every run rounds the same way. The buffers
+// come from fft::alloc, aligned to 64 bytes (every SIMD width FFTW uses), so the alignment a
+// plan assumes holds for every buffer of this wrapper, including those a plan is later
+// executed on (Plan::execute_r2c).
 #pragma once
 
 #include <fftw3.h>
 
 #include <cstddef>
+#include <cstdlib>
 #include <memory>
 #include <mutex>
+#include <string>
+#include <vector>
 
 namespace allanlot::kernels {
 
@@ -24,20 +30,24 @@ std::mutex& fftw_planner_mutex();
 
 namespace fft {
 
-struct FftwFree {
-  void operator()(void* p) const { fftw_free(p); }
+/// The storage behind alloc (free it with std::free).
+void* allocate_aligned(std::size_t bytes);
+
+struct AlignedFree {
+  void operator()(void* p) const { std::free(p); }
 };
 
-/// `count` elements from fftw_malloc (SIMD-aligned, uninitialized).
+/// `count` elements, 64-byte aligned, uninitialized (alloc).
 template <class T>
-using Buffer = std::unique_ptr<T[], FftwFree>;
+using Buffer = std::unique_ptr<T[], AlignedFree>;
 
-/// Allocates a Buffer of `count` elements; throws std::bad_alloc when fftw_malloc fails.
+/// Allocates a Buffer of `count` elements, 64-byte aligned; blocks of 8 MiB and more are 2
+/// MiB-aligned and advised for transparent huge pages, as LargeVector's
+/// (kernels/common/large_vector.hpp: a fresh Welch buffer of 4 KiB pages costs more in page
+/// faults than its FFTs). Throws std::bad_alloc when the allocation fails.
 template <class T>
 Buffer<T> alloc(std::size_t count) {
-  auto* p = static_cast<T*>(fftw_malloc(sizeof(T) * count));
-  if (!p) throw std::bad_alloc();
-  return Buffer<T>(p);
+  return Buffer<T>(static_cast<T*>(allocate_aligned(sizeof(T) * count)));
 }
 
 /// An FFTW_ESTIMATE plan, made and destroyed under detail::fftw_planner_mutex(). The factories
@@ -53,6 +63,14 @@ public:
   /// `howmany` real-to-complex transforms of length n, contiguous: transform b reads
   /// in[b n .. b n + n) and writes out[b (n/2 + 1) .. (b + 1)(n/2 + 1)).
   static Plan r2c_batch(int n, int howmany, double* in, fftw_complex* out, const char* who);
+  /// Real-to-complex transform of length n planned from the wisdom stored with allanlot
+  /// (kernels/spectral/fft_wisdom.txt: FFTW_MEASURE plans of the powers of two the Welch PSD
+  /// uses, measured once by bench/make_fft_wisdom on this project's machine kind), or with
+  /// FFTW_ESTIMATE where that wisdom has no plan for n or this CPU lacks its SIMD level;
+  /// `*from_wisdom` says which. The wisdom is imported and forgotten under the planner lock, so
+  /// no other plan (the simulator's, the PSD fit's) ever sees it and theirs keep their bits.
+  static Plan r2c_stored(int n, double* in, fftw_complex* out, const char* who,
+                         bool* from_wisdom = nullptr);
 
   Plan(Plan&& other) noexcept;
   Plan& operator=(Plan&& other) noexcept;
@@ -70,6 +88,11 @@ private:
   explicit Plan(fftw_plan p) : plan_(p) {}
   fftw_plan plan_ = nullptr;
 };
+
+/// FFTW wisdom (FFTW's text format) for the real-to-complex transforms of the given lengths,
+/// measured now with FFTW_MEASURE on scratch buffers: what bench/make_fft_wisdom writes into
+/// kernels/spectral/fft_wisdom.txt. Takes the planner lock; the wisdom is forgotten afterwards.
+std::string measure_r2c_wisdom(const std::vector<int>& lengths);
 
 }  // namespace fft
 }  // namespace allanlot::kernels

@@ -7,9 +7,10 @@
 // S(f) = one-sided / 2, so white noise of coefficient N has one-sided PSD 2 N^2.
 //
 // Reproducibility. Each segment's periodogram is computed by one thread into its own row, with
-// an FFTW_ESTIMATE plan on fftw_malloc'ed (SIMD-aligned) buffers, and the rows are added in
-// segment order afterwards; eq. (2) is one fixed-order sum per tau. Results are therefore
-// bit-identical for any thread count, with or without OpenMP.
+// a plan from the stored FFTW wisdom (or FFTW_ESTIMATE's; never one timed in the run) on
+// 64-byte aligned buffers, and the rows are added in segment order afterwards; eq. (2) is one
+// fixed-order sum per tau. Results are therefore bit-identical for any thread count, with or
+// without OpenMP.
 #pragma once
 
 #include <cstdint>
@@ -66,6 +67,14 @@ public:
   PsdPlan& operator=(const PsdPlan&) = delete;
 
   std::int64_t segment_length() const;
+
+  /// The process's one plan of `segment_length` (made on first use, kept until exit), shared by
+  /// every channel and thread: welch_psd uses it, so a lot plans each segment length once.
+  static const PsdPlan& shared(std::int64_t segment_length);
+
+  /// True when the transform was planned from the stored FFTW wisdom (fft::Plan::r2c_stored),
+  /// false when FFTW_ESTIMATE planned it (a length the wisdom lacks, or a CPU without its SIMD).
+  bool from_wisdom() const;
 
   /// Welch's method (P. D. Welch, IEEE Trans. Audio Electroacoust. 15(2), 1967) on rate samples
   /// y_0 .. y_{n-1} taken at rate_hz:

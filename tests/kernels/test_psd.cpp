@@ -452,5 +452,33 @@ TEST(PsdDumbInputs, ThrowNamingTheParameter) {
   EXPECT_TRUE(std::isnan(a.tau_valid_min));
 }
 
+// The stored FFTW wisdom (kernels/spectral/fft_wisdom.txt) must plan every Welch length on this
+// project's machine kind: where it does not (a new FFTW in Debian, or a new machine kind), the
+// PSD silently falls back to FFTW_ESTIMATE's plans, twice as slow (docs/performance.md), and
+// bench/make_fft_wisdom must be run again. The wisdom holds AVX-512 plans, so a CPU without
+// AVX-512 cannot use them; there the fallback is the expected outcome.
+TEST(PsdPlans, WelchLengthsComeFromTheStoredWisdom) {
+  if (!__builtin_cpu_supports("avx512f")) GTEST_SKIP() << "no AVX-512: FFTW_ESTIMATE plans";
+  for (std::int64_t L = 16; L <= (std::int64_t{1} << 20); L *= 2)
+    EXPECT_TRUE(kernels::PsdPlan::shared(L).from_wisdom()) << "segment length " << L;
+  // An odd-sized transform is not in the wisdom: FFTW_ESTIMATE plans it, and it still works.
+  const kernels::PsdPlan odd(1000);
+  EXPECT_FALSE(odd.from_wisdom());
+}
+
+// The shared plan of a length is one object, and a Welch PSD through it equals one through a
+// plan of its own, bit for bit.
+TEST(PsdPlans, SharedPlanIsOneAndRoundsAsAFreshOne) {
+  const std::int64_t L = 256;
+  EXPECT_EQ(&kernels::PsdPlan::shared(L), &kernels::PsdPlan::shared(L));
+  std::vector<double> y(4096);
+  for (std::size_t i = 0; i < y.size(); ++i)
+    y[i] = std::sin(0.37 * static_cast<double>(i)) + 1e-3 * static_cast<double>(i % 17);
+  const kernels::PsdPlan fresh(L);
+  const kernels::PsdResult a = kernels::PsdPlan::shared(L).welch(y, 100.0, 1);
+  const kernels::PsdResult b = fresh.welch(y, 100.0, 2);
+  EXPECT_EQ(a.psd, b.psd);
+}
+
 }  // namespace
 }  // namespace allanlot
