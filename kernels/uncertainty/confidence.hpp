@@ -42,7 +42,8 @@ FiniteDifferenceKind difference_kind(Stat s);
 ///    SP1065 Table 5 formula for white FM (edf = (3(N-1)/(2m) - 2(N-2)/N) 4m^2/(4m^2+5)) gives
 ///    666 instead of Stable32's 782 at m = 1;
 ///  - Totdev: Howe's b (T/tau) - c (edf_totvar);
-///  - Mtotdev, Ttotdev: SP1065 Table 8 (edf_mtotvar);
+///  - Mtotdev, Ttotdev: the Mdev edf below m = 10 (where Stable32's bounds imply it), SP1065
+///    Table 8 (edf_mtotvar) from m = 10 on;
 ///  - Htotdev: Howe's fit (edf_htotvar) for FM noise at m >= 16, else the Ohdev edf;
 ///  - Theo1: Howe & Tasset's fits (edf_theo1); Theoh: the Oadev edf on its OADEV rows
 ///    (m < floor(0.1 (N - 1))), edf_theo1 on its ThêoBR rows;

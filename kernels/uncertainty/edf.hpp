@@ -48,9 +48,9 @@ double edf_totvar(int alpha, std::int64_t m, std::int64_t n_phase);
 /// Howe's edf for the modified total variance MTOT (and TTOT, the same estimator scaled),
 /// NIST SP1065 sec. 5.3.3, Table 8 (p. 41): edf = b (T / tau) - c with T / tau = (N - 1) / m
 /// and (b, c) = (1.90, 2.10), (1.20, 1.40), (1.10, 1.20), (0.85, 0.50), (0.75, 0.31) for
-/// alpha = 2, 1, 0, -1, -2; at least 1 (a last-octave m with few windows). Stable32 1.60's
-/// MTOT bounds on PHASE.DAT are not these (its edf is ~30 % larger from m = 10 on; see
-/// docs/statistics.md). Preconditions: m >= 1, N >= 2, alpha in -2..2.
+/// alpha = 2, 1, 0, -1, -2; at least 1 (a last-octave m with few windows). Stable32's edf is
+/// 1.2 times larger from m = 10 on and MDEV's below (docs/statistics.md); stat_edf uses this
+/// from m = 10 on. Preconditions: m >= 1, N >= 2, alpha in -2..2.
 double edf_mtotvar(int alpha, std::int64_t m, std::int64_t n_phase);
 
 /// Howe's edf for the Hadamard total variance HTOT (Howe et al., "A total estimator of the

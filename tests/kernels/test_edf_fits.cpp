@@ -55,14 +55,17 @@ void expect_fit_explains_spread(Stat s, int alpha, std::size_t n, const MList& m
                                 unsigned seed) {
   std::mt19937_64 rng(seed);
   std::vector<std::vector<double>> v(ms.size());
-  MList m_rows;
+  MList m_rows, n_rows;
   for (int r = 0; r < reps; ++r) {
     const auto p = kernels::phase_from_phase(simulate_phase(alpha, n, rng), 1.0, 1);
     const auto res = kernels::compute(s, p, ms, 1);
     ASSERT_EQ(res.size(), ms.size());
     for (std::size_t i = 0; i < ms.size(); ++i)
       v[i].push_back(res.dev[i] * res.dev[i]);
-    if (r == 0) m_rows = res.m;
+    if (r == 0) {
+      m_rows = res.m;
+      n_rows = res.n;
+    }
   }
   for (std::size_t i = 0; i < ms.size(); ++i) {
     double mean = 0.0, var = 0.0;
@@ -74,7 +77,7 @@ void expect_fit_explains_spread(Stat s, int alpha, std::size_t n, const MList& m
     var /= reps - 1;
     const double nu_hat = 2.0 * mean * mean / var;
     const auto np = static_cast<std::int64_t>(n);
-    const double nu = kernels::stat_edf(s, alpha, m_rows[i], np, 0);
+    const double nu = kernels::stat_edf(s, alpha, m_rows[i], np, n_rows[i]);
     const double tol = 0.1 + 4.0 * std::sqrt((2.0 + 20.0 / nu) / reps);
     std::printf("[ edf fit  ] %s alpha %d m %lld: nu %.2f, simulated %.2f (ratio %.3f, tol %.3f)\n",
                 kernels::stat_name(s).data(), alpha, static_cast<long long>(m_rows[i]), nu, nu_hat,
@@ -102,8 +105,25 @@ TEST(EdfFits, HtotvarExplainsTheSpreadOfHtot) {
                                static_cast<unsigned>(300 + alpha));
 }
 
+// MTOT below m = 10 takes MDEV's edf (confidence.cpp stat_edf), as Stable32's bounds imply.
+// Measured here (N = 512, m = 2, 4, 8): the simulated edf is 1.27-1.36 times MDEV's for white
+// PM, 1.07-1.22 for white FM, 1.15-1.27 for random-walk FM, i.e. MDEV's is on the safe side
+// for all three, while SP1065 Table 8 (483, 241, 119 for white PM) would overstate white PM's
+// by 1.1 to 1.6 (intervals too narrow).
+TEST(EdfFits, MdevEdfBoundsTheSpreadOfMtotAtSmallM) {
+  for (const int alpha : {2, 0, -2})
+    expect_fit_explains_spread(Stat::Mtotdev, alpha, 512, MList{2, 4, 8}, 300,
+                               static_cast<unsigned>(400 + alpha));
+}
+
 TEST(EdfFits, DispatchAndPreconditions) {
   const std::int64_t n = 1001;
+  // MTOT and TTOT: MDEV's edf over the same N - 3m + 1 terms below m = 10, Table 8 from 10 on.
+  for (const Stat s : {Stat::Mtotdev, Stat::Ttotdev}) {
+    EXPECT_EQ(kernels::stat_edf(s, 0, 8, n, n - 23),
+              kernels::stat_edf(Stat::Mdev, 0, 8, n, n - 23));
+    EXPECT_EQ(kernels::stat_edf(s, 0, 10, n, n - 29), kernels::edf_mtotvar(0, 10, n));
+  }
   // HTOT: Howe's fit for FM noise from m = 16, OHDEV's edf below and for PM noise.
   EXPECT_EQ(kernels::stat_edf(Stat::Htotdev, -1, 16, n, 0), kernels::edf_htotvar(-1, 16, n));
   EXPECT_EQ(kernels::stat_edf(Stat::Htotdev, -1, 8, n, n - 24),
