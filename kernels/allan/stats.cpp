@@ -70,8 +70,7 @@ bool supports_gaps(Stat s) {
 }
 
 bool has_interval(Stat s) {
-  return s != Stat::Mtie && s != Stat::Tierms && s != Stat::Theo1 && s != Stat::Pdev &&
-         s != Stat::Theoh;
+  return s != Stat::Mtie && s != Stat::Tierms;
 }
 
 bool is_time_error(Stat s) {

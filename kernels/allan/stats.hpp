@@ -42,11 +42,9 @@ std::optional<Stat> parse_stat(std::string_view name);
 /// across a gap, see kernels/allan/total.hpp; theo1, see kernels/allan/theo.hpp); the others
 /// leave out the terms that touch a gap.
 bool supports_gaps(Stat s);
-/// True for the statistics with a confidence interval (kernels::add_confidence); false for
-/// MTIE and TIE rms, whose distribution has no chi-square model, and for Thêo1, whose published
-/// edf is not implemented (Stable32 prints no Thêo1 bounds either), for ThêoH (likewise), and
-/// for PDEV, whose edf (Vernotte et al. 2016) is not implemented: their edf, dev_lo and dev_hi
-/// are NaN.
+/// True for the statistics with a confidence interval (kernels::add_confidence, with the edf of
+/// kernels/uncertainty/confidence.hpp stat_edf); false for MTIE and TIE rms, whose
+/// distribution has no chi-square model: their edf, dev_lo and dev_hi are NaN.
 bool has_interval(Stat s);
 /// True for the statistics that are a time (phase) error, in phase units (u*s for rate input),
 /// rather than a deviation of the rate: tdev, ttotdev, mtie, tierms.

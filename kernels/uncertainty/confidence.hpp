@@ -42,9 +42,13 @@ FiniteDifferenceKind difference_kind(Stat s);
 ///    SP1065 Table 5 formula for white FM (edf = (3(N-1)/(2m) - 2(N-2)/N) 4m^2/(4m^2+5)) gives
 ///    666 instead of Stable32's 782 at m = 1;
 ///  - Totdev: Howe's b (T/tau) - c (edf_totvar);
-///  - Mtotdev, Ttotdev: SP1065 Table 8 (edf_mtotvar);
-///  - Htotdev: the Ohdev edf over the same terms (HTOT's own fits are not implemented);
-///  - Mtie, Tierms, Theo1: NaN (no interval, stats.hpp has_interval).
+///  - Mtotdev, Ttotdev: the Mdev edf below m = 10 (where Stable32's bounds imply it), SP1065
+///    Table 8 (edf_mtotvar) from m = 10 on;
+///  - Htotdev: Howe's fit (edf_htotvar) for FM noise at m >= 16, else the Ohdev edf;
+///  - Theo1: Howe & Tasset's fits (edf_theo1); Theoh: the Oadev edf on its OADEV rows
+///    (m < floor(0.1 (N - 1))), edf_theo1 on its ThêoBR rows;
+///  - Pdev: Vernotte et al.'s fit (edf_pvar), the Oadev edf at m = 1;
+///  - Mtie, Tierms: NaN (no interval, stats.hpp has_interval).
 /// Gaps: when `terms` is below the count of a contiguous record of N points, the edf is that
 /// of the shortest contiguous record with `terms` terms (greenhall_phase_points), i.e. the
 /// missing terms are treated as a shorter record. This is exact for a gap at either end and
@@ -56,7 +60,7 @@ double stat_edf(Stat s, int alpha, std::int64_t m, std::int64_t n_phase, std::in
 /// of `r`, the result of statistic s on p (kernels::compute), at the given two-sided
 /// confidence. alpha comes from identify_alpha, edf from stat_edf, the bounds from
 /// chi2_interval. Rows with dev = 0 get edf and alpha but lo = hi = 0. A statistic without an
-/// interval (has_interval false: MTIE, TIE rms, Thêo1) gets its alpha and NaN edf, lo and hi.
+/// interval (has_interval false: MTIE, TIE rms) gets its alpha and NaN edf, lo and hi.
 /// For HTOTDEV it also applies Stable32's bias correction to r.dev (divided by
 /// sqrt(htotvar_bias(alpha)) at m > 1, edf.hpp) before the bounds are taken. Parallel
 /// over rows with `nthreads` (0 = OpenMP default); each row is written by one thread in a fixed

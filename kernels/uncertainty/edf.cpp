@@ -292,3 +292,79 @@ double htotvar_bias(int alpha) {
 }
 
 }  // namespace allanlot::kernels
+
+namespace allanlot::kernels {
+namespace {
+
+void check_edf_args(const char* name, int alpha, int alpha_lo, int alpha_hi, std::int64_t m,
+                    std::int64_t m_min, std::int64_t n_phase, std::int64_t n_min) {
+  const std::string f(name);
+  if (m < m_min)
+    throw std::invalid_argument(f + ": m must be >= " + std::to_string(m_min) + ", got " +
+                                std::to_string(m));
+  if (n_phase < n_min)
+    throw std::invalid_argument(f + ": need >= " + std::to_string(n_min) + " phase points, got " +
+                                std::to_string(n_phase));
+  if (alpha < alpha_lo || alpha > alpha_hi)
+    throw std::invalid_argument(f + ": alpha must be in " + std::to_string(alpha_lo) + ".." +
+                                std::to_string(alpha_hi) + ", got " + std::to_string(alpha));
+}
+
+}  // namespace
+
+double edf_htotvar(int alpha, std::int64_t m, std::int64_t n_phase) {
+  check_edf_args("edf_htotvar", alpha, -2, 0, m, 1, n_phase, 2);
+  // Howe & Tasset's Table I (b0, b1), alpha = -2, -1, 0.
+  static constexpr double b0[] = {0.938, 0.868, 0.559};
+  static constexpr double b1[] = {1.696, 1.140, 1.004};
+  const double T_over_tau = static_cast<double>(n_phase - 1) / static_cast<double>(m);
+  const auto k = static_cast<std::size_t>(alpha + 2);
+  return std::max(1.0, T_over_tau / (b0[k] + b1[k] / T_over_tau));
+}
+
+double edf_theo1(int alpha, std::int64_t m, std::int64_t n_phase) {
+  check_edf_args("edf_theo1", alpha, -2, 2, m, 2, n_phase, m + 1);
+  const double r = 0.75 * static_cast<double>(m);  // Thêo1's tau / tau0
+  const double n = static_cast<double>(n_phase);
+  double edf = 0.0;
+  switch (alpha) {
+  case 2:
+    edf = 0.86 * (n + 1.0) * (n - 4.0 * r / 3.0) / (n - r) * (r / (r + 1.14));
+    break;
+  case 1:
+    edf = (4.798 * n * n - 6.374 * n * r + 12.387 * r) / (std::sqrt(r + 36.6) * (n - r)) *
+          (r / (r + 0.3));
+    break;
+  case 0: {
+    const double r15 = r * std::sqrt(r);
+    edf = ((4.1 * n + 0.8) / r - (3.1 * n + 6.5) / n) * (r15 / (r15 + 5.2));
+    break;
+  }
+  case -1: {
+    const double r3 = r * r * r;
+    edf = (2.0 * n * n - 1.3 * n * r - 3.5 * r) / (n * r) * (r3 / (r3 + 2.3));
+    break;
+  }
+  default: {
+    const double a = 4.4 * n - 1.0;
+    const double b = 4.4 * n - 3.0;
+    edf = (4.4 * n - 2.0) / (2.9 * r) * ((a * a - 8.6 * r * a + 11.4 * r * r) / (b * b));
+    break;
+  }
+  }
+  return std::max(1.0, edf);
+}
+
+double edf_pvar(int alpha, std::int64_t m, std::int64_t n_phase) {
+  check_edf_args("edf_pvar", alpha, -2, 2, m, 1, n_phase, 2 * m + 1);
+  const std::int64_t terms = n_phase - 2 * m;
+  // Vernotte et al. fitted eq. (16) for m up to N / 4, i.e. M >= 2m; past it the edf is the
+  // floor of one estimate.
+  if (terms < 2 * m) return 1.0;
+  const double a = static_cast<double>(alpha);
+  const double A = 27.0 + a / 4.0 + 5.0 * a * a / 14.0 - 3.0 * a * a * a / 4.0;
+  const double ratio = static_cast<double>(m) / static_cast<double>(terms);
+  return std::max(1.0, 35.0 / (A * ratio - 12.0 * ratio * ratio));
+}
+
+}  // namespace allanlot::kernels

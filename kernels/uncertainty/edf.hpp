@@ -48,10 +48,48 @@ double edf_totvar(int alpha, std::int64_t m, std::int64_t n_phase);
 /// Howe's edf for the modified total variance MTOT (and TTOT, the same estimator scaled),
 /// NIST SP1065 sec. 5.3.3, Table 8 (p. 41): edf = b (T / tau) - c with T / tau = (N - 1) / m
 /// and (b, c) = (1.90, 2.10), (1.20, 1.40), (1.10, 1.20), (0.85, 0.50), (0.75, 0.31) for
-/// alpha = 2, 1, 0, -1, -2; at least 1 (a last-octave m with few windows). Stable32 1.60's
-/// MTOT bounds on PHASE.DAT are not these (its edf is ~30 % larger from m = 10 on; see
-/// docs/statistics.md). Preconditions: m >= 1, N >= 2, alpha in -2..2.
+/// alpha = 2, 1, 0, -1, -2; at least 1 (a last-octave m with few windows). Stable32's edf is
+/// 1.2 times larger from m = 10 on and MDEV's below (docs/statistics.md); stat_edf uses this
+/// from m = 10 on. Preconditions: m >= 1, N >= 2, alpha in -2..2.
 double edf_mtotvar(int alpha, std::int64_t m, std::int64_t n_phase);
+
+/// Howe's edf for the Hadamard total variance HTOT (Howe et al., "A total estimator of the
+/// Hadamard function used for GPS operations", Proc. 32nd PTTI (2000); the fit of Howe & Tasset's
+/// Table I, as Riley, "Confidence intervals and bias corrections for the Stable32 variance
+/// functions", gives it): edf = (T / tau) / (b0 + b1 tau / T), T / tau = (N - 1) / m, with
+/// (b0, b1) = (0.559, 1.004), (0.868, 1.140), (0.938, 1.696) for alpha = 0, -1, -2; at least 1.
+/// The fits are of FM noise at m >= 16 only: stat_edf uses the OHDEV edf below m = 16 and for
+/// PM noise (Stable32's edf there is larger and unpublished; docs/statistics.md). On
+/// PHASE.DAT at m = 16 Stable32's bounds imply 110.2, this fit 108.7. Preconditions: m >= 1,
+/// N >= 2, alpha in -2..0.
+double edf_htotvar(int alpha, std::int64_t m, std::int64_t n_phase);
+
+/// Howe & Tasset's empirical edf of Thêo1 ("Thêo1: characterization of very long-term
+/// frequency stability", Proc. EFTF 2004, as tabulated in Riley's "Confidence intervals and
+/// bias corrections for the Stable32 variance functions"), with r = 0.75 m (Thêo1's tau in units of
+/// tau0) and N phase points:
+///   alpha  2: 0.86 (N + 1)(N - 4r/3) / (N - r) * r / (r + 1.14)
+///   alpha  1: (4.798 N^2 - 6.374 N r + 12.387 r) / (sqrt(r + 36.6) (N - r)) * r / (r + 0.3)
+///   alpha  0: ((4.1 N + 0.8) / r - (3.1 N + 6.5) / N) * r^1.5 / (r^1.5 + 5.2)
+///   alpha -1: (2 N^2 - 1.3 N r - 3.5 r) / (N r) * r^3 / (r^3 + 2.3)
+///   alpha -2: (4.4 N - 2) / (2.9 r) * ((4.4 N - 1)^2 - 8.6 r (4.4 N - 1) + 11.4 r^2)
+///             / (4.4 N - 3)^2
+/// at least 1 (the random-walk FM fit turns negative near m = N). ThêoH's ThêoBR rows use it
+/// too: the bias ratio is a constant factor, which does not change the degrees of freedom.
+/// Preconditions: m >= 2, N > m, alpha in -2..2.
+double edf_theo1(int alpha, std::int64_t m, std::int64_t n_phase);
+
+/// The edf of the parabolic variance PVAR (Vernotte, Chen & Rubiola, "Response and uncertainty
+/// of the parabolic variance PVAR to non-integer exponents of the power law", 2020,
+/// arXiv:2005.13631, eqs. (16) and (18)), of the form Vernotte et al. 2016 (IEEE UFFC
+/// 63, eq. (24)) derived for white PM:
+///   edf = 35 / (A(alpha) m / M - 12 (m / M)^2),  M = N - 2m terms,
+///   A(alpha) = 27 + alpha / 4 + 5 alpha^2 / 14 - 3 alpha^3 / 4,
+/// valid for m <= N / 4 (PDEV's largest m, stats.hpp max_m). Beyond it (AllanTools' range, up
+/// to M = 1) the fit no longer holds and the edf is 1, the conservative floor. At m = 1 PVAR
+/// is the overlapping Allan variance and stat_edf takes OADEV's edf. Preconditions: m >= 1,
+/// N > 2m, alpha in -2..2.
+double edf_pvar(int alpha, std::int64_t m, std::int64_t n_phase);
 
 /// Stable32's bias factor of the Hadamard total variance (Riley, "Confidence intervals and
 /// bias corrections for the Stable32 variance functions", Hamilton Technical Services): the

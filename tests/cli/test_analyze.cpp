@@ -337,6 +337,36 @@ TEST(Analyze, StatsAllWritesEveryStatistic) {
   EXPECT_NE(g.channels[0].notes.find("theo1 not computed"), std::string::npos);
 }
 
+// Issue #19 item 5: a statistic asked for a record it does not apply to is a per-channel
+// outcome, never a crash. Thêo1 needs 11 phase points (m = 10): on 8 samples it has no row; with
+// OADEV beside it the channel is ok and theo1's group is empty; alone, the channel fails with
+// its reason, and with nothing analysed the run ends with status 2 (docs/cli.md "Exit status").
+TEST(Analyze, Theo1OnTooShortARecordIsAChannelOutcome) {
+  const auto dir = test::fresh_dir("analyze_theo1_short");
+  {
+    test::H5Fixture f(dir / "s.h5");
+    f.dataset("/imu/gyro_x", noise(8, 0.1, 43), H5T_IEEE_F64LE);
+    f.attr("/imu", "sample_rate_hz", 100.0);
+  }
+  std::string out;
+  ASSERT_EQ(run_command(binary() + " analyze -q --stats oadev,theo1 --no-fit --no-psd -o " +
+                            (dir / "both").string() + " " + (dir / "s.h5").string(),
+                        &out),
+            0)
+      << out;
+  const auto r = io::read_results(dir / "both" / "s.allan.h5");
+  ASSERT_EQ(r.channels.size(), 1u);
+  for (const auto& [name, s] : r.channels[0].stats)
+    EXPECT_EQ(s.size() == 0, name == "theo1") << name;
+  EXPECT_EQ(run_command(binary() + " analyze -q --stats theo1 --no-fit --no-psd -o " +
+                            (dir / "alone").string() + " " + (dir / "s.h5").string(),
+                        &out),
+            2)
+      << out;
+  EXPECT_NE(out.find("too short for any tau of the requested statistics"), std::string::npos)
+      << out;
+}
+
 // Clock data get a deviation table in the terminal, not the IMU term table: a unit with a clock
 // (phase data in s, a random-walk phase with white noise) and a gyro prints the gyro's eq. (3)
 // table and, for the clock, tau and each statistic with its bounds, the values those of the
