@@ -258,4 +258,19 @@ StatResult tdev_from_mdev(const StatResult& mdev) {
   return r;
 }
 
+void prime_second_third(const PhaseData& p, std::span<const std::int64_t> m_list, int nthreads,
+                        SumCache& cache) {
+  if (p.has_gaps()) return;
+  detail::check_m_list("prime_second_third", m_list);
+  std::vector<std::int64_t> ms;  // those with a term of either kind
+  for (const std::int64_t m : m_list)
+    if (p.n_points() - 2 * m > 0) ms.push_back(m);
+  std::vector<detail::SumCount> second, third;
+  detail::sums_tiled_second_third(p.x.data(), p.n_points(), ms, nthreads, second, third);
+  for (std::size_t j = 0; j < ms.size(); ++j) {
+    cache.store_second(ms[j], second[j].sum, second[j].n);
+    if (third[j].n > 0) cache.store_third(ms[j], third[j].sum, third[j].n);
+  }
+}
+
 }  // namespace allanlot::kernels

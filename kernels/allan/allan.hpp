@@ -44,6 +44,13 @@ StatResult adev(const PhaseData& p, std::span<const std::int64_t> m_list, int nt
 StatResult oadev(const PhaseData& p, std::span<const std::int64_t> m_list, int nthreads = 0,
                  SumCache* cache = nullptr);
 
+/// Forms OADEV's and OHDEV's sums at every m of m_list in one sweep of the gap-free record and
+/// stores both in `cache`, so that oadev, totdev and ohdev with that cache take them from there
+/// (the same bits as their own sweeps, for about the cost of OHDEV's alone). Does nothing on a
+/// record with gaps (each statistic then tests its own terms).
+void prime_second_third(const PhaseData& p, std::span<const std::int64_t> m_list, int nthreads,
+                        SumCache& cache);
+
 /// Modified Allan deviation, NIST SP1065 eq. (14), p. 17:
 ///
 ///   Mod sigma^2(tau) = 1 / (2 m^2 tau^2 (N - 3m + 1))

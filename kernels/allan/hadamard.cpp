@@ -50,19 +50,35 @@ StatResult hdev(const PhaseData& p, std::span<const std::int64_t> m_list, int nt
                                 [&p](std::int64_t m) { return hadamard_norm(p, m); });
 }
 
-StatResult ohdev(const PhaseData& p, std::span<const std::int64_t> m_list, int nthreads) {
+StatResult ohdev(const PhaseData& p, std::span<const std::int64_t> m_list, int nthreads,
+                 SumCache* cache) {
   detail::check_m_list("ohdev", m_list);
-  const auto sums = p.has_gaps()
-                        ? detail::sums_per_m(m_list, nthreads,
-                                             [&p](std::int64_t m) {
-                                               return detail::third_difference_core(p, m, 1);
-                                             })
-                        : detail::sums_tiled(
-                              m_list, nthreads,
-                              [&p](std::int64_t m) {
-                                return detail::ThirdDifference{p.x.data(), m};
-                              },
-                              [&p](std::int64_t m) { return p.n_points() - 3 * m; });
+  if (p.has_gaps()) {
+    const auto sums = detail::sums_per_m(
+        m_list, nthreads, [&p](std::int64_t m) { return detail::third_difference_core(p, m, 1); });
+    return detail::rows_from_sums(p.tau0_s, m_list, sums,
+                                  [&p](std::int64_t m) { return hadamard_norm(p, m); });
+  }
+  std::vector<detail::SumCount> sums(m_list.size());
+  std::vector<std::int64_t> missing;
+  std::vector<std::size_t> where;
+  for (std::size_t j = 0; j < m_list.size(); ++j) {
+    if (cache)
+      if (const auto hit = cache->third(m_list[j])) {
+        sums[j] = {hit->first, hit->second};
+        continue;
+      }
+    missing.push_back(m_list[j]);
+    where.push_back(j);
+  }
+  const auto computed = detail::sums_tiled(
+      missing, nthreads,
+      [&p](std::int64_t m) {
+        return detail::ThirdDifference{p.x.data(), m};
+      },
+      [&p](std::int64_t m) { return p.n_points() - 3 * m; });
+  for (std::size_t i = 0; i < missing.size(); ++i)
+    sums[where[i]] = computed[i];
   return detail::rows_from_sums(p.tau0_s, m_list, sums,
                                 [&p](std::int64_t m) { return hadamard_norm(p, m); });
 }

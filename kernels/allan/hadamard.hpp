@@ -5,6 +5,7 @@
 #include "kernels/allan/allan.hpp"
 #include "kernels/allan/phase.hpp"
 #include "kernels/allan/stat_result.hpp"
+#include "kernels/allan/sum_cache.hpp"
 
 #include <cstdint>
 #include <span>
@@ -23,7 +24,9 @@ StatResult hdev(const PhaseData& p, std::span<const std::int64_t> m_list, int nt
 ///
 ///   H sigma^2(tau) = 1 / (6 tau^2 (N - 3m)) * sum_{i=0}^{N-3m-1}
 ///                    (x_{i+3m} - 3 x_{i+2m} + 3 x_{i+m} - x_i)^2
-StatResult ohdev(const PhaseData& p, std::span<const std::int64_t> m_list, int nthreads = 0);
+/// With a cache (stats.hpp), sums stored by prime_second_third are used.
+StatResult ohdev(const PhaseData& p, std::span<const std::int64_t> m_list, int nthreads = 0,
+                 SumCache* cache = nullptr);
 
 namespace detail {
 

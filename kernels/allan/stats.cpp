@@ -169,6 +169,17 @@ void SumCache::store_second(std::int64_t m, double sum, std::int64_t n) {
   second_.emplace(m, std::make_pair(sum, n));
 }
 
+std::optional<std::pair<double, std::int64_t>> SumCache::third(std::int64_t m) const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  if (const auto it = third_.find(m); it != third_.end()) return it->second;
+  return std::nullopt;
+}
+
+void SumCache::store_third(std::int64_t m, double sum, std::int64_t n) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  third_.emplace(m, std::make_pair(sum, n));
+}
+
 StatResult compute(Stat s, const PhaseData& p, std::span<const std::int64_t> m_list, int nthreads,
                    SumCache* cache, MRange range) {
   for (const std::int64_t m : m_list)
@@ -191,7 +202,7 @@ StatResult compute(Stat s, const PhaseData& p, std::span<const std::int64_t> m_l
   case Stat::Hdev:
     return hdev(p, ms, nthreads);
   case Stat::Ohdev:
-    return ohdev(p, ms, nthreads);
+    return ohdev(p, ms, nthreads, cache);
   case Stat::Totdev:
     return totdev(p, ms, nthreads, cache, range == MRange::Estimable);
   case Stat::Mtie:

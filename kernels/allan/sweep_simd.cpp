@@ -101,12 +101,15 @@ struct WideSums {
   double (*second)(const double*, std::int64_t, std::int64_t, std::int64_t);
   double (*third)(const double*, std::int64_t, std::int64_t, std::int64_t);
   double (*modified)(const std::uint64_t*, std::int64_t, double, std::int64_t, std::int64_t);
+  void (*second_third)(const double*, std::int64_t, std::int64_t, std::int64_t, std::int64_t,
+                       double*, double*);
 };
 
 const WideSums* wide() {
 #ifdef ALLANLOT_WIDE_SIMD
-  static constexpr WideSums kAvx2{avx2::second, avx2::third, avx2::modified};
-  static constexpr WideSums kAvx512{avx512::second, avx512::third, avx512::modified};
+  static constexpr WideSums kAvx2{avx2::second, avx2::third, avx2::modified, avx2::second_third};
+  static constexpr WideSums kAvx512{avx512::second, avx512::third, avx512::modified,
+                                    avx512::second_third};
   switch (active()) {
   case SimdLevel::Avx512:
     return &kAvx512;
@@ -134,6 +137,15 @@ double block_sum(const ThirdDifference& f, std::int64_t b, std::int64_t e) {
 double block_sum(const ModifiedInnerSum& f, std::int64_t b, std::int64_t e) {
   const WideSums* w = wide();
   return w ? w->modified(f.s, f.m, f.q, b, e) : block_sum_baseline(f, b, e);
+}
+
+void block_sums_second_third(const double* x, std::int64_t m, std::int64_t b, std::int64_t e2,
+                             std::int64_t e3, double* s2, double* s3) {
+  const WideSums* w = wide();
+  if (w)
+    w->second_third(x, m, b, e2, e3, s2, s3);
+  else
+    block_sums_second_third_baseline(x, m, b, e2, e3, s2, s3);
 }
 
 }  // namespace detail

@@ -153,13 +153,15 @@ double chi2_quantile(double p, double dof) {
   const auto mid = [&] { return lo > 0.0 ? std::sqrt(lo) * std::sqrt(hi) : 0.5 * hi; };
   double x = mid();
   for (int it = 0; it < 300; ++it) {
-    const double f = residual(x);
+    // One incomplete gamma a step, for both the residual and the slope: for a large dof it
+    // is the whole cost of the quantile (O(sqrt(a)) terms of the series or continued fraction).
+    const double t = tail(x);
+    const double f = upper ? target - t : t - target;  // residual(x)
     if (f == 0.0) return x;
     if (f < 0.0)
       lo = x;
     else
       hi = x;
-    const double t = tail(x);
     const double slope = (upper ? -1.0 : 1.0) * x * chi2_pdf(x, dof) / t;  // d ln(tail) / d ln x
     double next = std::numeric_limits<double>::quiet_NaN();
     if (t > 0.0 && slope != 0.0 && std::isfinite(slope))

@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 #include <limits>
 #include <optional>
 #include <stdexcept>
@@ -67,6 +68,23 @@ kernels::StatResult compute_stat(kernels::Stat s, const kernels::PhaseData& phas
   return r;
 }
 
+// OADEV and OHDEV at their common m from one sweep (kernels::prime_second_third) when both are
+// asked for: the statistics then take their sums from the cache, with the same bits.
+void share_second_third(const kernels::PhaseData& phase, const ChannelOptions& opt,
+                        StatCaches& caches) {
+  const auto asked = [&](kernels::Stat s) {
+    return std::find(opt.stats.begin(), opt.stats.end(), s) != opt.stats.end();
+  };
+  if (phase.has_gaps() || !asked(kernels::Stat::Oadev) || !asked(kernels::Stat::Ohdev)) return;
+  const auto list = [&](kernels::Stat s) {
+    return kernels::stat_m_list(opt.grid, s, kernels::max_m(s, phase.n_points()), phase.n_points());
+  };
+  const std::vector<std::int64_t> a = list(kernels::Stat::Oadev), h = list(kernels::Stat::Ohdev);
+  std::vector<std::int64_t> both;
+  std::set_intersection(a.begin(), a.end(), h.begin(), h.end(), std::back_inserter(both));
+  kernels::prime_second_third(phase, both, opt.threads, caches.sums);
+}
+
 // Every requested statistic into result.stats; returns the overlapping Allan curve the fit and
 // the cross-check need (computed for them when not requested: fit/ is written whatever --stats
 // says, docs/formats.md), or nullopt when neither runs. Throws std::invalid_argument when no
@@ -75,6 +93,7 @@ std::optional<kernels::StatResult> compute_stats(io::ChannelResult& result,
                                                  const kernels::PhaseData& phase,
                                                  const ChannelOptions& opt) {
   StatCaches caches;
+  share_second_third(phase, opt, caches);
   bool any_row = false;
   const kernels::StatResult* mdev = nullptr;
   std::optional<kernels::StatResult> oadev;

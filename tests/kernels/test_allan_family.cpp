@@ -442,6 +442,38 @@ TEST(AllanFamilyProperties, BitIdenticalOnEverySimdLevel) {
   kernels::set_simd_level(before);
 }
 
+// OADEV, TOTDEV and OHDEV from the one shared sweep (prime_second_third, as `analyze` runs them
+// when both are asked for) have the bits of their own sweeps, on every SIMD level and thread
+// count, at m whose third differences end inside, at and before a block's end (N - 3m against
+// the 1024-term blocks), including m with second but no third differences.
+TEST(AllanFamilyProperties, SharedSecondThirdSweepHasTheSameBits) {
+  const auto p = kernels::phase_from_rate(white_rate(20011, 5, 1.0, 1.0), 1.0, 1);
+  const std::vector<std::int64_t> ms = {1, 2, 5, 17, 100, 1000, 3000, 6669, 6670, 6671, 9000};
+  const kernels::SimdLevel before = kernels::simd_level();
+  for (const auto level :
+       {kernels::SimdLevel::Baseline, kernels::SimdLevel::Avx2, kernels::SimdLevel::Avx512}) {
+    if (level > kernels::best_simd_level()) continue;
+    ASSERT_EQ(kernels::set_simd_level(level), level);
+    for (const int threads : {1, 2, 3}) {
+      kernels::SumCache cache;
+      kernels::prime_second_third(p, ms, threads, cache);
+      for (const Stat s : {Stat::Oadev, Stat::Totdev, Stat::Ohdev}) {
+        const StatResult own = kernels::compute(s, p, ms, 1);
+        const StatResult shared = kernels::compute(s, p, ms, threads, &cache);
+        EXPECT_EQ(own.m, shared.m) << kernels::stat_name(s);
+        EXPECT_EQ(own.n, shared.n) << kernels::stat_name(s);
+        EXPECT_EQ(own.dev, shared.dev)
+            << kernels::stat_name(s) << " on " << kernels::simd_level_name(level) << ", " << threads
+            << " threads";
+      }
+      EXPECT_TRUE(cache.third(6669).has_value());   // 20012 - 3 * 6669 = 5 terms
+      EXPECT_FALSE(cache.third(6671).has_value());  // none: 20012 < 3 * 6671
+      EXPECT_TRUE(cache.second(9000).has_value());
+    }
+  }
+  kernels::set_simd_level(before);
+}
+
 // The documented order of the sums (kernels/allan/detail/sweep.hpp): blocks of 1024 terms, sixteen
 // interleaved lanes per block, the lanes reduced by the fixed tree, blocks added in order.
 // Rebuilt here in plain scalar code for OADEV at a few m; the kernel's sum must be the same

@@ -178,9 +178,8 @@ inline double reduce_lanes(const double (&s)[kLanes]) {
 /// Sum of f(k)^2 for k in [b, e), e - b <= kBlock, in the fixed order above, with two-double
 /// vectors: the baseline path, and the only one for terms that are not contiguous loads.
 template <class Term>
-double block_sum_baseline(const Term& f, std::int64_t b, std::int64_t e) {
-  V2 acc[kLanes / 2] = {};
-  std::int64_t k = b;
+double block_sum_baseline_from(const Term& f, V2* acc, std::int64_t k, std::int64_t b,
+                               std::int64_t e) {
   for (; k + kLanes <= e; k += kLanes) {
 #pragma GCC unroll 8
     for (int a = 0; a < kLanes / 2; ++a) {
@@ -198,6 +197,35 @@ double block_sum_baseline(const Term& f, std::int64_t b, std::int64_t e) {
 }
 
 template <class Term>
+double block_sum_baseline(const Term& f, std::int64_t b, std::int64_t e) {
+  V2 acc[kLanes / 2] = {};
+  return block_sum_baseline_from(f, acc, b, b, e);
+}
+
+/// The second and third differences at one m over one block from one set of loads, each in
+/// its own lanes and tree: the same two values as block_sum_baseline of SecondDifference over
+/// [b, e2) and of ThirdDifference over [b, e3), e3 <= e2.
+inline void block_sums_second_third_baseline(const double* x, std::int64_t m, std::int64_t b,
+                                             std::int64_t e2, std::int64_t e3, double* s2,
+                                             double* s3) {
+  V2 a2[kLanes / 2] = {}, a3[kLanes / 2] = {};
+  std::int64_t k = b;
+  for (; k + kLanes <= e3; k += kLanes) {
+#pragma GCC unroll 8
+    for (int a = 0; a < kLanes / 2; ++a) {
+      const double* p = x + k + 2 * a;
+      const V2 x0 = load2(p), x1 = load2(p + m), x2 = load2(p + 2 * m), x3 = load2(p + 3 * m);
+      const V2 d2 = x2 - 2.0 * x1 + x0;
+      const V2 d3 = (x3 - x0) - 3.0 * (x2 - x1);
+      a2[a] += d2 * d2;
+      a3[a] += d3 * d3;
+    }
+  }
+  *s3 = block_sum_baseline_from(ThirdDifference{x, m}, a3, k, b, e3);
+  *s2 = block_sum_baseline_from(SecondDifference{x, m}, a2, k, b, e2);
+}
+
+template <class Term>
 double block_sum(const Term& f, std::int64_t b, std::int64_t e) {
   return block_sum_baseline(f, b, e);
 }
@@ -207,6 +235,9 @@ double block_sum(const Term& f, std::int64_t b, std::int64_t e) {
 double block_sum(const SecondDifference& f, std::int64_t b, std::int64_t e);
 double block_sum(const ThirdDifference& f, std::int64_t b, std::int64_t e);
 double block_sum(const ModifiedInnerSum& f, std::int64_t b, std::int64_t e);
+/// Both block values of block_sums_second_third_baseline, on the widest vectors.
+void block_sums_second_third(const double* x, std::int64_t m, std::int64_t b, std::int64_t e2,
+                             std::int64_t e3, double* s2, double* s3);
 
 /// Sum of f(k)^2 for k = 0 .. n-1 in the fixed blocked order.
 template <class Term>
@@ -271,6 +302,50 @@ std::vector<SumCount> sums_tiled(std::span<const std::int64_t> m_list, int nthre
     sums[j].sum = total;
   }
   return sums;
+}
+
+/// OADEV's and OHDEV's sums of squares at every m of m_list at once on gap-free data (the
+/// default statistics ask for both): the tiles of sums_tiled, each block's two values from one
+/// set of loads (block_sums_second_third), so both results equal sums_tiled's of
+/// SecondDifference (N - 2m terms) and ThirdDifference (N - 3m terms) bit for bit, for a
+/// fraction of the two sweeps' loads.
+inline void sums_tiled_second_third(const double* x, std::int64_t n_points,
+                                    std::span<const std::int64_t> m_list, int nthreads,
+                                    std::vector<SumCount>& second, std::vector<SumCount>& third) {
+  const auto nm = static_cast<std::int64_t>(m_list.size());
+  second.assign(m_list.size(), {});
+  third.assign(m_list.size(), {});
+  std::int64_t max_blocks = 0;
+  for (std::size_t j = 0; j < m_list.size(); ++j) {
+    second[j].n = std::max<std::int64_t>(0, n_points - 2 * m_list[j]);
+    third[j].n = std::max<std::int64_t>(0, n_points - 3 * m_list[j]);
+    max_blocks = std::max(max_blocks, (second[j].n + kBlock - 1) / kBlock);
+  }
+  const std::int64_t n_tiles = (max_blocks + kTileBlocks - 1) / kTileBlocks;
+  std::vector<double> value2(static_cast<std::size_t>(nm * max_blocks), 0.0);
+  std::vector<double> value3(static_cast<std::size_t>(nm * max_blocks), 0.0);
+  [[maybe_unused]] const int nt = resolve_threads(nthreads);  // unused without OpenMP
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 1)
+  for (std::int64_t w = 0; w < n_tiles; ++w) {
+    const std::int64_t b0 = w * kTileBlocks;
+    for (std::int64_t a = 0; a < nm; ++a) {
+      const auto j = static_cast<std::size_t>(a);
+      const std::int64_t n2 = second[j].n, n3 = third[j].n;
+      for (std::int64_t b = b0; b < b0 + kTileBlocks && b * kBlock < n2; ++b) {
+        const std::int64_t lo = b * kBlock;
+        const auto at = static_cast<std::size_t>(a * max_blocks + b);
+        block_sums_second_third(x, m_list[j], lo, std::min(n2, lo + kBlock),
+                                std::clamp(n3, lo, lo + kBlock), &value2[at], &value3[at]);
+      }
+    }
+  }
+  for (std::int64_t a = 0; a < nm; ++a) {
+    const auto j = static_cast<std::size_t>(a);
+    for (std::int64_t b = 0; b * kBlock < second[j].n; ++b)
+      second[j].sum += value2[static_cast<std::size_t>(a * max_blocks + b)];
+    for (std::int64_t b = 0; b * kBlock < third[j].n; ++b)
+      third[j].sum += value3[static_cast<std::size_t>(a * max_blocks + b)];
+  }
 }
 
 }  // namespace allanlot::kernels::detail

@@ -54,11 +54,11 @@ struct Modified {
   }
 };
 
+// The block [b, e) of Term continued from term k with the lanes accumulated so far in acc
+// (kLanes / W registers): the rest of the vector loop, the scalar tail, the fixed tree.
 template <class Term>
-double sum16(const Term& t, std::int64_t b, std::int64_t e) {
+double sum16_from(const Term& t, V* acc, std::int64_t k, std::int64_t b, std::int64_t e) {
   constexpr int kRegs = kLanes / W;
-  V acc[kRegs] = {};
-  std::int64_t k = b;
   for (; k + kLanes <= e; k += kLanes) {
 #pragma GCC unroll 4
     for (int a = 0; a < kRegs; ++a) {
@@ -75,6 +75,12 @@ double sum16(const Term& t, std::int64_t b, std::int64_t e) {
   return reduce_lanes(s);
 }
 
+template <class Term>
+double sum16(const Term& t, std::int64_t b, std::int64_t e) {
+  V acc[kLanes / W] = {};
+  return sum16_from(t, acc, b, b, e);
+}
+
 double second(const double* x, std::int64_t m, std::int64_t b, std::int64_t e) {
   return sum16(Second{x, m}, b, e);
 }
@@ -83,4 +89,28 @@ double third(const double* x, std::int64_t m, std::int64_t b, std::int64_t e) {
 }
 double modified(const std::uint64_t* s, std::int64_t m, double q, std::int64_t b, std::int64_t e) {
   return sum16(Modified{s, m, q}, b, e);
+}
+
+// OADEV's and OHDEV's block at one m from one set of loads of the four streams x_k, x_{k+m},
+// x_{k+2m}, x_{k+3m} (the two sweeps apart load seven): each difference is formed as Second's
+// and Third's, into its own lanes, so both values round exactly as second() and third()
+// would. The third differences end first (e3 <= e2); the second's loop then goes on alone.
+void second_third(const double* x, std::int64_t m, std::int64_t b, std::int64_t e2, std::int64_t e3,
+                  double* s2, double* s3) {
+  constexpr int kRegs = kLanes / W;
+  V a2[kRegs] = {}, a3[kRegs] = {};
+  std::int64_t k = b;
+  for (; k + kLanes <= e3; k += kLanes) {
+#pragma GCC unroll 4
+    for (int a = 0; a < kRegs; ++a) {
+      const double* p = x + k + a * W;
+      const V x0 = load(p), x1 = load(p + m), x2 = load(p + 2 * m), x3 = load(p + 3 * m);
+      const V d2 = x2 - 2.0 * x1 + x0;
+      const V d3 = (x3 - x0) - 3.0 * (x2 - x1);
+      a2[a] += d2 * d2;
+      a3[a] += d3 * d3;
+    }
+  }
+  *s3 = sum16_from(Third{x, m}, a3, k, b, e3);
+  *s2 = sum16_from(Second{x, m}, a2, k, b, e2);
 }
