@@ -113,6 +113,11 @@ int main(int argc, char** argv) {
                   file.stem().string().c_str(), ch.path.c_str(), all.fit.chi2_dof, names(d).c_str(),
                   d.before.gap, d.after.gap, d.mc_after.gap_p95, static_cast<long long>(first),
                   cut.fit.chi2_dof, names(again).c_str(), again.after.gap);
+      if (std::getenv("BENCH_VERBOSE"))
+        for (std::size_t i = 0; i < d.tau_s.size(); ++i)
+          std::printf("    tau %.4g  meas/before %.4f  meas/after %.4f  z_after %.2f  edf %.4g\n",
+                      d.tau_s[i], d.avar_measured[i] / d.before.avar_model[i],
+                      d.avar_measured[i] / d.after.avar_model[i], d.after.z[i], d.edf_after[i]);
       std::fflush(stdout);
     }
   }

@@ -37,17 +37,21 @@ std::vector<double> basis_of(const Component& c, const Curve& cv, const Bases& b
   return g;
 }
 
-// The bases of a set of components: `raw` itself, or filtered by the set's lowpass.
-Bases bases_for(const std::vector<Component>& comps, const Curve& cv, const Bases& raw) {
+// The bases of a set of components: `b` itself when it already carries the set's filter (the
+// lowpass candidate filters once per trial filter), else the unfiltered `b` filtered.
+Bases bases_for(const std::vector<Component>& comps, const Curve& cv, const Bases& b) {
   const Lowpass lp = lowpass_of(comps);
-  return lp.active() ? filtered_bases(raw, cv, lp) : raw;
+  if (lp == b.lowpass) return b;
+  if (b.lowpass.active()) throw std::logic_error("diagnose: bases of another filter");
+  return filtered_bases(b, cv, lp);
 }
 
 // Lowpass candidate: first-order filters with cutoffs on a log grid of 8 per octave from
 // rate / 200 to 0.45 rate (above, the filter changes no tau of the grid measurably) and moving
-// averages of 2..16 taps, each fitted with the other components as `base` has them; the best
-// is kept. A cutoff at the grid's top is a lower limit (the deficit is smaller than any grid
-// filter's), at its bottom an upper one.
+// averages over 1.05 to 16 samples on the same kind of grid (a non-integer length is the
+// boxcar of a sensor that averages a faster internal rate before decimating: the ADIS16405's
+// deficit is steeper than a one-pole filter's), each fitted with the other components as
+// `base` has them; the best is kept. A value at either end of its grid is a limit.
 CandidateFit lowpass_candidate(std::vector<Component> base, const Curve& cv, const Bases& b) {
   Component c;
   c.kind = Kind::Lowpass;
@@ -56,17 +60,19 @@ CandidateFit lowpass_candidate(std::vector<Component> base, const Curve& cv, con
   base.push_back(c);
   const double lo = std::log(b.rate_hz / 200.0), hi = std::log(0.45 * b.rate_hz);
   const int n_grid = static_cast<int>(std::ceil((hi - lo) / (std::numbers::ln2 / 8.0))) + 1;
+  const double t_lo = std::log(1.05), t_hi = std::log(16.0);
+  const int n_taps = static_cast<int>(std::ceil((t_hi - t_lo) / (std::numbers::ln2 / 8.0))) + 1;
   CandidateFit out;
   double best = std::numeric_limits<double>::infinity();
   int best_g = -1;
-  for (int g = 0; g < n_grid + 15; ++g) {
+  for (int g = 0; g < n_grid + n_taps; ++g) {
     Lowpass lp;
     if (g < n_grid)
       lp.cutoff_hz = std::exp(lo + (hi - lo) * g / (n_grid - 1));
     else
-      lp.taps = g - n_grid + 2;
+      lp.taps = std::exp(t_lo + (t_hi - t_lo) * (g - n_grid) / (n_taps - 1));
     base.back().lp = lp;
-    Fit f = fit_components(base, cv, b);
+    Fit f = fit_components(base, cv, filtered_bases(b, cv, lp));
     if (f.chi2 < best) {
       best = f.chi2;
       best_g = g;
@@ -74,7 +80,10 @@ CandidateFit lowpass_candidate(std::vector<Component> base, const Curve& cv, con
     }
   }
   out.added = out.fit.comps.size() - 1;
-  out.fit.comps[out.added].nl_bound = best_g == 0 ? -1 : best_g == n_grid - 1 ? 1 : 0;
+  // One-pole: a high cutoff is a weak filter; moving average: a short one is.
+  out.fit.comps[out.added].nl_bound = best_g == 0 || best_g == n_grid + n_taps - 1 ? -1
+                                      : best_g == n_grid - 1 || best_g == n_grid   ? 1
+                                                                                   : 0;
   return out;
 }
 
@@ -330,7 +339,7 @@ void fill_sigmas(Fit& f, const Curve& cv, const Bases& raw, double n_eff,
 std::vector<Parameter> parameters_of(const Component& c, double coef_sigma, double nl_sigma) {
   if (c.kind == Kind::Term) return {{term_key(c.term), c.coef, coef_sigma}};
   if (c.kind == Kind::Lowpass)
-    return c.lp.taps > 0 ? std::vector<Parameter>{{"taps", static_cast<double>(c.lp.taps), kNaN}}
+    return c.lp.taps > 0 ? std::vector<Parameter>{{"taps", c.lp.taps, kNaN, c.nl_bound}}
                          : std::vector<Parameter>{{"cutoff_hz", c.lp.cutoff_hz, kNaN, c.nl_bound}};
   if (c.kind == Kind::Sinusoid)
     return {{"amplitude", c.coef, c.pinned ? c.coef_sigma : coef_sigma},

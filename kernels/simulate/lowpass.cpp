@@ -32,15 +32,20 @@ void validate_lowpass(const Lowpass& lp, double rate_hz) {
     throw std::invalid_argument(
         "simulate: lowpass.cutoff_hz must be in (0, rate_hz/2 = " + std::to_string(rate_hz / 2) +
         "), got " + std::to_string(lp.cutoff_hz));
-  if (lp.taps != 0 && (lp.taps < 2 || lp.taps > kMaxTaps))
-    throw std::invalid_argument("simulate: lowpass.taps must be in 2.." + std::to_string(kMaxTaps) +
-                                ", got " + std::to_string(lp.taps));
+  if (!std::isfinite(lp.taps) || (lp.taps != 0 && !(lp.taps > 1 && lp.taps <= kMaxTaps)))
+    throw std::invalid_argument("simulate: lowpass.taps must be in (1, " +
+                                std::to_string(kMaxTaps) + "], got " + std::to_string(lp.taps));
   if (lp.cutoff_hz > 0 && lp.taps > 0)
     throw std::invalid_argument("simulate: a lowpass has cutoff_hz or taps, not both");
 }
 
 std::vector<double> lowpass_impulse(const Lowpass& lp, double rate_hz) {
-  if (lp.taps > 0) return std::vector<double>(static_cast<std::size_t>(lp.taps), 1.0 / lp.taps);
+  if (lp.taps > 0) {
+    const double whole = std::floor(lp.taps), frac = lp.taps - whole;
+    std::vector<double> h(static_cast<std::size_t>(whole), 1.0 / lp.taps);
+    if (frac > 0.0) h.push_back(frac / lp.taps);
+    return h;
+  }
   if (!(lp.cutoff_hz > 0)) return {1.0};
   const double a = -std::expm1(-2.0 * std::numbers::pi * lp.cutoff_hz / rate_hz);
   // The tail beyond J taps holds (1 - a)^J of the total: below 1e-16 from J = ln 1e-16 / ln(1-a).
@@ -68,9 +73,11 @@ void apply_lowpass(const Lowpass& lp, double rate_hz, std::span<double> y) {
     }
     return;
   }
-  // Moving average over the last `taps` inputs, those before the record equal to the first
-  // sample. A running sum, summed afresh every 1024 samples so that rounding cannot accumulate.
-  const auto taps = static_cast<std::size_t>(lp.taps);
+  // Moving average over the last `taps` inputs (the fraction on the oldest), those before the
+  // record equal to the first sample. A running sum of the whole taps, summed afresh every 1024
+  // samples so that rounding cannot accumulate.
+  const auto whole = static_cast<std::ptrdiff_t>(std::floor(lp.taps));
+  const double frac = lp.taps - static_cast<double>(whole);
   const std::vector<double> x(y.begin(), y.end());
   const auto in = [&](std::ptrdiff_t k) {
     return x[static_cast<std::size_t>(std::max<std::ptrdiff_t>(k, 0))];
@@ -80,22 +87,25 @@ void apply_lowpass(const Lowpass& lp, double rate_hz, std::span<double> y) {
     const auto kk = static_cast<std::ptrdiff_t>(k);
     if (k % 1024 == 0) {
       sum = 0.0;
-      for (std::size_t j = 0; j < taps; ++j)
-        sum += in(kk - static_cast<std::ptrdiff_t>(j));
+      for (std::ptrdiff_t j = 0; j < whole; ++j)
+        sum += in(kk - j);
     } else {
-      sum += in(kk)-in(kk - static_cast<std::ptrdiff_t>(taps));
+      sum += in(kk)-in(kk - whole);
     }
-    y[k] = sum / static_cast<double>(taps);
+    y[k] = (sum + frac * in(kk - whole)) / lp.taps;
   }
 }
 
 double lowpass_gain2(const Lowpass& lp, double rate_hz, double f_hz) {
   const double w = 2.0 * std::numbers::pi * f_hz / rate_hz;
   if (lp.taps > 0) {
-    const double s = std::sin(0.5 * w);
-    if (s == 0.0) return 1.0;
-    const double r = std::sin(0.5 * lp.taps * w) / (lp.taps * s);
-    return r * r;
+    double re = 0.0, im = 0.0;
+    const std::vector<double> h = lowpass_impulse(lp, rate_hz);
+    for (std::size_t j = 0; j < h.size(); ++j) {
+      re += h[j] * std::cos(w * static_cast<double>(j));
+      im -= h[j] * std::sin(w * static_cast<double>(j));
+    }
+    return re * re + im * im;
   }
   if (!(lp.cutoff_hz > 0)) return 1.0;
   const double a = -std::expm1(-2.0 * std::numbers::pi * lp.cutoff_hz / rate_hz);

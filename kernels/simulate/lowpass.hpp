@@ -13,19 +13,21 @@ namespace allanlot::kernels {
 /// At most one of the two forms; both zero means no filter.
 struct Lowpass {
   double cutoff_hz = 0;  // first-order (one-pole) low-pass with this -3 dB frequency [Hz], > 0
-  int taps = 0;          // moving average of this many samples, >= 2
+  double taps = 0;       // moving average over this many samples, > 1 (non-integer: the last
+                         // sample weighted by the fraction, a boxcar of taps tau0 seconds)
   bool active() const { return cutoff_hz > 0 || taps > 0; }
   friend bool operator==(const Lowpass&, const Lowpass&) = default;
 };
 
 /// Checks a filter against the sample rate; throws std::invalid_argument naming the field:
-/// cutoff_hz finite, >= 0 and below rate_hz / 2; taps 0 or in 2..100000; not both.
+/// cutoff_hz finite, >= 0 and below rate_hz / 2; taps 0 or in (1, 100000]; not both.
 void validate_lowpass(const Lowpass& lp, double rate_hz);
 
 /// The filter's impulse response on samples of rate_hz: a (1 - a)^j with
 /// a = 1 - exp(-2 pi cutoff_hz / rate_hz) (the impulse-invariant one-pole filter, whose
 /// continuous parent has its -3 dB point at cutoff_hz), truncated where the remaining tail is
-/// below 1e-16 of the total; or taps values 1 / taps. {1} when inactive.
+/// below 1e-16 of the total; or floor(taps) values 1 / taps followed, for a non-integer taps,
+/// by (taps - floor(taps)) / taps. {1} when inactive.
 std::vector<double> lowpass_impulse(const Lowpass& lp, double rate_hz);
 
 /// Filters `y` in place with the causal recursion of lowpass_impulse, started in the steady
@@ -34,7 +36,7 @@ std::vector<double> lowpass_impulse(const Lowpass& lp, double rate_hz);
 void apply_lowpass(const Lowpass& lp, double rate_hz, std::span<double> y);
 
 /// |H(f)|^2 of the filter at f_hz: a^2 / (1 - 2 (1 - a) cos w + (1 - a)^2) for the one-pole,
-/// (sin(L w / 2) / (L sin(w / 2)))^2 for the moving average, w = 2 pi f / rate_hz.
+/// |sum_j h_j e^(-i w j)|^2 for the moving average, w = 2 pi f / rate_hz.
 double lowpass_gain2(const Lowpass& lp, double rate_hz, double f_hz);
 
 /// Ratio of the overlapping Allan variance at averaging factor m of a filtered to an unfiltered

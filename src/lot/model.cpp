@@ -124,7 +124,8 @@ bool valid_name(std::string_view name) {
 }
 
 // The sensor's filter: {"type": "lowpass", "cutoff_hz": f} (first order) or
-// {"type": "lowpass", "taps": L} (moving average), at most one per channel.
+// {"type": "lowpass", "taps": L} (moving average over L > 1 samples, L need not be whole), at
+// most one per channel.
 void parse_lowpass(const Json& e, double rate_hz, Channel& ch, const std::string& source,
                    const std::string& at) {
   only_keys(e, {"type", "cutoff_hz", "taps"}, source, at);
@@ -138,10 +139,9 @@ void parse_lowpass(const Json& e, double rate_hz, Channel& ch, const std::string
            "must be below the Nyquist frequency " + Json(rate_hz / 2).dump() + " Hz, got " +
                Json(ch.lowpass.cutoff_hz).dump());
   } else {
-    const Json& t = e["taps"];
-    if (!t.is_number_integer() || t.get<std::int64_t>() < 2 || t.get<std::int64_t>() > 100000)
-      fail(source, join(at, "taps"), "must be an integer in 2..100000, got " + t.dump());
-    ch.lowpass.taps = t.get<int>();
+    ch.lowpass.taps = number(e["taps"], source, join(at, "taps"));
+    if (!(ch.lowpass.taps > 1 && ch.lowpass.taps <= 100000))
+      fail(source, join(at, "taps"), "must be in (1, 100000], got " + e["taps"].dump());
   }
 }
 

@@ -146,7 +146,7 @@ TEST(Model, BadFilesNameTheKey) {
        "effects[0]: a lowpass has exactly one of cutoff_hz and taps"},
       {R"({"sample_rate_hz": 100, "units": "deg/s", "effects": [{"type": "lowpass",
            "taps": 1}]})",
-       "effects[0].taps: must be an integer in 2..100000"},
+       "effects[0].taps: must be in (1, 100000]"},
       {R"({"sample_rate_hz": 100, "units": "deg/s", "effects": [{"type": "lowpass",
            "taps": 2}, {"type": "lowpass", "taps": 3}]})",
        "effects[1]: at most one lowpass effect"},

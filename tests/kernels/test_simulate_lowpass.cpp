@@ -26,6 +26,13 @@ TEST(SimulateLowpass, FactorsHaveTheirClosedForms) {
   // White PM through (1 + z^-1) / 2: sum of (h_k - 2 h_{k-1} + h_{k-2})^2 = 0.25 (1 + 1 + 1 + 1)
   // against 6.
   EXPECT_DOUBLE_EQ(kernels::lowpass_white_pm_factor(ma2, kRate, 1), 1.0 / 6.0);
+  // A boxcar of 1.1 samples: h = (1, 0.1) / 1.1, so y'_{k+1} - y'_k has the weights
+  // h0, h1 - h0, -h1: factor (h0^2 + (h0 - h1)^2 + h1^2) / 2.
+  kernels::Lowpass frac;
+  frac.taps = 1.1;
+  const double h0 = 1.0 / 1.1, h1 = 0.1 / 1.1;
+  EXPECT_NEAR(kernels::lowpass_white_fm_factor(frac, kRate, 1),
+              (h0 * h0 + (h0 - h1) * (h0 - h1) + h1 * h1) / 2.0, 1e-15);
   // Far beyond the filter's length the white FM factor is 1 - O(J / m), the white PM one the
   // filter's noise gain sum h^2.
   kernels::Lowpass rc;
@@ -47,7 +54,7 @@ TEST(SimulateLowpass, FilteredAllanVarianceIsTheModels) {
   constexpr std::size_t n = 20000;
   constexpr int replicas = 12;
   const std::vector<std::int64_t> m{1, 2, 3, 5, 10, 30, 100};
-  for (const int form : {0, 1}) {
+  for (const int form : {0, 1, 2}) {
     kernels::ChannelSpec spec;
     spec.rate_hz = kRate;
     spec.terms.N = 0.01;
@@ -56,7 +63,7 @@ TEST(SimulateLowpass, FilteredAllanVarianceIsTheModels) {
     if (form == 0)
       spec.lowpass.cutoff_hz = 8.0;
     else
-      spec.lowpass.taps = 4;
+      spec.lowpass.taps = form == 1 ? 4.0 : 2.6;
     SCOPED_TRACE(form == 0 ? "first order" : "moving average");
     std::vector<double> mean(m.size(), 0.0);
     kernels::SimulationPlan plan(n);
