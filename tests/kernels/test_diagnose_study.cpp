@@ -53,6 +53,15 @@ TEST(DiagnoseStudy, DISABLED_DetectionAndFalseAlarmRates) {
   auto scenarios = test::hidden_scenarios();
   scenarios.push_back({"null", test::base_model(), test::base_model(), {}});
   {
+    // The sensor's filter (issue #23): first order at 15 Hz, and a boxcar of 1.5 samples.
+    auto t = test::base_model();
+    t.lowpass.cutoff_hz = 15.0;
+    scenarios.push_back({"lowpass_15hz", t, test::base_model(), {Effect::Lowpass}});
+    t.lowpass = {};
+    t.lowpass.taps = 1.5;
+    scenarios.push_back({"lowpass_taps1.5", t, test::base_model(), {Effect::Lowpass}});
+  }
+  {
     auto g = test::base_model();
     g.terms.N *= 1.3;
     scenarios.push_back({"wrong_N", test::base_model(), g, {}});
