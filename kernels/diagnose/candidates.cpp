@@ -80,10 +80,11 @@ CandidateFit lowpass_candidate(std::vector<Component> base, const Curve& cv, con
     }
   }
   out.added = out.fit.comps.size() - 1;
-  // One-pole: a high cutoff is a weak filter; moving average: a short one is.
-  out.fit.comps[out.added].nl_bound = best_g == 0 || best_g == n_grid + n_taps - 1 ? -1
-                                      : best_g == n_grid - 1 || best_g == n_grid   ? 1
-                                                                                   : 0;
+  // At the bottom of either grid the value is an upper limit, at the top a lower one.
+  const int last = n_grid + n_taps - 1;
+  out.fit.comps[out.added].nl_bound = best_g == 0 || best_g == n_grid          ? -1
+                                      : best_g == n_grid - 1 || best_g == last ? 1
+                                                                               : 0;
   return out;
 }
 

@@ -30,10 +30,12 @@
 // than |z| because at the longest taus edf is a few units and ln chi2 is strongly skewed;
 // (2) the information criterion below scales chi-square differences by n_eff / P.
 //
-// Why. Candidates are the five terms of eq. (3) and two effects outside it:
+// Why. Candidates are the five terms of eq. (3) and three effects outside it:
 //   quantization (Q), white (N), flicker (B), random_walk (K), ramp (R)  -- 1 parameter each,
 //   sinusoid  (amplitude, frequency_hz): a bump at tau ~ 0.37 / f, decaying with ripples;
-//   markov    (sigma, tau_c_s): +1/2 then -1/2 ADEV slopes around tau ~ 1.9 tau_c.
+//   markov    (sigma, tau_c_s): +1/2 then -1/2 ADEV slopes around tau ~ 1.9 tau_c;
+//   lowpass   (cutoff_hz or taps): the sensor's filter, a deficit of the white noises at the
+//             shortest taus (kernels/simulate/lowpass.hpp), 1 parameter.
 // A candidate is fitted together with the model's coefficients (non-negative least squares
 // on the variances, reweighted, as kernels/model/fit.hpp), its nonlinear parameter by a grid plus
 // golden-section search (markov tau_c) or from the PSD (sinusoid frequency). The fit quality
@@ -43,11 +45,11 @@
 // the criterion is
 //
 //   delta_ic = (chi2_reference - chi2_candidate) n_eff / P - c_k,
-//   c_k = chi-square quantile at 1 - select_alpha / 7 with k degrees of freedom,
+//   c_k = chi-square quantile at 1 - select_alpha / 8 with k degrees of freedom,
 //
 // a penalized criterion like AIC (c_k = 2k) and BIC (c_k = k ln n) but with the penalty set by
 // the level of the test it implies: with n_eff ~ 8, BIC's ln(8) per parameter would let a
-// complete model pick up one of the seven candidates in about a fifth of records. A candidate
+// complete model pick up one of the eight candidates in about a fifth of records. A candidate
 // is added only when delta_ic > 0, so a model that already fits gets nothing. Each candidate
 // is tried with the model's coefficients fixed (reference: the model as it stands) and
 // re-estimated (reference: the model re-estimated with nothing added, so that the effect pays
