@@ -21,6 +21,7 @@ namespace {
 
 std::vector<double> basis_of(const Component& c, const Curve& cv, const Bases& b) {
   if (c.kind == Kind::Term) return b.term[static_cast<std::size_t>(c.term)];
+  if (c.kind == Kind::Lowpass) return std::vector<double>(cv.size(), 0.0);
   ChannelSpec s;
   s.rate_hz = b.rate_hz;
   if (c.kind == Kind::Sinusoid)
@@ -30,9 +31,61 @@ std::vector<double> basis_of(const Component& c, const Curve& cv, const Bases& b
   // model_avar, not model_avar_sampled: both are exact for these components at every m, and
   // the sampled form would evaluate flicker's quadrature factor for nothing.
   std::vector<double> g(cv.size());
+  const double gain = c.kind == Kind::Sinusoid ? lowpass_gain2(b.lowpass, b.rate_hz, c.nl) : 1.0;
   for (std::size_t i = 0; i < cv.size(); ++i)
-    g[i] = model_avar(s, cv.tau[i]);
+    g[i] = gain * model_avar(s, cv.tau[i]);
   return g;
+}
+
+// The bases of a set of components: `b` itself when it already carries the set's filter (the
+// lowpass candidate filters once per trial filter), else the unfiltered `b` filtered.
+Bases bases_for(const std::vector<Component>& comps, const Curve& cv, const Bases& b) {
+  const Lowpass lp = lowpass_of(comps);
+  if (lp == b.lowpass) return b;
+  if (b.lowpass.active()) throw std::logic_error("diagnose: bases of another filter");
+  return filtered_bases(b, cv, lp);
+}
+
+// Lowpass candidate: first-order filters with cutoffs on a log grid of 8 per octave from
+// rate / 200 to 0.45 rate (above, the filter changes no tau of the grid measurably) and moving
+// averages over 1.05 to 16 samples on the same kind of grid (a non-integer length is the
+// boxcar of a sensor that averages a faster internal rate before decimating: the ADIS16405's
+// deficit is steeper than a one-pole filter's), each fitted with the other components as
+// `base` has them; the best is kept. A value at either end of its grid is a limit.
+CandidateFit lowpass_candidate(std::vector<Component> base, const Curve& cv, const Bases& b) {
+  Component c;
+  c.kind = Kind::Lowpass;
+  c.pinned = true;
+  c.coef = 1.0;
+  base.push_back(c);
+  const double lo = std::log(b.rate_hz / 200.0), hi = std::log(0.45 * b.rate_hz);
+  const int n_grid = static_cast<int>(std::ceil((hi - lo) / (std::numbers::ln2 / 8.0))) + 1;
+  const double t_lo = std::log(1.05), t_hi = std::log(16.0);
+  const int n_taps = static_cast<int>(std::ceil((t_hi - t_lo) / (std::numbers::ln2 / 8.0))) + 1;
+  CandidateFit out;
+  double best = std::numeric_limits<double>::infinity();
+  int best_g = -1;
+  for (int g = 0; g < n_grid + n_taps; ++g) {
+    Lowpass lp;
+    if (g < n_grid)
+      lp.cutoff_hz = std::exp(lo + (hi - lo) * g / (n_grid - 1));
+    else
+      lp.taps = std::exp(t_lo + (t_hi - t_lo) * (g - n_grid) / (n_taps - 1));
+    base.back().lp = lp;
+    Fit f = fit_components(base, cv, filtered_bases(b, cv, lp));
+    if (f.chi2 < best) {
+      best = f.chi2;
+      best_g = g;
+      out.fit = std::move(f);
+    }
+  }
+  out.added = out.fit.comps.size() - 1;
+  // At the bottom of either grid the value is an upper limit, at the top a lower one.
+  const int last = n_grid + n_taps - 1;
+  out.fit.comps[out.added].nl_bound = best_g == 0 || best_g == n_grid          ? -1
+                                      : best_g == n_grid - 1 || best_g == last ? 1
+                                                                               : 0;
+  return out;
 }
 
 // Diagnose's choices for the one NNLS (kernels/model/least_squares.hpp): a tolerance of
@@ -74,6 +127,24 @@ CandidateFit markov_candidate(std::vector<Component> base, const Curve& cv, cons
 
 double threshold(int k, double alpha) {
   return chi2_quantile(1.0 - alpha, static_cast<double>(k));
+}
+
+Lowpass lowpass_of(const std::vector<Component>& comps) {
+  for (const Component& c : comps)
+    if (c.kind == Kind::Lowpass) return c.lp;
+  return {};
+}
+
+Bases filtered_bases(const Bases& raw, const Curve& cv, const Lowpass& lp) {
+  Bases b = raw;
+  b.lowpass = lp;
+  auto& n = b.term[static_cast<std::size_t>(Term::N)];
+  auto& q = b.term[static_cast<std::size_t>(Term::Q)];
+  for (std::size_t i = 0; i < cv.size(); ++i) {
+    n[i] *= lowpass_white_fm_factor(lp, raw.rate_hz, cv.m[i]);
+    q[i] *= lowpass_white_pm_factor(lp, raw.rate_hz, cv.m[i]);
+  }
+  return b;
 }
 
 Bases make_bases(const Curve& cv, double rate_hz) {
@@ -118,6 +189,15 @@ std::vector<Component> components_of(const ChannelSpec& s) {
     c.given = true;
     out.push_back(c);
   }
+  if (s.lowpass.active()) {
+    Component c;
+    c.kind = Kind::Lowpass;
+    c.lp = s.lowpass;
+    c.coef = 1.0;
+    c.pinned = true;
+    c.given = true;
+    out.push_back(c);
+  }
   return out;
 }
 
@@ -130,6 +210,8 @@ ChannelSpec spec_of(const std::vector<Component>& comps, const ChannelSpec& like
       coefficient(s.terms, c.term) = c.coef;
     } else if (c.kind == Kind::Sinusoid) {
       s.sinusoids.push_back({c.coef, c.nl, c.phase});
+    } else if (c.kind == Kind::Lowpass) {
+      s.lowpass = c.lp;
     } else {
       s.markovs.push_back({c.coef, c.nl});
     }
@@ -142,7 +224,8 @@ ChannelSpec spec_of(const std::vector<Component>& comps, const ChannelSpec& like
 // 1 / var(avar_hat) = 1 / (var_ln avar_model^2), reweighted from the model until it settles.
 // Weights from the model rather than the estimate avoid favouring estimates that fell low. To
 // first order this minimizes the chi-square of the log residuals that the criterion uses.
-Fit fit_components(std::vector<Component> comps, const Curve& cv, const Bases& b) {
+Fit fit_components(std::vector<Component> comps, const Curve& cv, const Bases& raw) {
+  const Bases b = bases_for(comps, cv, raw);
   const std::size_t p = cv.size();
   std::vector<std::vector<double>> g;
   std::vector<std::size_t> free_idx;
@@ -206,8 +289,9 @@ Fit fit_components(std::vector<Component> comps, const Curve& cv, const Bases& b
 // themselves, and tau_c where it was searched), inflated by P / n_eff because the P estimates
 // carry only about n_eff independent pieces of information (see the header). Parameters held
 // at zero get NaN (their uncertainty is not a Gaussian one).
-void fill_sigmas(Fit& f, const Curve& cv, const Bases& b, double n_eff,
+void fill_sigmas(Fit& f, const Curve& cv, const Bases& raw, double n_eff,
                  std::vector<double>& coef_sigma, std::vector<double>& nl_sigma) {
+  const Bases b = bases_for(f.comps, cv, raw);
   const std::size_t p = cv.size();
   coef_sigma.assign(f.comps.size(), kNaN);
   nl_sigma.assign(f.comps.size(), kNaN);
@@ -255,15 +339,22 @@ void fill_sigmas(Fit& f, const Curve& cv, const Bases& b, double n_eff,
 // The parameters of one component under the model file's keys.
 std::vector<Parameter> parameters_of(const Component& c, double coef_sigma, double nl_sigma) {
   if (c.kind == Kind::Term) return {{term_key(c.term), c.coef, coef_sigma}};
+  if (c.kind == Kind::Lowpass)
+    return c.lp.taps > 0 ? std::vector<Parameter>{{"taps", c.lp.taps, kNaN, c.nl_bound}}
+                         : std::vector<Parameter>{{"cutoff_hz", c.lp.cutoff_hz, kNaN, c.nl_bound}};
   if (c.kind == Kind::Sinusoid)
     return {{"amplitude", c.coef, c.pinned ? c.coef_sigma : coef_sigma},
             {"frequency_hz", c.nl, std::isnan(c.nl_sigma) ? nl_sigma : c.nl_sigma}};
+  // A tau_c at the end of its search range is a limit, not an estimate: its curvature-based
+  // sigma would describe the edge of the grid, not the data.
+  if (c.nl_bound != 0) return {{"sigma", c.coef, coef_sigma}, {"tau_c_s", c.nl, kNaN, c.nl_bound}};
   return {{"sigma", c.coef, coef_sigma}, {"tau_c_s", c.nl, nl_sigma}};
 }
 
 std::string component_label(const std::vector<Component>& comps, std::size_t idx) {
   const Component& c = comps[idx];
   if (c.kind == Kind::Term) return term_key(c.term);
+  if (c.kind == Kind::Lowpass) return "lowpass";
   int ordinal = 0;
   for (std::size_t i = 0; i < idx; ++i)
     ordinal += comps[i].kind == c.kind ? 1 : 0;
@@ -272,10 +363,13 @@ std::string component_label(const std::vector<Component>& comps, std::size_t idx
 }
 
 // model_avar_sampled of spec `s` at the curve's taus, from the cached term bases.
-std::vector<double> model_curve(const ChannelSpec& s, const Curve& cv, const Bases& b) {
+std::vector<double> model_curve(const ChannelSpec& s, const Curve& cv, const Bases& raw) {
+  const Bases b = s.lowpass.active() ? filtered_bases(raw, cv, s.lowpass) : raw;
   std::vector<double> v(cv.size());
   ChannelSpec effects = s;
   effects.terms = {};
+  for (Sinusoid& q : effects.sinusoids)
+    q.amplitude *= std::sqrt(lowpass_gain2(s.lowpass, s.rate_hz, q.frequency_hz));
   for (std::size_t i = 0; i < cv.size(); ++i) {
     v[i] = model_avar(effects, cv.tau[i]);
     for (const Term t : all_terms()) {
@@ -290,18 +384,19 @@ std::vector<double> model_curve(const ChannelSpec& s, const Curve& cv, const Bas
   return v;
 }
 
-// tau_c of the Markov component comps[idx] by a log grid of 8 per octave over the curve's
-// taus (a hump whose peak, near 1.9 tau_c, lies inside them), then golden-section search on
-// ln tau_c between the neighbours of the best grid point; the free coefficients are fitted
-// at each tau_c.
+// tau_c of the Markov component comps[idx] by a log grid of 8 per octave from one sample to
+// the record's length (issue #23: the range must not end inside the taus, where a pinned tau_c
+// absorbed ramps and sensor filtering), then golden-section search on ln tau_c between the
+// neighbours of the best grid point; the free coefficients are fitted at each tau_c. A best
+// point within one grid step of either end is marked as a bound (Component::nl_bound).
 Fit search_tau_c(std::vector<Component> comps, std::size_t idx, const Curve& cv, const Bases& b) {
   const auto eval = [&](double tau_c) {
     comps[idx].nl = tau_c;
     return fit_components(comps, cv, b);
   };
-  const double lo = std::log(cv.tau.front() / 2.0), hi = std::log(cv.tau.back());
-  const double step = std::numbers::ln2 / 8.0;
-  const int n_grid = static_cast<int>(std::ceil((hi - lo) / step)) + 1;
+  const double lo = std::log(cv.tau0), hi = std::log(static_cast<double>(cv.n_samples) * cv.tau0);
+  const int n_grid = static_cast<int>(std::ceil((hi - lo) / (std::numbers::ln2 / 8.0))) + 1;
+  const double step = (hi - lo) / (n_grid - 1);
   double best_chi2 = std::numeric_limits<double>::infinity();
   int best = 0;
   for (int g = 0; g < n_grid; ++g) {
@@ -333,7 +428,10 @@ Fit search_tau_c(std::vector<Component> comps, std::size_t idx, const Curve& cv,
   const double x = f1 < f2 ? x1 : x2;
   Fit grid_best = eval(std::exp(lo + step * best));
   Fit refined = eval(std::exp(x));
-  return refined.chi2 <= grid_best.chi2 ? refined : grid_best;
+  Fit& out = refined.chi2 <= grid_best.chi2 ? refined : grid_best;
+  const double x_out = std::log(out.comps[idx].nl);
+  out.comps[idx].nl_bound = x_out < lo + step ? -1 : x_out > lo + step * (n_grid - 2) ? 1 : 0;
+  return out;
 }
 
 CandidateFit evaluate_candidate(Effect e, std::vector<Component> comps, const SpectralLine& line,
@@ -378,6 +476,14 @@ CandidateFit evaluate_candidate(Effect e, std::vector<Component> comps, const Sp
     cf.info.note = "PSD line at " + std::to_string(line.frequency_hz) + " Hz, peak/background " +
                    std::to_string(line.peak_ratio);
     k += 2;
+  } else if (e == Effect::Lowpass) {
+    if (lowpass_of(comps).active()) {
+      cf.info.note = "already in the model";
+      return cf;
+    }
+    cf = lowpass_candidate(std::move(comps), cv, b);
+    cf.info.effect = e;
+    k += 1;
   } else if (e == Effect::Markov) {
     const auto n_markov = std::count_if(comps.begin(), comps.end(),
                                         [](const auto& c) { return c.kind == Kind::Markov; });
@@ -387,6 +493,18 @@ CandidateFit evaluate_candidate(Effect e, std::vector<Component> comps, const Sp
     }
     cf = markov_candidate(comps, cv, b);
     cf.info.effect = e;
+    // A second Gauss-Markov effect is a distinct instance only a decade or more from every
+    // other: closer, two humps are one hump re-split (issue #23's "markov, ramp, markov").
+    const double tc = cf.fit.comps.back().nl;
+    for (std::size_t i = 0; i + 1 < cf.fit.comps.size(); ++i)
+      if (cf.fit.comps[i].kind == Kind::Markov &&
+          std::abs(std::log10(tc / cf.fit.comps[i].nl)) < 1.0) {
+        CandidateFit none;
+        none.info.effect = e;
+        none.info.note = "its tau_c " + std::to_string(tc) + " s is within a decade of " +
+                         component_label(cf.fit.comps, i) + "'s";
+        return none;
+      }
     k += 2;
   }
   cf.added = cf.fit.comps.size() - 1;

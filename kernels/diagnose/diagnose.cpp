@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -34,6 +35,8 @@ std::string_view effect_name(Effect e) {
     return "sinusoid";
   case Effect::Markov:
     return "markov";
+  case Effect::Lowpass:
+    return "lowpass";
   }
   return "?";
 }
@@ -99,12 +102,17 @@ Curve measure(std::span<const double> rate, double rate_hz, const DiagnoseOption
     cv.tau.push_back(oadev.tau_s[i]);
     cv.y.push_back(y);
     cv.edf.push_back(oadev.edf[i]);
-    const double half = 0.5 * oadev.edf[i];
-    cv.ln_y.push_back(std::log(y) - (digamma(half) - std::log(half)));
-    cv.var_ln.push_back(trigamma(half));
   }
   if (cv.size() < 4)
     throw std::invalid_argument("diagnose: fewer than 4 taus with a non-zero Allan variance");
+  // The measured curve's own edf (from its noise identification) serves only the eq. (3) fit
+  // behind n_eff, capped at what the averages allow: where a line or the last few averages make
+  // the identified alpha +1 or +2 it exceeded the number of averages 10-200 fold (issue #23).
+  // Every z uses the edf of the model under test instead (model_edf).
+  prepare_edf(cv);
+  for (std::size_t i = 0; i < cv.size(); ++i)
+    cv.edf[i] = std::min(cv.edf[i], cv.edf_cap[i]);
+  use_edf(cv, cv.edf);
   return cv;
 }
 
@@ -124,6 +132,8 @@ struct Search {
   bool refit_taken = false;
 
   bool round(int& iter);
+  Fit refit_final();
+  bool prune(Fit& base);
   void finish();
 };
 
@@ -135,6 +145,9 @@ bool Search::round(int& iter) {
     c.free = false;
   for (Component& c : free_now)
     c.free = !c.pinned;
+  // The round's fits are weighted, and its chi-squares judged, with the edf of the model as it
+  // stands: the hypothesis every candidate is tested against.
+  use_edf(cv, model_edf(spec_of(current, spec), cv, bases));
   const Fit ref = fit_components(fixed_now, cv, bases);
   const int n_free = static_cast<int>(
       std::count_if(free_now.begin(), free_now.end(), [](const auto& c) { return c.free; }));
@@ -197,8 +210,10 @@ bool Search::round(int& iter) {
   it.effect = w.info.effect;
   it.parameters = w.info.parameters;
   it.delta_ic = w.info.delta_ic;
-  const Comparison cmp_before = compare(cv, ref.model, alpha_tau);
-  const Comparison cmp_after = compare(cv, w.fit.model, alpha_tau);
+  const Comparison cmp_before = compare(cv, ref.model, cv.edf, alpha_tau);
+  it.model_after = spec_of(w.fit.comps, spec);
+  const Comparison cmp_after =
+      compare(cv, w.fit.model, model_edf(it.model_after, cv, bases), alpha_tau);
   it.gap_before = iter == 0 ? d.before.gap : cmp_before.gap;
   it.gap_after = cmp_after.gap;
   it.bands_before = iter == 0 ? d.before.bands : cmp_before.bands;
@@ -212,12 +227,12 @@ bool Search::round(int& iter) {
       it.coefficients.push_back(p);
     }
   }
-  it.model_after = spec_of(w.fit.comps, spec);
   for (CandidateFit& c : cands)
     it.candidates.push_back(c.info);
   d.iterations.push_back(std::move(it));
   d.effects_named.push_back(w.info.effect);
   added_idx.push_back(w.added);
+
   current = w.fit.comps;
   ++iter;
   return true;
@@ -225,16 +240,62 @@ bool Search::round(int& iter) {
 
 // After the rounds: the final structure refitted, the given coefficients tested (fixed versus
 // re-estimated), and the model after with its effects' parameters.
-void Search::finish() {
+// The current structure with every coefficient re-estimated, under the edf of the model as it
+// stands. Each added Markov effect's tau_c was searched in the round that named it, before the
+// effects named after it were in the model (a quantization found later, say, had been partly
+// absorbed by the hump); it is searched again with the final structure.
+Fit Search::refit_final() {
+  use_edf(cv, model_edf(spec_of(current, spec), cv, bases));
   std::vector<Component> all_free = current;
   for (Component& c : all_free)
     c.free = !c.pinned;
   Fit base = fit_components(all_free, cv, bases);
-  // Each added Markov effect's tau_c was searched in the round that named it, before the
-  // effects named after it were in the model (a quantization found later, say, had been
-  // partly absorbed by the hump); it is searched again with the final structure.
   for (const std::size_t idx : added_idx)
     if (base.comps[idx].kind == Kind::Markov) base = search_tau_c(base.comps, idx, cv, bases);
+  return base;
+}
+
+// No phantom effects (issue #23): after the final refit each added effect must still pay for
+// itself, by the round's criterion (its removal, the rest refitted, must cost more than the
+// penalty of its parameters). The least significant one that does not is removed and the
+// model refitted; true when one was. Sinusoids are witnessed by their PSD line instead (their
+// amplitude is not fitted on the Allan curve), and are kept.
+bool Search::prune(Fit& base) {
+  double worst = 0.0;
+  std::size_t worst_k = added_idx.size();
+  for (std::size_t k = 0; k < added_idx.size(); ++k) {
+    const Component& c = base.comps[added_idx[k]];
+    if (c.kind == Kind::Sinusoid) continue;
+    std::vector<Component> without = base.comps;
+    without.erase(without.begin() + static_cast<std::ptrdiff_t>(added_idx[k]));
+    const Fit f = fit_components(without, cv, bases);
+    const int k_c = c.kind == Kind::Term || c.kind == Kind::Lowpass ? 1 : 2;
+    const double delta = (f.chi2 - base.chi2) * crit.scale - threshold(k_c, crit.alpha_candidate);
+    if (!(c.coef > 0.0) || delta <= worst) {
+      worst = !(c.coef > 0.0) ? -std::numeric_limits<double>::infinity() : delta;
+      worst_k = k;
+    }
+  }
+  if (worst_k == added_idx.size()) return false;
+  const std::size_t idx = added_idx[worst_k];
+  d.notes.push_back(std::string(effect_name(d.effects_named[worst_k])) +
+                    " removed after the final refit: not significant with the other effects in "
+                    "place (criterion " +
+                    std::to_string(worst) + ")");
+  current = base.comps;
+  current.erase(current.begin() + static_cast<std::ptrdiff_t>(idx));
+  added_idx.erase(added_idx.begin() + static_cast<std::ptrdiff_t>(worst_k));
+  d.effects_named.erase(d.effects_named.begin() + static_cast<std::ptrdiff_t>(worst_k));
+  for (std::size_t& a : added_idx)
+    if (a > idx) --a;
+  base = refit_final();
+  return true;
+}
+
+void Search::finish() {
+  Fit base = refit_final();
+  while (prune(base)) {
+  }
 
   // Were the given coefficients wrong? The final structure with the given components fixed at
   // their given values (the added effects still fitted) against all re-estimated; the same
@@ -245,7 +306,7 @@ void Search::finish() {
     if (c < given.size()) {
       fixed[c] = given[c];
       fixed[c].free = false;
-      ++n_given;
+      n_given += given[c].kind == Kind::Lowpass ? 0 : 1;
     }
   Fit fixed_fit = fit_components(fixed, cv, bases);
   d.revision_delta_ic =
@@ -255,6 +316,7 @@ void Search::finish() {
   std::vector<double> cs, ns;
   fill_sigmas(base, cv, bases, d.n_eff, cs, ns);
   for (std::size_t c = 0; c < given.size(); ++c) {
+    if (given[c].kind == Kind::Lowpass) continue;  // given filters are kept as they are
     const std::string label = component_label(given, c);
     const std::string key = given[c].kind == Kind::Term       ? label
                             : given[c].kind == Kind::Sinusoid ? label + ".amplitude"
@@ -271,7 +333,8 @@ void Search::finish() {
   fill_sigmas(final_fit, cv, bases, d.n_eff, fcs, fns);
   for (const std::size_t idx : added_idx)
     d.effect_parameters.push_back(parameters_of(final_fit.comps[idx], fcs[idx], fns[idx]));
-  d.after = compare(cv, model_curve(d.model_after, cv, bases), alpha_tau);
+  d.edf_after = model_edf(d.model_after, cv, bases);
+  d.after = compare(cv, model_curve(d.model_after, cv, bases), d.edf_after, alpha_tau);
 }
 
 }  // namespace
@@ -292,7 +355,6 @@ Diagnosis diagnose(std::span<const double> rate, double rate_hz, const ChannelSp
   d.n = cv.n;
   d.tau_s = cv.tau;
   d.avar_measured = cv.y;
-  d.edf = cv.edf;
   d.n_eff = effective_taus(cv);
   // Selection threshold for a candidate of k parameters: the chi-square quantile at
   // select_alpha / kNumEffects (Bonferroni over the candidates of a round), so that a round adds
@@ -307,7 +369,8 @@ Diagnosis diagnose(std::span<const double> rate, double rate_hz, const ChannelSp
   search.bases = make_bases(cv, rate_hz);
 
   d.model_before = spec;
-  d.before = compare(cv, model_curve(spec, cv, search.bases), search.alpha_tau);
+  d.edf = model_edf(spec, cv, search.bases);
+  d.before = compare(cv, model_curve(spec, cv, search.bases), d.edf, search.alpha_tau);
 
   if (has_nan(rate))
     d.notes.push_back("the record has gaps: no PSD witness, so no sinusoid can be named");
@@ -328,14 +391,15 @@ Diagnosis diagnose(std::span<const double> rate, double rate_hz, const ChannelSp
     if (!search.round(iter)) break;
   search.finish();
 
-  d.mc_before =
-      monte_carlo(d.model_before, cv, d.before.avar_model, opt.mc_replicas, opt.mc_seed, threads);
+  d.mc_before = monte_carlo(d.model_before, cv, d.before.avar_model, d.edf, opt.mc_replicas,
+                            opt.mc_seed, threads);
   const bool same = d.model_after.terms == d.model_before.terms &&
                     d.model_after.sinusoids == d.model_before.sinusoids &&
-                    d.model_after.markovs == d.model_before.markovs;
+                    d.model_after.markovs == d.model_before.markovs &&
+                    d.model_after.lowpass == d.model_before.lowpass;
   d.mc_after = same ? d.mc_before
-                    : monte_carlo(d.model_after, cv, d.after.avar_model, opt.mc_replicas,
-                                  opt.mc_seed, threads);
+                    : monte_carlo(d.model_after, cv, d.after.avar_model, d.edf_after,
+                                  opt.mc_replicas, opt.mc_seed, threads);
   d.gap_within_noise = opt.mc_replicas > 0 ? d.after.gap <= d.mc_after.gap_p95 : d.after.gap <= 1.0;
   return d;
 }

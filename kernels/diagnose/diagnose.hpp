@@ -6,7 +6,9 @@
 //
 //   z_i = ln(avar_hat_i / avar_model_i) / sqrt(2 / edf_i),   gap = sqrt(mean_i z_i^2),
 //
-// edf_i the Greenhall & Riley EDF of the estimate (kernels/uncertainty/confidence.hpp; Greenhall &
+// edf_i the EDF of the estimate under the model being tested (diagnose_model_edf: Greenhall &
+// Riley's for the model's own power laws and effects, never the measured curve's noise
+// identification, which a line or the last few averages can inflate 10-200 fold; Greenhall &
 // Riley, "Uncertainty of stability variances based on finite differences", PTTI 2003), since edf *
 // avar_hat / avar is chi-square with edf degrees of freedom (SP1065 sec. 5.3.3) and var(ln chi2_nu
 // / nu) ~ 2 / nu. A correct model gives gap ~ 1.
@@ -28,10 +30,12 @@
 // than |z| because at the longest taus edf is a few units and ln chi2 is strongly skewed;
 // (2) the information criterion below scales chi-square differences by n_eff / P.
 //
-// Why. Candidates are the five terms of eq. (3) and two effects outside it:
+// Why. Candidates are the five terms of eq. (3) and three effects outside it:
 //   quantization (Q), white (N), flicker (B), random_walk (K), ramp (R)  -- 1 parameter each,
 //   sinusoid  (amplitude, frequency_hz): a bump at tau ~ 0.37 / f, decaying with ripples;
-//   markov    (sigma, tau_c_s): +1/2 then -1/2 ADEV slopes around tau ~ 1.9 tau_c.
+//   markov    (sigma, tau_c_s): +1/2 then -1/2 ADEV slopes around tau ~ 1.9 tau_c;
+//   lowpass   (cutoff_hz or taps): the sensor's filter, a deficit of the white noises at the
+//             shortest taus (kernels/simulate/lowpass.hpp), 1 parameter.
 // A candidate is fitted together with the model's coefficients (non-negative least squares
 // on the variances, reweighted, as kernels/model/fit.hpp), its nonlinear parameter by a grid plus
 // golden-section search (markov tau_c) or from the PSD (sinusoid frequency). The fit quality
@@ -41,11 +45,11 @@
 // the criterion is
 //
 //   delta_ic = (chi2_reference - chi2_candidate) n_eff / P - c_k,
-//   c_k = chi-square quantile at 1 - select_alpha / 7 with k degrees of freedom,
+//   c_k = chi-square quantile at 1 - select_alpha / 8 with k degrees of freedom,
 //
 // a penalized criterion like AIC (c_k = 2k) and BIC (c_k = k ln n) but with the penalty set by
 // the level of the test it implies: with n_eff ~ 8, BIC's ln(8) per parameter would let a
-// complete model pick up one of the seven candidates in about a fifth of records. A candidate
+// complete model pick up one of the eight candidates in about a fifth of records. A candidate
 // is added only when delta_ic > 0, so a model that already fits gets nothing. Each candidate
 // is tried with the model's coefficients fixed (reference: the model as it stands) and
 // re-estimated (reference: the model re-estimated with nothing added, so that the effect pays
@@ -85,14 +89,14 @@
 namespace allanlot::kernels {
 
 /// The effect vocabulary of docs/diagnose.md.
-enum class Effect { Quantization, White, Flicker, RandomWalk, Ramp, Sinusoid, Markov };
-inline constexpr int kNumEffects = 7;
+enum class Effect { Quantization, White, Flicker, RandomWalk, Ramp, Sinusoid, Markov, Lowpass };
+inline constexpr int kNumEffects = 8;
 
-/// "quantization", "white", "flicker", "random_walk", "ramp", "sinusoid", "markov".
+/// "quantization", "white", "flicker", "random_walk", "ramp", "sinusoid", "markov", "lowpass".
 std::string_view effect_name(Effect e);
 /// Inverse of effect_name; nullopt for anything else.
 std::optional<Effect> parse_effect(std::string_view name);
-/// The eq. (3) term an effect adds (Q, N, B, K, R); nullopt for sinusoid and markov.
+/// The eq. (3) term an effect adds (Q, N, B, K, R); nullopt for sinusoid, markov and lowpass.
 std::optional<Term> effect_term(Effect e);
 
 struct DiagnoseOptions {
@@ -110,7 +114,10 @@ struct DiagnoseOptions {
 struct Parameter {
   std::string name;  // "K", "amplitude", "frequency_hz", "sigma", "tau_c_s", ...
   double value = 0;
-  double sigma = 0;  // NaN when not estimable (e.g. held at zero)
+  double sigma = 0;  // NaN when not estimable (e.g. held at zero, or at a search bound)
+  // 0: an estimate; -1: at the lower end of its search range, so only an upper limit
+  // ("tau_c_s < value"); +1: at the upper end, a lower limit. A bound has no sigma.
+  int bound = 0;
 };
 
 /// A run of consecutive significant taus with the same sign of disagreement.
@@ -193,10 +200,12 @@ struct Revision {
 struct Diagnosis {
   // The measurement on the comparison grid.
   std::vector<std::int64_t> m, n;
-  std::vector<double> tau_s, avar_measured, edf;
-  double n_eff = 0;        // effective number of independent taus
-  double penalty = 0;      // the criterion's penalty c_1 for a one-parameter candidate
-  double z_threshold = 0;  // |z| of a normal variate at the per-tau significance level
+  std::vector<double> tau_s, avar_measured;
+  std::vector<double> edf;        // edf of each estimate under the given model (diagnose_model_edf)
+  std::vector<double> edf_after;  // the same under the corrected model
+  double n_eff = 0;               // effective number of independent taus
+  double penalty = 0;             // the criterion's penalty c_1 for a one-parameter candidate
+  double z_threshold = 0;         // |z| of a normal variate at the per-tau significance level
 
   ChannelSpec model_before, model_after;
   Comparison before, after;
@@ -218,6 +227,16 @@ struct Diagnosis {
 /// three octaves of taus, or a model whose variance is zero at some tau.
 Diagnosis diagnose(std::span<const double> rate, double rate_hz, const ChannelSpec& model,
                    const DiagnoseOptions& opt = {});
+
+/// The edf of the overlapping Allan variance at each averaging factor in `m` over a record of
+/// n_samples, under `model` (docs/diagnose.md "Where"): each noise term and Gauss-Markov effect
+/// has the Greenhall & Riley edf (kernels/uncertainty/edf.hpp) of its power law (a Gauss-Markov
+/// effect the local one of its Allan variance's slope), their standard deviations combined at
+/// most linearly (so never overstated), the ramp and sinusoids adding their cross term with the
+/// noise, and the result at most the largest edf of any power law at that m and length. Throws
+/// std::invalid_argument for a bad model or an m without an estimate.
+std::vector<double> diagnose_model_edf(const ChannelSpec& model, std::span<const std::int64_t> m,
+                                       std::int64_t n_samples);
 
 /// gap = sqrt(mean z^2) with the z of docs/diagnose.md "Where", for avar_measured against
 /// avar_model.

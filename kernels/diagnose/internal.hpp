@@ -19,7 +19,7 @@ inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 inline constexpr std::array<Effect, kNumEffects> kAllEffects = {
     Effect::Quantization, Effect::White,    Effect::Flicker, Effect::RandomWalk,
-    Effect::Ramp,         Effect::Sinusoid, Effect::Markov};
+    Effect::Ramp,         Effect::Sinusoid, Effect::Markov,  Effect::Lowpass};
 
 // The measured curve on the comparison grid with the exact moments of its logarithm:
 // for edf * avar_hat / avar ~ chi2_nu, E ln(avar_hat / avar) = psi(nu/2) - ln(nu/2) (about
@@ -29,6 +29,10 @@ inline constexpr std::array<Effect, kNumEffects> kAllEffects = {
 struct Curve {
   std::vector<std::int64_t> m, n;
   std::vector<double> tau, y, edf, ln_y, var_ln;
+  // Greenhall-Riley edf of each power law alpha = -2..2 (index alpha + 2) at each m, and the
+  // largest of them: the most any estimate at that m can have (prepare_edf).
+  std::array<std::vector<double>, 5> edf_pl;
+  std::vector<double> edf_cap;
   double tau0 = 1.0;
   std::int64_t n_samples = 0;
   std::size_t size() const { return m.size(); }
@@ -36,7 +40,9 @@ struct Curve {
 
 // A model component: an eq. (3) term, a sinusoid or a Gauss-Markov effect. `coef` is the
 // model file's coefficient (R..Q, amplitude, sigma); the avar is coef^2 times a basis curve.
-enum class Kind { Term, Sinusoid, Markov };
+// A lowpass component (Kind::Lowpass) has no variance of its own: it reshapes the white FM,
+// white PM and sinusoid bases of the others (bases_for), and its coefficient is unused.
+enum class Kind { Term, Sinusoid, Markov, Lowpass };
 struct Component {
   Kind kind = Kind::Term;
   Term term = Term::N;
@@ -47,20 +53,26 @@ struct Component {
   bool nl_free = false;    // tau_c is searched (for its uncertainty)
   bool given = false;      // part of the given model
   double nl_sigma = kNaN;  // uncertainty of nl when it comes from elsewhere (the PSD)
+  int nl_bound = 0;        // tau_c at the lower (-1) or upper (+1) end of its search range
   // An added sinusoid's amplitude comes from the PSD line and is never refitted on the Allan
   // curve: there its bump overlaps any hump nearby (a Gauss-Markov effect at a similar tau),
   // which the amplitude would absorb, whereas the line's power above the local background is
   // the sinusoid's alone.
   bool pinned = false;
   double coef_sigma = kNaN;  // uncertainty of coef when pinned
+  Lowpass lp;                // Kind::Lowpass: the filter
 };
 
 // Basis curves: the avar of each component with unit coefficient, from model_avar_sampled so
 // that the diagnosis uses exactly the theory the simulator is tested against. The five term
 // bases are computed once (flicker's sampling factor is a quadrature).
+// Under a low-pass filter (a named or given lowpass) the white FM and white PM bases and every
+// sinusoid's carry the filter's factors (model_avar_sampled); bases_for gives the bases of a
+// set of components from the unfiltered ones.
 struct Bases {
   std::array<std::vector<double>, kNumTerms> term;
   double rate_hz = 1.0;
+  Lowpass lowpass;
 };
 
 // A fitted set of components.
@@ -90,6 +102,10 @@ double threshold(int k, double alpha);
 
 // candidates.cpp: model components, their fits and the candidates.
 Bases make_bases(const Curve& cv, double rate_hz);
+/// `raw` (unfiltered bases) under filter lp: the N and Q bases times the filter's factors.
+Bases filtered_bases(const Bases& raw, const Curve& cv, const Lowpass& lp);
+/// The filter of a set of components (inactive when none is a lowpass).
+Lowpass lowpass_of(const std::vector<Component>& comps);
 std::vector<Component> components_of(const ChannelSpec& s);
 ChannelSpec spec_of(const std::vector<Component>& comps, const ChannelSpec& like);
 Fit fit_components(std::vector<Component> comps, const Curve& cv, const Bases& b);
@@ -105,10 +121,19 @@ CandidateFit evaluate_candidate(Effect e, std::vector<Component> comps, const Sp
                                 int n_refit, double chi2_ref, const Curve& cv, const Bases& b,
                                 const Criterion& crit);
 
+// edf_model.cpp: the edf of the model under test (docs/diagnose.md "Where").
+/// Fills cv.edf_pl and cv.edf_cap from cv.m and cv.n_samples.
+void prepare_edf(Curve& cv);
+/// The edf of the overlapping Allan variance at each tau of `cv` under model `s`.
+std::vector<double> model_edf(const ChannelSpec& s, const Curve& cv, const Bases& b);
+/// Sets cv.edf and the unbiased logarithms ln_y and their variances var_ln from it.
+void use_edf(Curve& cv, std::vector<double> edf);
+
 // search.cpp: the measurement against a model, the PSD witness and the Monte Carlo band.
-Comparison compare(const Curve& cv, std::vector<double> model, double alpha_tau);
+Comparison compare(const Curve& cv, std::vector<double> model, const std::vector<double>& edf,
+                   double alpha_tau);
 McBand monte_carlo(const ChannelSpec& spec, const Curve& cv, const std::vector<double>& model,
-                   int replicas, std::uint64_t seed, int threads);
+                   const std::vector<double>& edf, int replicas, std::uint64_t seed, int threads);
 double effective_taus(const Curve& cv);
 SpectralLine search_line(const PsdResult& psd, double n_seconds, std::span<const double> known,
                          double false_alarm);

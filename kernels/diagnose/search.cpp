@@ -21,7 +21,8 @@
 namespace allanlot::kernels {
 namespace diagnose_detail {
 
-Comparison compare(const Curve& cv, std::vector<double> model, double alpha_tau) {
+Comparison compare(const Curve& cv, std::vector<double> model, const std::vector<double>& edf,
+                   double alpha_tau) {
   Comparison out;
   const std::size_t p = cv.size();
   out.z.resize(p);
@@ -30,9 +31,9 @@ Comparison compare(const Curve& cv, std::vector<double> model, double alpha_tau)
   double s = 0.0;
   for (std::size_t i = 0; i < p; ++i) {
     const double ratio = cv.y[i] / model[i];
-    out.z[i] = std::log(ratio) / std::sqrt(2.0 / cv.edf[i]);
+    out.z[i] = std::log(ratio) / std::sqrt(2.0 / edf[i]);
     s += out.z[i] * out.z[i];
-    const double cdf = chi2_cdf(cv.edf[i] * ratio, cv.edf[i]);
+    const double cdf = chi2_cdf(edf[i] * ratio, edf[i]);
     out.p_value[i] = 2.0 * std::min(cdf, 1.0 - cdf);
     out.significant[i] = out.p_value[i] < alpha_tau ? 1 : 0;
   }
@@ -53,7 +54,7 @@ Comparison compare(const Curve& cv, std::vector<double> model, double alpha_tau)
 }
 
 McBand monte_carlo(const ChannelSpec& spec, const Curve& cv, const std::vector<double>& model,
-                   int replicas, std::uint64_t seed, int threads) {
+                   const std::vector<double>& edf, int replicas, std::uint64_t seed, int threads) {
   McBand out;
   out.replicas = replicas;
   const std::size_t p = cv.size();
@@ -90,10 +91,11 @@ McBand monte_carlo(const ChannelSpec& spec, const Curve& cv, const std::vector<d
     out.avar_median[i] = quantile_sorted(col, 0.5);
     out.avar_hi[i] = quantile_sorted(col, 0.95);
   }
-  // The replicas' gaps use the measurement's edf, so that they are draws of the very statistic
-  // reported for the measurement under the hypothesis that the model is right.
+  // The replicas' gaps use the model's edf, as the measurement's gap against this model does,
+  // so that they are draws of the very statistic reported under the hypothesis that the model
+  // is right.
   for (const auto& row : avar)
-    out.gaps.push_back(diagnose_gap(row, model, cv.edf));
+    out.gaps.push_back(diagnose_gap(row, model, edf));
   std::vector<double> g = out.gaps;
   std::sort(g.begin(), g.end());
   out.gap_median = quantile_sorted(g, 0.5);

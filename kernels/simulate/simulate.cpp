@@ -135,6 +135,7 @@ void validate(const ChannelSpec& spec) {
   check_finite_nonneg(spec.terms.N, "N");
   check_finite_nonneg(spec.terms.Q, "Q");
   if (!std::isfinite(spec.offset)) throw std::invalid_argument("simulate: offset must be finite");
+  validate_lowpass(spec.lowpass, spec.rate_hz);
   for (std::size_t i = 0; i < spec.sinusoids.size(); ++i) {
     const auto& s = spec.sinusoids[i];
     const std::string at = "sinusoids[" + std::to_string(i) + "].";
@@ -440,9 +441,9 @@ void SimulationPlan::run(const ChannelSpec& spec, std::uint64_t seed, std::uint6
     }
   }
   ec.rethrow();
-  if (t.K == 0 && n_markov == 0) return;
-
-  add_block_starts(t, steps, markov_comp, walk_end, markov_end, seed, stream, out, nt);
+  if (t.K > 0 || n_markov > 0)
+    add_block_starts(t, steps, markov_comp, walk_end, markov_end, seed, stream, out, nt);
+  apply_lowpass(spec.lowpass, spec.rate_hz, out);
 }
 
 void simulate_channel(const ChannelSpec& spec, std::uint64_t seed, std::uint64_t stream,
@@ -536,8 +537,20 @@ double model_avar_sampled(const ChannelSpec& spec, std::int64_t m) {
   if (!std::isfinite(spec.rate_hz) || spec.rate_hz <= 0)
     throw std::invalid_argument("model_avar_sampled: rate_hz must be finite and > 0");
   const double flicker = spec.terms.B * spec.terms.B * 2 * std::numbers::ln2 / pi;
-  return model_avar(spec, static_cast<double>(m) / spec.rate_hz) +
-         flicker * (flicker_avar_factor(m) - 1.0);
+  const double tau = static_cast<double>(m) / spec.rate_hz;
+  double v = model_avar(spec, tau) + flicker * (flicker_avar_factor(m) - 1.0);
+  if (!spec.lowpass.active()) return v;
+  const Lowpass& lp = spec.lowpass;
+  const auto& t = spec.terms;
+  v += t.N * t.N / tau * (lowpass_white_fm_factor(lp, spec.rate_hz, m) - 1.0);
+  v += 3 * t.Q * t.Q / (tau * tau) * (lowpass_white_pm_factor(lp, spec.rate_hz, m) - 1.0);
+  for (const auto& s : spec.sinusoids) {
+    const double x = pi * s.frequency_hz * tau;
+    const double sx = std::sin(x);
+    v += s.amplitude * s.amplitude * sx * sx * sx * sx / (x * x) *
+         (lowpass_gain2(lp, spec.rate_hz, s.frequency_hz) - 1.0);
+  }
+  return v;
 }
 
 double model_psd_one_sided(const ChannelSpec& spec, double f_hz) {

@@ -5,6 +5,9 @@
 //   y_k = offset + flicker(B) + white(N) + random_walk(K) + ramp(R) + quantization(Q)
 //         + sum of sinusoids + sum of first-order Gauss-Markov processes,
 //
+// all of it then passed through the sensor's low-pass filter when the spec has one
+// (kernels/simulate/lowpass.hpp),
+//
 // with every coefficient in the channel's own units u and seconds (docs/formats.md "Units
 // and conventions"): R [u/s], K [u/s^0.5], B [u], N [u*s^0.5], Q [u*s], so that
 //
@@ -28,6 +31,7 @@
 #pragma once
 
 #include "kernels/model/terms.hpp"
+#include "kernels/simulate/lowpass.hpp"
 
 #include <cstddef>
 #include <cstdint>
@@ -60,12 +64,13 @@ struct ChannelSpec {
   std::vector<Sinusoid> sinusoids;   // effects outside eq. (3)
   std::vector<GaussMarkov> markovs;  // at most rng::kMaxMarkov
   double offset = 0;                 // constant added to every sample [u] (e.g. 1 g)
+  Lowpass lowpass;                   // the sensor's filter, applied to the sum (none by default)
 };
 
 /// Checks a spec; throws std::invalid_argument naming the field and its value: rate_hz finite
-/// and > 0; every coefficient, amplitude and sigma finite and >= 0; 0 < frequency_hz <=
-/// rate_hz / 2; tau_c_s finite and > 0; phase and offset finite; at most rng::kMaxMarkov
-/// Gauss-Markov effects.
+/// and > 0; the lowpass as validate_lowpass; every coefficient, amplitude and sigma finite and >=
+/// 0; 0 < frequency_hz <= rate_hz / 2; tau_c_s finite and > 0; phase and offset finite; at most
+/// rng::kMaxMarkov Gauss-Markov effects.
 void validate(const ChannelSpec& spec);
 
 /// Owns the workspaces and FFTW plans for simulating channels of one length, so that a unit's
@@ -122,8 +127,13 @@ std::vector<double> kasdin_flicker_filter(std::size_t n);
 double model_avar(const ChannelSpec& spec, double tau_s);
 
 /// Expected overlapping Allan variance of simulate_channel's output at tau = m / rate_hz
-/// (m >= 1): model_avar with the flicker term multiplied by flicker_avar_factor(m). Exact for
-/// all components at every m, apart from the finite record's effect on flicker (the filter
+/// (m >= 1): model_avar with the flicker term multiplied by flicker_avar_factor(m) and, under a
+/// low-pass filter, the white FM and white PM terms by lowpass_white_fm_factor and
+/// lowpass_white_pm_factor (exact) and each sinusoid's by lowpass_gain2 at its frequency
+/// (exact); the filter's effect on flicker, random walk, Gauss-Markov and ramp is left out:
+/// their power lies far below any cutoff at the taus where they matter (at tau0 a flicker
+/// floor loses a fraction of itself to a cutoff near Nyquist, which the model leaves out). Exact
+/// for all components at every m, apart from the finite record's effect on flicker (the filter
 /// starts at the first sample, so the earliest terms miss the pre-record past: a deficit of
 /// relative order m / n, negligible for m << n).
 double model_avar_sampled(const ChannelSpec& spec, std::int64_t m);

@@ -46,8 +46,13 @@ std::string bands_text(const std::vector<kernels::Band>& bands) {
 std::string params_text(const std::vector<kernels::Parameter>& ps) {
   std::string s;
   for (const auto& p : ps)
-    s += (s.empty() ? "" : ", ") + p.name + " = " + num(p.value) +
-         (std::isfinite(p.sigma) ? " +- " + num(p.sigma) : std::string(" (at zero)"));
+    s += (s.empty() ? "" : ", ") + p.name +
+         (p.bound < 0   ? " < " + num(p.value) + " (at the search's lower end)"
+          : p.bound > 0 ? " > " + num(p.value) + " (at the search's upper end)"
+                        : " = " + num(p.value) +
+                              (std::isfinite(p.sigma) ? " +- " + num(p.sigma)
+                               : p.value == 0.0       ? std::string(" (at zero)")
+                                                      : std::string()));
   return s;
 }
 
@@ -218,6 +223,7 @@ int run_diagnose(const DiagnoseOptions& opt, std::ostream& out, std::ostream& er
     cc.terms = d.model_after.terms;
     cc.sinusoids = d.model_after.sinusoids;
     cc.markovs = d.model_after.markovs;
+    cc.lowpass = d.model_after.lowpass;
     const std::string before_json = model::to_json(model), after_json = model::to_json(corrected);
     const Json report = diagnosis_json(ch->path, d);
     if (opt.json)

@@ -35,13 +35,22 @@ Json sigmas_json(const std::vector<kernels::Parameter>& ps) {
   return o;
 }
 
+// The parameters that are limits rather than estimates: "<" (an upper limit, at the lower end
+// of the search) or ">" (a lower limit).
+Json bounds_json(const std::vector<kernels::Parameter>& ps) {
+  Json o = Json::object();
+  for (const auto& p : ps)
+    if (p.bound != 0) o[p.name] = p.bound < 0 ? "<" : ">";
+  return o;
+}
+
 }  // namespace
 
 Json diagnosis_json(const std::string& channel, const kernels::Diagnosis& d) {
   Json j;
   j["channel"] = channel;
   j["effects_named"] = Json::array();
-  Json params = Json::object(), sigmas = Json::object();
+  Json params = Json::object(), sigmas = Json::object(), bounds = Json::object();
   for (std::size_t i = 0; i < d.effects_named.size(); ++i) {
     std::string key(kernels::effect_name(d.effects_named[i]));
     // A second effect of the same kind (two sinusoids) gets its ordinal.
@@ -50,6 +59,7 @@ Json diagnosis_json(const std::string& channel, const kernels::Diagnosis& d) {
     j["effects_named"].push_back(std::string(kernels::effect_name(d.effects_named[i])));
     params[key] = params_json(d.effect_parameters[i]);
     sigmas[key] = sigmas_json(d.effect_parameters[i]);
+    if (Json b = bounds_json(d.effect_parameters[i]); !b.empty()) bounds[key] = std::move(b);
   }
   j["parameters"] = params;
   j["gap_before"] = d.before.gap;
@@ -75,6 +85,7 @@ Json diagnosis_json(const std::string& channel, const kernels::Diagnosis& d) {
   }
   j["iterations"] = its;
   j["parameter_sigmas"] = sigmas;
+  j["parameter_bounds"] = bounds;
   j["gap_within_noise"] = d.gap_within_noise;
   j["gap_noise_median"] = d.mc_after.gap_median;
   j["gap_noise_p95"] = d.mc_after.gap_p95;

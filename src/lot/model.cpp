@@ -123,6 +123,28 @@ bool valid_name(std::string_view name) {
   return true;
 }
 
+// The sensor's filter: {"type": "lowpass", "cutoff_hz": f} (first order) or
+// {"type": "lowpass", "taps": L} (moving average over L > 1 samples, L need not be whole), at
+// most one per channel.
+void parse_lowpass(const Json& e, double rate_hz, Channel& ch, const std::string& source,
+                   const std::string& at) {
+  only_keys(e, {"type", "cutoff_hz", "taps"}, source, at);
+  if (ch.lowpass.active()) fail(source, at, "at most one lowpass effect");
+  if (e.contains("cutoff_hz") == e.contains("taps"))
+    fail(source, at, "a lowpass has exactly one of cutoff_hz and taps");
+  if (e.contains("cutoff_hz")) {
+    ch.lowpass.cutoff_hz = positive(e["cutoff_hz"], source, join(at, "cutoff_hz"));
+    if (ch.lowpass.cutoff_hz >= rate_hz / 2)
+      fail(source, join(at, "cutoff_hz"),
+           "must be below the Nyquist frequency " + Json(rate_hz / 2).dump() + " Hz, got " +
+               Json(ch.lowpass.cutoff_hz).dump());
+  } else {
+    ch.lowpass.taps = number(e["taps"], source, join(at, "taps"));
+    if (!(ch.lowpass.taps > 1 && ch.lowpass.taps <= 100000))
+      fail(source, join(at, "taps"), "must be in (1, 100000], got " + e["taps"].dump());
+  }
+}
+
 void parse_effects(const Json& j, double rate_hz, Channel& ch, const std::string& source,
                    const std::string& path) {
   if (!j.is_array()) fail(source, path, "must be an array, not " + type_name(j));
@@ -153,9 +175,11 @@ void parse_effects(const Json& j, double rate_hz, Channel& ch, const std::string
       if (ch.markovs.size() >= kernels::rng::kMaxMarkov)
         fail(source, at, "at most " + std::to_string(kernels::rng::kMaxMarkov) + " markov effects");
       ch.markovs.push_back(g);
+    } else if (kind == "lowpass") {
+      parse_lowpass(e, rate_hz, ch, source, at);
     } else {
       fail(source, join(at, "type"),
-           "unknown effect type '" + kind + "' (expected sinusoid or markov)");
+           "unknown effect type '" + kind + "' (expected sinusoid, markov or lowpass)");
     }
   }
 }
@@ -196,6 +220,10 @@ Json channel_body_json(const Channel& ch) {
                        {"phase_rad", s.phase_rad}});
   for (const auto& g : ch.markovs)
     effects.push_back({{"type", "markov"}, {"sigma", g.sigma}, {"tau_c_s", g.tau_c_s}});
+  if (ch.lowpass.cutoff_hz > 0)
+    effects.push_back({{"type", "lowpass"}, {"cutoff_hz", ch.lowpass.cutoff_hz}});
+  else if (ch.lowpass.taps > 0)
+    effects.push_back({{"type", "lowpass"}, {"taps", ch.lowpass.taps}});
   j["effects"] = effects;
   if (ch.offset != 0) j["offset"] = ch.offset;
   return j;
@@ -377,6 +405,7 @@ kernels::ChannelSpec to_spec(const UnitModel& m, std::size_t channel) {
   s.sinusoids = ch.sinusoids;
   s.markovs = ch.markovs;
   s.offset = ch.offset;
+  s.lowpass = ch.lowpass;
   return s;
 }
 

@@ -39,6 +39,7 @@ struct Channel {
   std::vector<kernels::Sinusoid> sinusoids;   // effects of type "sinusoid", in file order
   std::vector<kernels::GaussMarkov> markovs;  // effects of type "markov", in file order
   double offset = 0;                          // constant [units]
+  kernels::Lowpass lowpass;                   // the effect of type "lowpass" (at most one)
   friend bool operator==(const Channel&, const Channel&) = default;
 };
 

@@ -85,6 +85,21 @@ TEST(Model, ToJsonRoundTrips) {
   }
 }
 
+TEST(Model, LowpassRoundTripsAndReachesTheSpec) {
+  for (const char* effect :
+       {R"({"type": "lowpass", "cutoff_hz": 20})", R"({"type": "lowpass", "taps": 4})"}) {
+    const std::string text = std::string(R"({"sample_rate_hz": 100, "units": "deg/s",
+        "terms": {"N": 0.01}, "effects": [)") +
+                             effect + "]}";
+    const auto m = model::parse_model(text, "lp.json");
+    const auto back = model::parse_model(model::to_json(m), "roundtrip.json");
+    EXPECT_EQ(back, m);
+    const kernels::ChannelSpec s = model::to_spec(m, 0);
+    EXPECT_TRUE(s.lowpass.active());
+    EXPECT_EQ(s.lowpass, m.channels[0].lowpass);
+  }
+}
+
 struct BadCase {
   const char* json;
   const char* expected;  // substring of the message after "bad.json: "
@@ -123,6 +138,18 @@ TEST(Model, BadFilesNameTheKey) {
       {R"({"sample_rate_hz": 1000, "units": "deg/s", "effects": [{"type": "sinusoid",
            "frequency_hz": 1}]})",
        "effects[0].amplitude: missing"},
+      {R"({"sample_rate_hz": 100, "units": "deg/s", "effects": [{"type": "lowpass",
+           "cutoff_hz": 50}]})",
+       "effects[0].cutoff_hz: must be below the Nyquist frequency"},
+      {R"({"sample_rate_hz": 100, "units": "deg/s", "effects": [{"type": "lowpass",
+           "cutoff_hz": 5, "taps": 3}]})",
+       "effects[0]: a lowpass has exactly one of cutoff_hz and taps"},
+      {R"({"sample_rate_hz": 100, "units": "deg/s", "effects": [{"type": "lowpass",
+           "taps": 1}]})",
+       "effects[0].taps: must be in (1, 100000]"},
+      {R"({"sample_rate_hz": 100, "units": "deg/s", "effects": [{"type": "lowpass",
+           "taps": 2}, {"type": "lowpass", "taps": 3}]})",
+       "effects[1]: at most one lowpass effect"},
       {R"({"sample_rate_hz": 1000, "units": "deg/s", "effects": [{"type": "markov",
            "sigma": 1, "tau_c_s": 0}]})",
        "effects[0].tau_c_s: must be > 0"},

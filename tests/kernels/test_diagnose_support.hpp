@@ -54,7 +54,8 @@ struct Scenario {
 ///    Allan curve nor a Whittle fit of the periodogram pinned tau_c better than a factor 2 over
 ///    20 seeds: the 35 % of the issue needs a record of many correlation times;
 ///  - two at once: the sinusoid and the random walk; the sinusoid and the markov, whose bump
-///    (0.74 s) and hump (0.95 s) overlap; the markov and the quantization.
+///    (0.74 s) and hump (0.95 s) overlap; the markov and the quantization; the ramp and the
+///    markov (issue #23: once named markov, ramp, markov with the first at sigma = 0).
 inline std::vector<Scenario> hidden_scenarios() {
   std::vector<Scenario> out;
   const auto add = [&](std::string name, kernels::ChannelSpec truth, kernels::ChannelSpec given,
@@ -120,6 +121,12 @@ inline std::vector<Scenario> hidden_scenarios() {
     t.markovs.push_back({0.0193, 0.5});
     t.terms.Q = 3e-4;
     add("markov+quantization", t, base, {Effect::Markov, Effect::Quantization});
+  }
+  {
+    auto t = base;
+    t.markovs.push_back({0.0193, 0.5});
+    t.terms.R = 1.5e-4;
+    add("ramp+markov", t, base, {Effect::Ramp, Effect::Markov});
   }
   return out;
 }

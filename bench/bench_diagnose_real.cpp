@@ -1,0 +1,125 @@
+// The real-data study of docs/diagnose.md (issue #23 item 5): every channel of every recording
+// in a folder (the five ADIS16405 units; their licence keeps them out of the repository, so
+// the folder is an argument), each diagnosed against its own eq. (3) fit, the corrected model
+// re-diagnosed, and the eq. (3) fit repeated on the taus a named lowpass leaves alone.
+//
+//   bench_diagnose_real FOLDER [REPLICAS] [CHANNEL_SUBSTRING]
+//
+// Not a Google Benchmark: a table on stdout, one line per channel.
+#include "io/recording.hpp"
+#include "kernels/allan/phase.hpp"
+#include "kernels/allan/stats.hpp"
+#include "kernels/allan/tau_grid.hpp"
+#include "kernels/diagnose/diagnose.hpp"
+#include "kernels/model/fit.hpp"
+#include "kernels/simulate/lowpass.hpp"
+#include "kernels/uncertainty/confidence.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace {
+
+using namespace allanlot;
+
+struct Eq3 {
+  kernels::FitResult fit;
+  std::size_t first = 0;  // first row used
+};
+
+// The eq. (3) fit of the rows of `oadev` from averaging factor first_m on.
+Eq3 eq3(const kernels::StatResult& oadev, double rate_hz, std::int64_t n, std::int64_t first_m) {
+  Eq3 out;
+  while (out.first < oadev.size() && oadev.m[out.first] < first_m)
+    ++out.first;
+  const std::size_t p = oadev.size() - out.first;
+  std::vector<double> tau(oadev.tau_s.begin() + out.first, oadev.tau_s.end());
+  std::vector<double> dev(oadev.dev.begin() + out.first, oadev.dev.end());
+  std::vector<double> edf(oadev.edf.begin() + out.first, oadev.edf.end());
+  std::vector<std::int64_t> nn(oadev.n.begin() + out.first, oadev.n.end());
+  kernels::Eq3Fit fit(p);
+  kernels::FitInput in;
+  in.tau_s = tau;
+  in.values = dev;
+  in.is_deviation = true;
+  in.n = nn;
+  in.edf = edf;
+  in.tau0_s = 1.0 / rate_hz;
+  in.n_samples = n;
+  out.fit = fit.fit(in);
+  return out;
+}
+
+std::string names(const kernels::Diagnosis& d) {
+  std::string s;
+  for (std::size_t i = 0; i < d.effects_named.size(); ++i) {
+    s += (s.empty() ? "" : ",") + std::string(kernels::effect_name(d.effects_named[i]));
+    for (const auto& p : d.effect_parameters[i])
+      if (p.name == "cutoff_hz" || p.name == "taps" || p.name == "tau_c_s")
+        s += "(" + p.name +
+             (p.bound < 0   ? "<"
+              : p.bound > 0 ? ">"
+                            : "=") +
+             std::to_string(p.value).substr(0, 6) + ")";
+  }
+  return s.empty() ? "-" : s;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: %s FOLDER [REPLICAS] [CHANNEL_SUBSTRING]\n", argv[0]);
+    return 2;
+  }
+  const int replicas = argc > 2 ? std::atoi(argv[2]) : 20;
+  const std::string only = argc > 3 ? argv[3] : "";
+  std::vector<std::filesystem::path> files;
+  for (const auto& e : std::filesystem::directory_iterator(argv[1]))
+    if (e.path().extension() == ".h5") files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  std::printf("| unit | channel | chi2/dof all taus | named against own fit | gap before -> after "
+              "(replica p95) | first m | chi2/dof from first m | fixed model re-diagnosed |\n"
+              "|---|---|---|---|---|---|---|---|\n");
+  for (const auto& file : files) {
+    const io::RecordingReader reader(file.string());
+    for (const auto& ch : reader.info().channels) {
+      if (!only.empty() && ch.path.find(only) == std::string::npos) continue;
+      const std::vector<double> y = reader.read(ch);
+      const double rate = ch.sample_rate_hz;
+      const auto n = static_cast<std::int64_t>(y.size());
+      const kernels::PhaseData ph = kernels::phase_from_rate(y, rate, 0);
+      kernels::TauGridSpec grid;
+      kernels::StatResult oadev = kernels::compute(
+          kernels::Stat::Oadev, ph,
+          kernels::make_m_list(grid, kernels::max_m(kernels::Stat::Oadev, ph.n_points())), 0);
+      kernels::add_confidence(kernels::Stat::Oadev, ph, oadev, kernels::kDefaultConfidence, 0);
+      const Eq3 all = eq3(oadev, rate, n, 1);
+      kernels::ChannelSpec own;
+      own.rate_hz = rate;
+      for (const kernels::Term t : kernels::all_terms())
+        kernels::coefficient(own.terms, t) = all.fit.terms[static_cast<std::size_t>(t)].value;
+      kernels::DiagnoseOptions opt;
+      opt.mc_replicas = replicas;
+      const kernels::Diagnosis d = kernels::diagnose(y, rate, own, opt);
+      const std::int64_t first = kernels::lowpass_first_m(d.model_after.lowpass, rate, n);
+      const Eq3 cut = eq3(oadev, rate, n, first);
+      const kernels::Diagnosis again = kernels::diagnose(y, rate, d.model_after, opt);
+      std::printf("| %s | %s | %.4g | %s | %.3g -> %.3g (%.3g) | %lld | %.4g | %s, gap %.3g |\n",
+                  file.stem().string().c_str(), ch.path.c_str(), all.fit.chi2_dof, names(d).c_str(),
+                  d.before.gap, d.after.gap, d.mc_after.gap_p95, static_cast<long long>(first),
+                  cut.fit.chi2_dof, names(again).c_str(), again.after.gap);
+      if (std::getenv("BENCH_VERBOSE"))
+        for (std::size_t i = 0; i < d.tau_s.size(); ++i)
+          std::printf("    tau %.4g  meas/before %.4f  meas/after %.4f  z_after %.2f  edf %.4g\n",
+                      d.tau_s[i], d.avar_measured[i] / d.before.avar_model[i],
+                      d.avar_measured[i] / d.after.avar_model[i], d.after.z[i], d.edf_after[i]);
+      std::fflush(stdout);
+    }
+  }
+  return 0;
+}

@@ -1,0 +1,60 @@
+// The sensor's own anti-alias and decimation filter (issue #23 item 3): a linear time-invariant
+// low-pass applied to the whole rate signal after synthesis, and what it does to the Allan
+// variance. A real IMU's output is filtered and decimated inside the sensor, so its shortest-tau
+// Allan deviation lies below the white-noise line the longer taus follow.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace allanlot::kernels {
+
+/// At most one of the two forms; both zero means no filter.
+struct Lowpass {
+  double cutoff_hz = 0;  // first-order (one-pole) low-pass with this -3 dB frequency [Hz], > 0
+  double taps = 0;       // moving average over this many samples, > 1 (non-integer: the last
+                         // sample weighted by the fraction, a boxcar of taps tau0 seconds)
+  bool active() const { return cutoff_hz > 0 || taps > 0; }
+  friend bool operator==(const Lowpass&, const Lowpass&) = default;
+};
+
+/// Checks a filter against the sample rate; throws std::invalid_argument naming the field:
+/// cutoff_hz finite, >= 0 and below rate_hz / 2; taps 0 or in (1, 100000]; not both.
+void validate_lowpass(const Lowpass& lp, double rate_hz);
+
+/// The filter's impulse response on samples of rate_hz: a (1 - a)^j with
+/// a = 1 - exp(-2 pi cutoff_hz / rate_hz) (the impulse-invariant one-pole filter, whose
+/// continuous parent has its -3 dB point at cutoff_hz), truncated where the remaining tail is
+/// below 1e-16 of the total; or floor(taps) values 1 / taps followed, for a non-integer taps,
+/// by (taps - floor(taps)) / taps. {1} when inactive.
+std::vector<double> lowpass_impulse(const Lowpass& lp, double rate_hz);
+
+/// Filters `y` in place with the causal recursion of lowpass_impulse, started in the steady
+/// state of the first sample (no start-up transient for a constant): sequential, so the same
+/// bytes for any thread count.
+void apply_lowpass(const Lowpass& lp, double rate_hz, std::span<double> y);
+
+/// |H(f)|^2 of the filter at f_hz: a^2 / (1 - 2 (1 - a) cos w + (1 - a)^2) for the one-pole,
+/// |sum_j h_j e^(-i w j)|^2 for the moving average, w = 2 pi f / rate_hz.
+double lowpass_gain2(const Lowpass& lp, double rate_hz, double f_hz);
+
+/// Ratio of the overlapping Allan variance at averaging factor m of a filtered to an unfiltered
+/// noise, exact for the two white noises of eq. (3). White FM (N, white rate samples): the
+/// Allan variance is (s^2 / 2) sum_k g_k^2 with g the filter convolved with the weights -1/m on
+/// m samples then +1/m on the next m, 1 / m unfiltered. White PM (Q, white phase): the second
+/// difference of the phase at lag m convolved with the filter, sum_k (h_k - 2 h_{k-m} +
+/// h_{k-2m})^2 against 6 unfiltered. 1 when the filter is inactive.
+double lowpass_white_fm_factor(const Lowpass& lp, double rate_hz, std::int64_t m);
+double lowpass_white_pm_factor(const Lowpass& lp, double rate_hz, std::int64_t m);
+
+/// The first averaging factor an eq. (3) fit of a filtered record may use: the smallest m from
+/// which the filter changes white FM's overlapping Allan variance by less than half the
+/// standard deviation of its estimate over n_samples (sqrt(2 / edf), Greenhall & Riley's white
+/// FM edf), so that leaving the filter out of the fit biases no tau it uses by more than half a
+/// sigma. (White PM keeps eq. (3)'s form under the filter: its Allan variance is scaled by the
+/// filter's noise gain once m exceeds the filter's length, which a fitted Q absorbs.) 1 for an
+/// inactive filter.
+std::int64_t lowpass_first_m(const Lowpass& lp, double rate_hz, std::int64_t n_samples);
+
+}  // namespace allanlot::kernels

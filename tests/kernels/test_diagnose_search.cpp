@@ -1,0 +1,108 @@
+// kernels/diagnose's tau_c search (issue #23 item 2): it spans one sample to the record's
+// length, and a tau_c at either end is reported as a limit with no sigma; inside, it is an
+// estimate with one. Exact model curves (no noise), so that where the search ends is known.
+#include "kernels/diagnose/internal.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+namespace allanlot {
+namespace {
+
+using namespace kernels::diagnose_detail;
+
+constexpr double kRate = 100.0;
+constexpr std::int64_t kSamples = 60000;
+
+// The curve of `truth` itself on a log grid of 8 per decade, with the edf of that model.
+Curve exact_curve(const kernels::ChannelSpec& truth, Bases& b) {
+  Curve cv;
+  cv.tau0 = 1.0 / kRate;
+  cv.n_samples = kSamples;
+  for (double m = 1.0; m <= static_cast<double>(kSamples) / 4.0; m *= std::pow(10.0, 0.125)) {
+    const auto mi = static_cast<std::int64_t>(std::llround(m));
+    if (!cv.m.empty() && cv.m.back() == mi) continue;
+    cv.m.push_back(mi);
+    cv.tau.push_back(static_cast<double>(mi) * cv.tau0);
+    cv.y.push_back(kernels::model_avar_sampled(truth, mi));
+  }
+  prepare_edf(cv);
+  b = make_bases(cv, kRate);
+  use_edf(cv, model_edf(truth, cv, b));
+  return cv;
+}
+
+kernels::ChannelSpec white() {
+  kernels::ChannelSpec s;
+  s.rate_hz = kRate;
+  s.terms.N = 0.01;
+  return s;
+}
+
+// The white noise given and fixed, a Gauss-Markov effect searched.
+Fit search(const Curve& cv, const Bases& b) {
+  std::vector<Component> comps = components_of(white());
+  Component g;
+  g.kind = Kind::Markov;
+  g.free = true;
+  g.nl_free = true;
+  comps.push_back(g);
+  return search_tau_c(comps, comps.size() - 1, cv, b);
+}
+
+std::vector<kernels::Parameter> markov_parameters(const Fit& f, const Curve& cv, const Bases& b) {
+  Fit copy = f;
+  std::vector<double> cs, ns;
+  fill_sigmas(copy, cv, b, 8.0, cs, ns);
+  return parameters_of(f.comps.back(), cs.back(), ns.back());
+}
+
+TEST(DiagnoseSearch, TauCInsideTheRangeIsAnEstimate) {
+  auto truth = white();
+  truth.markovs.push_back({0.02, 1.0});
+  Bases b;
+  const Curve cv = exact_curve(truth, b);
+  const Fit f = search(cv, b);
+  // Not exact: the fit works on ln avar less the log-chi-square bias -(psi(edf/2) - ln(edf/2)),
+  // about 1/edf, which an exact curve does not have; a few per cent at the hump's few-edf taus.
+  EXPECT_NEAR(f.comps.back().nl, 1.0, 0.05);
+  const auto ps = markov_parameters(f, cv, b);
+  ASSERT_EQ(ps.size(), 2u);
+  EXPECT_EQ(ps[1].bound, 0);
+  EXPECT_TRUE(std::isfinite(ps[1].sigma));
+}
+
+TEST(DiagnoseSearch, TauCBeyondTheRecordIsALowerLimit) {
+  // tau_c = 1e5 s over a 600 s record: a random walk K^2 = 2 sigma^2 / tau_c at every tau, which
+  // any tau_c beyond the record fits about as well; the search ends at the record's length.
+  auto truth = white();
+  truth.markovs.push_back({std::sqrt(0.5 * 4e-6 * 1e5), 1e5});
+  Bases b;
+  const Curve cv = exact_curve(truth, b);
+  const Fit f = search(cv, b);
+  EXPECT_LE(f.comps.back().nl, static_cast<double>(kSamples) / kRate * (1.0 + 1e-12));
+  EXPECT_GT(f.comps.back().nl, 0.9 * static_cast<double>(kSamples) / kRate);
+  const auto ps = markov_parameters(f, cv, b);
+  EXPECT_EQ(ps[1].bound, 1);
+  EXPECT_TRUE(std::isnan(ps[1].sigma));
+}
+
+TEST(DiagnoseSearch, TauCBelowOneSampleIsAnUpperLimit) {
+  // tau_c = 1 ms at tau0 = 10 ms: white noise N^2 = 2 sigma^2 tau_c at every tau; the search
+  // ends at one sample.
+  auto truth = white();
+  truth.markovs.push_back({0.5, 1e-3});
+  Bases b;
+  const Curve cv = exact_curve(truth, b);
+  const Fit f = search(cv, b);
+  EXPECT_GE(f.comps.back().nl, (1.0 - 1e-12) / kRate);
+  EXPECT_LT(f.comps.back().nl, 1.1 / kRate);
+  const auto ps = markov_parameters(f, cv, b);
+  EXPECT_EQ(ps[1].bound, -1);
+  EXPECT_TRUE(std::isnan(ps[1].sigma));
+}
+
+}  // namespace
+}  // namespace allanlot
