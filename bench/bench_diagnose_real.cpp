@@ -89,7 +89,7 @@ int main(int argc, char** argv) {
     const io::RecordingReader reader(file.string());
     for (const auto& ch : reader.info().channels) {
       if (!only.empty() && ch.path.find(only) == std::string::npos) continue;
-      const std::vector<double> y = reader.read(ch);
+      const kernels::LargeVector<double> y = reader.read(ch);
       const double rate = ch.sample_rate_hz;
       const auto n = static_cast<std::int64_t>(y.size());
       const kernels::PhaseData ph = kernels::phase_from_rate(y, rate, 0);
