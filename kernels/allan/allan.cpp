@@ -60,29 +60,22 @@ SumCount second_difference_core(const PhaseData& p, std::int64_t m, std::int64_t
 std::vector<SumCount> second_difference_sums(const PhaseData& p,
                                              std::span<const std::int64_t> m_list, int nthreads,
                                              SumCache* cache) {
-  std::vector<SumCount> sums(m_list.size());
-  std::vector<std::int64_t> missing;
-  std::vector<std::size_t> where;
-  for (std::size_t j = 0; j < m_list.size(); ++j) {
-    if (cache)
-      if (const auto hit = cache->second(m_list[j])) {
-        sums[j] = {hit->first, hit->second};
-        continue;
-      }
-    missing.push_back(m_list[j]);
-    where.push_back(j);
-  }
-  const auto computed = sums_tiled(
-      missing, nthreads,
-      [&p](std::int64_t m) {
-        return SecondDifference{p.x.data(), m};
+  return sums_through_cache(
+      m_list,
+      [cache](std::int64_t m) {
+        return cache ? cache->second(m) : std::optional<std::pair<double, std::int64_t>>{};
       },
-      [&p](std::int64_t m) { return p.n_points() - 2 * m; });
-  for (std::size_t i = 0; i < missing.size(); ++i) {
-    sums[where[i]] = computed[i];
-    if (cache) cache->store_second(missing[i], computed[i].sum, computed[i].n);
-  }
-  return sums;
+      [&p, nthreads](std::span<const std::int64_t> missing) {
+        return sums_tiled(
+            missing, nthreads,
+            [&p](std::int64_t m) {
+              return SecondDifference{p.x.data(), m};
+            },
+            [&p](std::int64_t m) { return p.n_points() - 2 * m; });
+      },
+      [cache](std::int64_t m, const SumCount& c) {
+        if (cache) cache->store_second(m, c.sum, c.n);
+      });
 }
 
 WindowSums make_window_sums(const PhaseData& p, std::int64_t m_cap, int nthreads) {

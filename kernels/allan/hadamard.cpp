@@ -59,26 +59,20 @@ StatResult ohdev(const PhaseData& p, std::span<const std::int64_t> m_list, int n
     return detail::rows_from_sums(p.tau0_s, m_list, sums,
                                   [&p](std::int64_t m) { return hadamard_norm(p, m); });
   }
-  std::vector<detail::SumCount> sums(m_list.size());
-  std::vector<std::int64_t> missing;
-  std::vector<std::size_t> where;
-  for (std::size_t j = 0; j < m_list.size(); ++j) {
-    if (cache)
-      if (const auto hit = cache->third(m_list[j])) {
-        sums[j] = {hit->first, hit->second};
-        continue;
-      }
-    missing.push_back(m_list[j]);
-    where.push_back(j);
-  }
-  const auto computed = detail::sums_tiled(
-      missing, nthreads,
-      [&p](std::int64_t m) {
-        return detail::ThirdDifference{p.x.data(), m};
+  const auto sums = detail::sums_through_cache(
+      m_list,
+      [cache](std::int64_t m) {
+        return cache ? cache->third(m) : std::optional<std::pair<double, std::int64_t>>{};
       },
-      [&p](std::int64_t m) { return p.n_points() - 3 * m; });
-  for (std::size_t i = 0; i < missing.size(); ++i)
-    sums[where[i]] = computed[i];
+      [&p, nthreads](std::span<const std::int64_t> missing) {
+        return detail::sums_tiled(
+            missing, nthreads,
+            [&p](std::int64_t m) {
+              return detail::ThirdDifference{p.x.data(), m};
+            },
+            [&p](std::int64_t m) { return p.n_points() - 3 * m; });
+      },
+      [](std::int64_t, const detail::SumCount&) {});  // third sums come only from priming
   return detail::rows_from_sums(p.tau0_s, m_list, sums,
                                 [&p](std::int64_t m) { return hadamard_norm(p, m); });
 }

@@ -20,10 +20,12 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace allanlot::kernels::detail {
@@ -300,6 +302,30 @@ std::vector<SumCount> sums_tiled(std::span<const std::int64_t> m_list, int nthre
     for (std::int64_t b = 0; b * kBlock < sums[j].n; ++b)
       total += block_value[static_cast<std::size_t>(a * max_blocks + b)];
     sums[j].sum = total;
+  }
+  return sums;
+}
+
+/// The sums of m_list: those `hit(m)` (an optional (sum, n)) finds in a SumCache, the rest from
+/// `compute(missing)` in m_list's order, each then handed to `store(m, SumCount)`.
+template <class Hit, class Compute, class Store>
+std::vector<SumCount> sums_through_cache(std::span<const std::int64_t> m_list, Hit hit,
+                                         Compute compute, Store store) {
+  std::vector<SumCount> sums(m_list.size());
+  std::vector<std::int64_t> missing;
+  std::vector<std::size_t> where;
+  for (std::size_t j = 0; j < m_list.size(); ++j) {
+    if (const auto h = hit(m_list[j])) {
+      sums[j] = {h->first, h->second};
+      continue;
+    }
+    missing.push_back(m_list[j]);
+    where.push_back(j);
+  }
+  const std::vector<SumCount> computed = compute(std::span<const std::int64_t>(missing));
+  for (std::size_t i = 0; i < missing.size(); ++i) {
+    sums[where[i]] = computed[i];
+    store(missing[i], computed[i]);
   }
   return sums;
 }
