@@ -41,7 +41,9 @@ double edf_greenhall(int alpha, FiniteDifferenceKind kind, std::int64_t m, std::
 /// edf = b (T / tau) - c with T / tau = (N - 1) / m for N phase points and (b, c) = (1.50, 0),
 /// (1.17, 0.22), (0.93, 0.36) for white, flicker and random-walk FM (alpha = 0, -1, -2).
 /// Stable32 1.60 uses these (its TOTDEV bounds on PHASE.DAT match them to 4e-4). Howe's fits
-/// cover only those three noises; for alpha = 1, 2 (PM noise) the white FM value is returned.
+/// cover only those three noises; for alpha = 2, 1 (white and flicker PM) the simple edf of
+/// the overlapping Allan variance (SP1065 Table 5, p. 38) is returned, as Stable32 does (its
+/// TOTDEV bounds on GPS and time-interval-counter phase, tests/data/stable32/tic/), at least 1.
 /// Preconditions: m >= 1, N >= 2, alpha in -2..2.
 double edf_totvar(int alpha, std::int64_t m, std::int64_t n_phase);
 
