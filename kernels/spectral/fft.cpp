@@ -55,13 +55,6 @@ Plan Plan::c2r(int n, fftw_complex* in, double* out, const char* who) {
   return Plan(checked(fftw_plan_dft_c2r_1d(n, in, out, FFTW_ESTIMATE), who));
 }
 
-Plan Plan::r2c_batch(int n, int howmany, double* in, fftw_complex* out, const char* who) {
-  std::lock_guard<std::mutex> lock(detail::fftw_planner_mutex());
-  return Plan(checked(fftw_plan_many_dft_r2c(1, &n, howmany, in, nullptr, 1, n, out, nullptr, 1,
-                                             n / 2 + 1, FFTW_ESTIMATE),
-                      who));
-}
-
 Plan Plan::r2c_stored(int n, double* in, fftw_complex* out, const char* who, bool* from_wisdom) {
   std::lock_guard<std::mutex> lock(detail::fftw_planner_mutex());
   fftw_plan p = nullptr;

@@ -60,9 +60,6 @@ public:
   static Plan r2c(int n, double* in, fftw_complex* out, const char* who);
   /// The inverse, unnormalized (FFTW's convention: the round trip multiplies by n).
   static Plan c2r(int n, fftw_complex* in, double* out, const char* who);
-  /// `howmany` real-to-complex transforms of length n, contiguous: transform b reads
-  /// in[b n .. b n + n) and writes out[b (n/2 + 1) .. (b + 1)(n/2 + 1)).
-  static Plan r2c_batch(int n, int howmany, double* in, fftw_complex* out, const char* who);
   /// Real-to-complex transform of length n planned from the wisdom stored with allanlot
   /// (kernels/spectral/fft_wisdom.txt: FFTW_MEASURE plans of the powers of two the Welch PSD
   /// uses, measured once by bench/make_fft_wisdom on this project's machine kind), or with
