@@ -19,11 +19,22 @@
 
 namespace allanlot::kernels {
 
+inline constexpr std::size_t kHugePage = std::size_t{2} << 20;
+inline constexpr std::size_t kHugeBytes = std::size_t{8} << 20;
+
+/// `bytes` (at least kHugeBytes) 2 MiB-aligned and advised for transparent huge pages (mere
+/// advice, ignored where THP is off); free it with std::free. Throws std::bad_alloc.
+inline void* allocate_huge(std::size_t bytes) {
+  const std::size_t rounded = (bytes + kHugePage - 1) / kHugePage * kHugePage;
+  void* p = std::aligned_alloc(kHugePage, rounded);
+  if (!p) throw std::bad_alloc();
+  madvise(p, rounded, MADV_HUGEPAGE);
+  return p;
+}
+
 template <class T>
 struct LargeAllocator {
   using value_type = T;
-  static constexpr std::size_t kHugePage = std::size_t{2} << 20;
-  static constexpr std::size_t kHugeBytes = std::size_t{8} << 20;
 
   LargeAllocator() = default;
   template <class U>
@@ -32,11 +43,7 @@ struct LargeAllocator {
   T* allocate(std::size_t n) {
     const std::size_t bytes = n * sizeof(T);
     if (bytes < kHugeBytes) return std::allocator<T>{}.allocate(n);
-    const std::size_t rounded = (bytes + kHugePage - 1) / kHugePage * kHugePage;
-    void* p = std::aligned_alloc(kHugePage, rounded);
-    if (!p) throw std::bad_alloc();
-    madvise(p, rounded, MADV_HUGEPAGE);
-    return static_cast<T*>(p);
+    return static_cast<T*>(allocate_huge(bytes));
   }
   void deallocate(T* p, std::size_t n) noexcept {
     if (n * sizeof(T) < kHugeBytes)

@@ -1,14 +1,14 @@
 // The FFTW wrapper; see fft.hpp.
 #include "kernels/spectral/fft.hpp"
 
+#include "kernels/common/large_vector.hpp"
+
 #include <algorithm>
 #include <cstdlib>
 #include <new>
 #include <stdexcept>
 #include <string>
 #include <utility>
-
-#include <sys/mman.h>
 
 namespace allanlot::kernels {
 
@@ -30,18 +30,13 @@ fftw_plan checked(fftw_plan p, const char* who) {
   return p;
 }
 
-constexpr std::size_t kHugePage = std::size_t{2} << 20;
-constexpr std::size_t kHugeBytes = std::size_t{8} << 20;
-
 }  // namespace
 
 void* allocate_aligned(std::size_t bytes) {
-  const bool huge = bytes >= kHugeBytes;
-  const std::size_t align = huge ? kHugePage : 64;
-  const std::size_t rounded = (std::max<std::size_t>(bytes, 1) + align - 1) / align * align;
-  void* p = std::aligned_alloc(align, rounded);
+  if (bytes >= kHugeBytes) return allocate_huge(bytes);  // as LargeVector's
+  const std::size_t rounded = (std::max<std::size_t>(bytes, 1) + 63) / 64 * 64;
+  void* p = std::aligned_alloc(64, rounded);
   if (!p) throw std::bad_alloc();
-  if (huge) madvise(p, rounded, MADV_HUGEPAGE);  // advice only: ignored where THP is off
   return p;
 }
 
