@@ -6,6 +6,7 @@
 
 #include <hdf5.h>
 
+#include <array>
 #include <cstdio>
 #include <cstring>
 #include <sys/stat.h>
@@ -60,16 +61,33 @@ std::optional<InputStat> stat_input(const std::filesystem::path& input) {
   return InputStat{std::to_string(static_cast<long long>(st.st_size)), std::to_string(ns)};
 }
 
-std::uint64_t hash_channel(std::uint64_t h, const std::string& path, std::span<const double> x) {
+std::uint64_t channel_digest(const std::string& path, std::span<const double> x) {
+  std::uint64_t h = kHashSeed;
   for (const char c : path)
     h = mix(h, static_cast<unsigned char>(c));
   h = mix(h, x.size());
-  for (const double v : x) {
+  constexpr std::size_t kChains = 8;
+  std::array<std::uint64_t, kChains> chain{};
+  for (std::size_t c = 0; c < kChains; ++c)
+    chain[c] = mix(h, c);
+  const auto bits = [&x](std::size_t i) {
     std::uint64_t w;
-    std::memcpy(&w, &v, sizeof w);
-    h = mix(h, w);
-  }
+    std::memcpy(&w, &x[i], sizeof w);
+    return w;
+  };
+  std::size_t i = 0;
+  for (; i + kChains <= x.size(); i += kChains)
+    for (std::size_t c = 0; c < kChains; ++c)
+      chain[c] = mix(chain[c], bits(i + c));
+  for (; i < x.size(); ++i)
+    chain[i % kChains] = mix(chain[i % kChains], bits(i));
+  for (const std::uint64_t c : chain)
+    h = mix(h, c);
   return h;
+}
+
+std::uint64_t combine_hash(std::uint64_t h, std::uint64_t channel_digest) {
+  return mix(h, channel_digest);
 }
 
 std::string hash_hex(std::uint64_t h) {

@@ -13,6 +13,10 @@
 // decides. The hash is for detecting change, not an adversary: a word-wise multiply-xorshift
 // mix (in the spirit of SplitMix64, Steele et al., OOPSLA 2014) of the IEEE bits of each
 // sample and of each channel's path and length, so reordering or editing any sample changes it.
+// Each channel has a digest of its own (its samples mixed in eight interleaved chains, sample i
+// into chain i mod 8, then the chains into one: eight independent multiply chains run about
+// five times faster than one), and the channels' digests are chained in channel order, so that
+// channels read and analysed in parallel hash as the sequential read.
 #pragma once
 
 #include <cstdint>
@@ -45,9 +49,11 @@ struct InputStat {
 };
 std::optional<InputStat> stat_input(const std::filesystem::path& input);
 
-/// Incremental content hash (see the file comment). Start from kHashSeed.
+/// The content hash (see the file comment): from kHashSeed, combine_hash of each channel's
+/// channel_digest in channel order.
 inline constexpr std::uint64_t kHashSeed = 0x6a09e667f3bcc908ULL;
-std::uint64_t hash_channel(std::uint64_t h, const std::string& path, std::span<const double> x);
+std::uint64_t channel_digest(const std::string& path, std::span<const double> x);
+std::uint64_t combine_hash(std::uint64_t h, std::uint64_t channel_digest);
 std::string hash_hex(std::uint64_t h);
 
 }  // namespace allanlot::io

@@ -6,6 +6,7 @@
 #include "io/paths.hpp"
 #include "io/recording.hpp"
 #include "io/results.hpp"
+#include "kernels/common/large_vector.hpp"
 #include "kernels/common/parallel.hpp"
 #include "kernels/model/units.hpp"
 #include "src/cli/input_options.hpp"
@@ -21,6 +22,8 @@
 #include <allanlot/version.hpp>
 
 #include <CLI/CLI.hpp>
+
+#include <malloc.h>
 
 #include <algorithm>
 #include <array>
@@ -77,12 +80,11 @@ std::uint64_t physical_memory();
 // 1 kHz channel in flight is about 3 x 8 n with the process's own memory (bench_unit.sh).
 constexpr std::uint64_t kBytesPerSampleInFlight = 32;
 
-// Reads one channel's samples and adds them to the input hash (callers hold the read lock:
-// HDF5 calls one at a time, in channel order so that the hash is that of the sequential
-// read). On failure, `result` is the channel's description with the reason in its status.
+// Reads one channel's samples (callers hold the read lock: HDF5 calls one at a time). On
+// failure, `result` is the channel's description with the reason in its status.
 bool read_channel(io::RecordingReader& reader, const std::string& file, const io::ChannelInfo& ch,
                   std::uint64_t memory_limit, kernels::LargeVector<double>& samples,
-                  std::uint64_t& hash, io::ChannelResult& result) {
+                  io::ChannelResult& result) {
   try {
     // A channel that alone needs more than the memory limit is refused before anything is
     // allocated (a chunked dataset whose chunks were never written declares any length in a
@@ -103,7 +105,6 @@ bool read_channel(io::RecordingReader& reader, const std::string& file, const io
                           " (--memory-limit; default half of this machine's memory)");
     }
     samples = reader.read(ch);
-    hash = io::hash_channel(hash, ch.path, samples);
     return true;
   } catch (const io::Error& e) {
     result = pipeline::describe_channel(ch);
@@ -193,11 +194,11 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
                               std::max<std::size_t>(n_selected, 1));
   // One level of parallelism (docs/development.md): across channels when there are at least as many
   // channels as threads, otherwise inside the kernels over taus. Each worker takes the next
-  // channel, reads it (HDF5 calls one at a time, under read_mutex, in channel order so that
-  // the input hash is that of the sequential read), builds its phase, analyses it and frees
-  // it: the read of one channel overlaps the analysis of another, and at most `workers`
-  // channels are in memory. The kernels give bit-identical results for any thread count, so
-  // none of these choices changes a number.
+  // channel, reads it (HDF5 calls one at a time, under read_mutex), hashes it outside the lock
+  // (the digests are chained in channel order afterwards, io/fingerprint.hpp), builds its
+  // phase, analyses it and frees it: the read of one channel overlaps the analysis of another, and
+  // at most `workers` channels are in memory. The kernels give bit-identical results for any thread
+  // count, so none of these choices changes a number.
   const bool across = n_selected >= static_cast<std::size_t>(threads) && threads > 1;
   const int workers =
       across ? static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(threads), slots))
@@ -210,8 +211,8 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
   copt.fit = opt.fit;
   copt.psd = opt.psd;
   copt.threads = kernel_threads;
-  std::uint64_t hash = io::kHashSeed;
   std::vector<pipeline::ChannelAnalysis> done(n_selected);
+  std::vector<std::optional<std::uint64_t>> digest(n_selected);  // of the channels read
   std::mutex read_mutex;
   std::size_t next = 0;
   const auto t_analysis = Clock::now();
@@ -225,11 +226,12 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
       if (next == n_selected) break;
       i = next++;
       const auto t_read = Clock::now();
-      read_ok =
-          read_channel(reader, file, *selected[i], memory_limit, samples, hash, done[i].result);
+      read_ok = read_channel(reader, file, *selected[i], memory_limit, samples, done[i].result);
       times.read += seconds_since(t_read);
     }
-    if (read_ok) done[i] = pipeline::analyze_channel(*selected[i], std::move(samples), copt);
+    if (!read_ok) continue;
+    digest[i] = io::channel_digest(selected[i]->path, samples);
+    done[i] = pipeline::analyze_channel(*selected[i], std::move(samples), copt);
   }
   times.analysis_wall += seconds_since(t_analysis);
   for (const pipeline::ChannelAnalysis& c : done) {
@@ -237,6 +239,9 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
     times.psd += c.times.psd;
     times.fit += c.times.fit;
   }
+  std::uint64_t hash = io::kHashSeed;
+  for (const std::optional<std::uint64_t>& d : digest)
+    if (d) hash = io::combine_hash(hash, *d);
   rec.attributes.emplace_back("input_hash", io::hash_hex(hash));
 
   std::size_t n_ok = 0;
@@ -475,6 +480,15 @@ int run_analyze(const AnalyzeOptions& opt, std::ostream& out, std::ostream& err)
   run.spec = sp ? &*sp : nullptr;
   run.threads = kernels::resolve_threads(opt.threads);
   run.memory_limit = opt.memory_limit ? opt.memory_limit : physical_memory() / 2;
+  // Channels' large arrays are reused from one channel to the next (kernels/common/
+  // large_vector.hpp), holding at most a quarter of the memory limit between channels; and
+  // glibc keeps the medium ones (a PSD's 1 MiB bins, the sweeps' block sums: up to 32 MiB) in
+  // its heap rather than in fresh mappings: each channel would otherwise fault and zero its
+  // ~30 MB of them again (15 000 page faults of a 90-minute unit's 27 000, docs/performance.md).
+  mallopt(M_MMAP_THRESHOLD, 32 << 20);
+  mallopt(M_TRIM_THRESHOLD, 256 << 20);
+  const kernels::HugeBlockPool::Scope reuse_blocks(
+      std::min<std::uint64_t>(kernels::HugeBlockPool::kHeldBytes, run.memory_limit / 4));
   run.options = options_stamp(opt);
   // OUTDIR and the results in it are never inputs, also when OUTDIR lies inside an input.
   const InputList inputs = expand_inputs(opt.inputs, opt.outdir);

@@ -25,7 +25,7 @@ std::optional<std::pair<fs::path, std::string>> current_results(const std::strin
     for (const io::ChannelInfo& ch : reader.info().channels) {
       if (!channel_matches(opt.channels_glob, ch.path)) continue;
       try {
-        h = io::hash_channel(h, ch.path, reader.read(ch));
+        h = io::combine_hash(h, io::channel_digest(ch.path, reader.read(ch)));
       } catch (const std::exception&) {
         // A channel that cannot be read is not hashed here, as in analyze_recording.
       }

@@ -1,16 +1,20 @@
 // Lots at scale: resume (complete and current results are skipped, anything else redone), the
 // memory budget (waves of channels give the same numbers), and SIGKILL at random moments of
 // a lot run (only complete results files are ever left; the rerun completes the lot).
+#include "io/fingerprint.hpp"
+#include "io/recording.hpp"
 #include "io/results.hpp"
 #include "support/h5_fixture.hpp"
 
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <string>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -155,6 +159,51 @@ TEST(MemoryLimit, WavesOfOneChannelGiveTheSameNumbers) {
               2)
         << bad << ": " << out;
   }
+}
+
+// The input hash of the stamp: each channel's digest, chained in channel order (the channels
+// are read and hashed by whichever thread takes them), the same for any thread count; and a
+// digest that moves with any change of a sample's value or place, of the length or the path.
+TEST(InputHash, ChannelDigestsChainedInOrderForAnyThreadCount) {
+  const fs::path dir = test::fresh_dir("input_hash");
+  const fs::path unit = make_lot(dir, 1) / "unit_0001.h5";
+  std::string hash[2];
+  for (const int threads : {1, 2}) {
+    int st = 0;
+    const fs::path out = dir / ("t" + std::to_string(threads));
+    const std::string text =
+        analyze(out, unit.string(), "--threads " + std::to_string(threads), &st);
+    ASSERT_EQ(st, 0) << text;
+    const auto stamp = io::read_results_stamp(out / "unit_0001.allan.h5");
+    ASSERT_TRUE(stamp.has_value());
+    hash[threads - 1] = stamp->input_hash;
+  }
+  EXPECT_EQ(hash[0], hash[1]);
+  io::RecordingReader reader(unit.string());
+  std::uint64_t chained = io::kHashSeed;
+  for (const io::ChannelInfo& ch : reader.info().channels)
+    chained = io::combine_hash(chained, io::channel_digest(ch.path, reader.read(ch)));
+  EXPECT_EQ(hash[0], io::hash_hex(chained));
+
+  std::vector<double> x(1003);
+  for (std::size_t i = 0; i < x.size(); ++i)
+    x[i] = std::sin(0.1 * static_cast<double>(i));
+  const std::uint64_t d = io::channel_digest("/imu/gyro_x", x);
+  std::set<std::uint64_t> seen{d};
+  auto changed = x;
+  changed[1001] = std::nextafter(changed[1001], 2.0);  // in the tail after the last eight
+  seen.insert(io::channel_digest("/imu/gyro_x", changed));
+  changed = x;
+  std::swap(changed[0], changed[1]);  // two chains exchange their first words
+  seen.insert(io::channel_digest("/imu/gyro_x", changed));
+  changed = x;
+  std::swap(changed[0], changed[8]);  // the same chain, two words in another order
+  seen.insert(io::channel_digest("/imu/gyro_x", changed));
+  seen.insert(io::channel_digest("/imu/gyro_y", x));
+  seen.insert(io::channel_digest("/imu/gyro_x", std::span<const double>(x).first(1002)));
+  EXPECT_EQ(seen.size(), 6u);
+  EXPECT_NE(io::combine_hash(io::combine_hash(io::kHashSeed, 1), 2),
+            io::combine_hash(io::combine_hash(io::kHashSeed, 2), 1));
 }
 
 // Every visible results file must be complete (it reads back, with every channel); temporary
