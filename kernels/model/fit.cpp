@@ -211,7 +211,8 @@ FitResult Eq3Fit::fit(const FitInput& in) {
   std::array<double, kNumTerms> th{};
   for (int j = 0; j < kNumTerms; ++j)
     th[static_cast<std::size_t>(j)] = theta(j);
-  if (!cov_model_.matches(m_, in.n, in.tau0_s)) cov_model_.prepare(m_, in.n, in.tau0_s);
+  if (!cov_model_.matches(m_, in.n, in.tau0_s))
+    cov_model_.prepare(m_, in.n, in.tau0_s, options_.threads);
   cov_model_.assemble(th, sigma_);
 
   // Sandwich covariance of the weighted estimator, cov = A Sigma A^T with the correlated model

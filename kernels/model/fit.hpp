@@ -109,9 +109,11 @@ class OavarCovariance {
 public:
   /// Precomputes the basis for P = m.size() averaging factors m (strictly increasing, >= 1)
   /// with n[i] >= 1 terms each, sample interval tau0_s > 0. Cost O(P^2) lag sums of O(log m)
-  /// points each (about 0.2 s for P = 91, m up to 1.35e6). Throws std::invalid_argument for broken
-  /// preconditions.
-  void prepare(std::span<const std::int64_t> m, std::span<const std::int64_t> n, double tau0_s);
+  /// points each (about 0.2 s for P = 91, m up to 1.35e6), the rows on `threads` OpenMP threads
+  /// (every entry computed alone: the same bits for any count). Throws std::invalid_argument for
+  /// broken preconditions.
+  void prepare(std::span<const std::int64_t> m, std::span<const std::int64_t> n, double tau0_s,
+               int threads = 1);
   /// True when prepare() was last called with exactly these arguments.
   bool matches(std::span<const std::int64_t> m, std::span<const std::int64_t> n,
                double tau0_s) const;
@@ -120,6 +122,8 @@ public:
   std::size_t size() const { return m_.size(); }
 
 private:
+  void set_pair(Eigen::Index i, Eigen::Index j);  // basis entries (i, j) and (j, i)
+
   std::vector<std::int64_t> m_, n_;
   double tau0_s_ = 0.0;
   // basis_[k] for k < 10: the products QQ, QN, QB, QK, NN, NB, NK, BB, BK, KK (scaled by
@@ -166,6 +170,9 @@ struct FitOptions {
   double tolerance = 1e-10;  // stop when the model curve changes by less than this (relative)
   double readout_confidence = 0.683;  // two-sided CI level behind Readout::sigma
   double rank_threshold = 1e-10;      // ColPivHouseholderQR threshold on the scaled design
+  // OpenMP threads of the covariance basis (OavarCovariance::prepare, a curve shape's first
+  // fit); each entry is computed alone, so no result depends on it.
+  int threads = 1;
 };
 
 /// A conventional read-out of the curve (IEEE Std 952-1997 annex C), with the same read-out
@@ -236,8 +243,8 @@ struct FitInput {
 /// the workspaces for up to `max_taus` taus; fit() rebuilds the covariance basis only when the
 /// curve's shape (m, n, tau0) differs from the previous call's, so the channels of a lot, which
 /// share their length and tau grid, pay for it once. Not safe to call from two threads at once
-/// (use one object per thread); no OpenMP inside, so the result does not depend on the thread
-/// count. Deterministic.
+/// (use one object per thread); OpenMP only in that rebuild (FitOptions::threads), which gives
+/// the same bits for any thread count. Deterministic.
 class Eq3Fit {
 public:
   explicit Eq3Fit(std::size_t max_taus = 0, FitOptions options = {});
@@ -256,6 +263,8 @@ public:
   /// The model covariance of the avar estimates (P x P) at the last fit's theta.
   const Eigen::MatrixXd& covariance() const { return sigma_; }
   const FitOptions& options() const { return options_; }
+  /// FitOptions::threads for the next fits.
+  void set_threads(int threads) { options_.threads = threads; }
 
 private:
   // The steps of fit(FitInput).

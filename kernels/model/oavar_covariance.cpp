@@ -2,6 +2,8 @@
 // lag sums of the two second-difference filters' cross-covariance and their 14 basis matrices.
 #include "kernels/model/fit.hpp"
 
+#include "kernels/common/parallel.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -289,7 +291,7 @@ void check_shape(std::span<const std::int64_t> m, std::span<const std::int64_t> 
 }  // namespace
 
 void OavarCovariance::prepare(std::span<const std::int64_t> m, std::span<const std::int64_t> n,
-                              double tau0_s) {
+                              double tau0_s, int threads) {
   check_shape(m, n, tau0_s, "OavarCovariance::prepare");
   const auto p = static_cast<Eigen::Index>(m.size());
   m_.assign(m.begin(), m.end());
@@ -297,28 +299,37 @@ void OavarCovariance::prepare(std::span<const std::int64_t> m, std::span<const s
   tau0_s_ = tau0_s;
   for (auto& b : basis_)
     b.setZero(p, p);
-  for (Eigen::Index i = 0; i < p; ++i) {
-    for (Eigen::Index j = i; j < p; ++j) {
-      const auto iu = static_cast<std::size_t>(i), ju = static_cast<std::size_t>(j);
-      const PairSummer ps(m[iu], m[ju], n[iu], n[ju], tau0_s);
-      const LagSums s = ps.sum();
-      const auto q = quantization_sums(ps);
-      const double ti = static_cast<double>(m[iu]) * tau0_s;
-      const double tj = static_cast<double>(m[ju]) * tau0_s;
-      const double mm = static_cast<double>(n[iu]) * static_cast<double>(n[ju]);
-      // 2 / (4 tau_i^2 tau_j^2 M_i M_j): Isserlis' factor 2 over the two estimators' norms.
-      const double quad = 1.0 / (2.0 * ti * ti * tj * tj * mm);
-      const double lin = 1.0 / mm;
-      const std::array<double, 14> v = {
-          q[0] * quad,   q[1] * quad,   q[2] * quad,   q[3] * quad,    // QQ QN QB QK
-          s.s[0] * quad, s.s[1] * quad, s.s[2] * quad,                 // NN NB NK
-          s.s[3] * quad, s.s[4] * quad, s.s[5] * quad,                 // BB BK KK
-          q[4] * lin,    s.s[6] * lin,  s.s[7] * lin,  s.s[8] * lin};  // R x Q N B K
-      for (std::size_t k = 0; k < v.size(); ++k) {
-        basis_[k](i, j) = v[k];
-        basis_[k](j, i) = v[k];
-      }
-    }
+  [[maybe_unused]] const int nt = resolve_threads(threads);  // unused without OpenMP
+  ExceptionCollector errors;
+  // Row i holds p - i pairs: dynamic scheduling evens out the triangle.
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 1)
+  for (Eigen::Index i = 0; i < p; ++i)
+    errors.run([&] {
+      for (Eigen::Index j = i; j < p; ++j)
+        set_pair(i, j);
+    });
+  errors.rethrow();
+}
+
+void OavarCovariance::set_pair(Eigen::Index i, Eigen::Index j) {
+  const auto iu = static_cast<std::size_t>(i), ju = static_cast<std::size_t>(j);
+  const PairSummer ps(m_[iu], m_[ju], n_[iu], n_[ju], tau0_s_);
+  const LagSums s = ps.sum();
+  const auto q = quantization_sums(ps);
+  const double ti = static_cast<double>(m_[iu]) * tau0_s_;
+  const double tj = static_cast<double>(m_[ju]) * tau0_s_;
+  const double mm = static_cast<double>(n_[iu]) * static_cast<double>(n_[ju]);
+  // 2 / (4 tau_i^2 tau_j^2 M_i M_j): Isserlis' factor 2 over the two estimators' norms.
+  const double quad = 1.0 / (2.0 * ti * ti * tj * tj * mm);
+  const double lin = 1.0 / mm;
+  const std::array<double, 14> v = {
+      q[0] * quad,   q[1] * quad,   q[2] * quad,   q[3] * quad,    // QQ QN QB QK
+      s.s[0] * quad, s.s[1] * quad, s.s[2] * quad,                 // NN NB NK
+      s.s[3] * quad, s.s[4] * quad, s.s[5] * quad,                 // BB BK KK
+      q[4] * lin,    s.s[6] * lin,  s.s[7] * lin,  s.s[8] * lin};  // R x Q N B K
+  for (std::size_t k = 0; k < v.size(); ++k) {
+    basis_[k](i, j) = v[k];
+    basis_[k](j, i) = v[k];
   }
 }
 

@@ -1,6 +1,8 @@
 // Eq. (3) fitted to the Welch PSD; see psd_fit.hpp for the model and the estimator.
 #include "kernels/model/psd_fit.hpp"
 
+#include "kernels/common/parallel.hpp"
+
 #include "kernels/model/least_squares.hpp"
 #include "kernels/spectral/fft.hpp"
 
@@ -105,7 +107,8 @@ void check_options(const PsdFitOptions& o) {
 
 }  // namespace
 
-std::array<std::vector<double>, kNumTerms> welch_term_psd(std::int64_t L, double rate_hz) {
+std::array<std::vector<double>, kNumTerms> welch_term_psd(std::int64_t L, double rate_hz,
+                                                          int threads) {
   if (L < 16 || L % 2 != 0 || L >= (std::int64_t{1} << 30))
     throw std::invalid_argument("welch_term_psd: segment_length must be even, >= 16 and < 2^30, "
                                 "got " +
@@ -126,8 +129,8 @@ std::array<std::vector<double>, kNumTerms> welch_term_psd(std::int64_t L, double
   std::array<std::vector<double>, kNumTerms> out;
   for (auto& v : out)
     v.assign(nbs, kNaN);
-  RealFft fft(L);
   const auto lag_sum_term = [&](auto&& r, std::vector<double>& dst) {
+    RealFft fft(L);
     double* u = fft.in();
     u[0] = r(0) * a[0];
     for (std::int64_t j = 1; j < L; ++j)
@@ -136,40 +139,60 @@ std::array<std::vector<double>, kNumTerms> welch_term_psd(std::int64_t L, double
     for (std::int64_t k = 2; k < nb; ++k)
       dst[static_cast<std::size_t>(k)] = c_k(k) * norm * x[k][0];
   };
-  // Rate random walk, unit K^2: G(t) = |t|^3 / 12 gives r(0) = -tau0 / 6, r(d) = -tau0 d / 2
-  // (the exact second difference of |d|^3 / 12, times tau0^3 / tau0^2).
-  lag_sum_term(
-      [&](std::int64_t d) { return d == 0 ? -tau0 / 6.0 : -0.5 * tau0 * static_cast<double>(d); },
-      out[kK]);
-  // Flicker, unit B^2.
-  lag_sum_term([&](std::int64_t d) { return flicker_rate_cov(d); }, out[kB]);
-  // White, unit N^2: r = delta_d / tau0, so E[P_k] = c_k a(0) / (rate_hz tau0 sum_w2) = c_k.
-  // Quantization, unit Q^2: white phase of variance Q^2 differenced, r(0) = 2 / tau0^2,
-  // r(+-1) = -1 / tau0^2.
-  for (std::int64_t k = 2; k < nb; ++k) {
-    const auto ks = static_cast<std::size_t>(k);
-    out[kN][ks] = c_k(k);
-    const double ck = std::cos(2.0 * kPi * static_cast<double>(k) / static_cast<double>(L));
-    out[kQ][ks] = c_k(k) * norm * (2.0 * a[0] - 2.0 * a[1] * ck) / (tau0 * tau0);
-  }
-  // Ramp, unit R^2: the segment is tau0 R t plus a constant; |sum_t t w_t e^{-2 pi i k t/L}|^2.
-  {
-    double* u = fft.in();
-    for (std::size_t t = 0; t < Ls; ++t)
-      u[t] = static_cast<double>(t) *
-             (0.5 - 0.5 * std::cos(2.0 * kPi * static_cast<double>(t) / static_cast<double>(L)));
-    const fftw_complex* x = fft.run();
-    for (std::int64_t k = 2; k < nb; ++k)
-      out[kR][static_cast<std::size_t>(k)] =
-          c_k(k) * norm * tau0 * tau0 * (x[k][0] * x[k][0] + x[k][1] * x[k][1]);
-  }
+  // The four parts below are independent (each writes its own terms), so they run as one
+  // OpenMP task each: the same values for any thread count.
+  const auto part = [&](int which) {
+    switch (which) {
+    case 0:
+      // Rate random walk, unit K^2: G(t) = |t|^3 / 12 gives r(0) = -tau0 / 6,
+      // r(d) = -tau0 d / 2 (the exact second difference of |d|^3 / 12, times tau0^3 / tau0^2).
+      lag_sum_term(
+          [&](std::int64_t d) {
+            return d == 0 ? -tau0 / 6.0 : -0.5 * tau0 * static_cast<double>(d);
+          },
+          out[kK]);
+      break;
+    case 1:  // Flicker, unit B^2.
+      lag_sum_term([&](std::int64_t d) { return flicker_rate_cov(d); }, out[kB]);
+      break;
+    case 2:
+      // White, unit N^2: r = delta_d / tau0, so E[P_k] = c_k a(0) / (rate_hz tau0 sum_w2) = c_k.
+      // Quantization, unit Q^2: white phase of variance Q^2 differenced, r(0) = 2 / tau0^2,
+      // r(+-1) = -1 / tau0^2.
+      for (std::int64_t k = 2; k < nb; ++k) {
+        const auto ks = static_cast<std::size_t>(k);
+        out[kN][ks] = c_k(k);
+        const double ck = std::cos(2.0 * kPi * static_cast<double>(k) / static_cast<double>(L));
+        out[kQ][ks] = c_k(k) * norm * (2.0 * a[0] - 2.0 * a[1] * ck) / (tau0 * tau0);
+      }
+      break;
+    default: {
+      // Ramp, unit R^2: the segment is tau0 R t plus a constant; |sum_t t w_t e^{-2 pi i k t/L}|^2.
+      RealFft fft(L);
+      double* u = fft.in();
+      for (std::size_t t = 0; t < Ls; ++t)
+        u[t] = static_cast<double>(t) *
+               (0.5 - 0.5 * std::cos(2.0 * kPi * static_cast<double>(t) / static_cast<double>(L)));
+      const fftw_complex* x = fft.run();
+      for (std::int64_t k = 2; k < nb; ++k)
+        out[kR][static_cast<std::size_t>(k)] =
+            c_k(k) * norm * tau0 * tau0 * (x[k][0] * x[k][0] + x[k][1] * x[k][1]);
+    }
+    }
+  };
+  [[maybe_unused]] const int nt = std::min(4, resolve_threads(threads));
+  ExceptionCollector errors;
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 1)
+  for (int which = 0; which < 4; ++which)
+    errors.run([&] { part(which); });
+  errors.rethrow();
   return out;
 }
 
 const std::array<std::vector<double>, kNumTerms>& WelchTermCache::get(std::int64_t segment_length,
-                                                                      double rate_hz) {
+                                                                      double rate_hz, int threads) {
   if (segment_length != segment_length_ || rate_hz != rate_hz_ || terms_[0].empty()) {
-    terms_ = welch_term_psd(segment_length, rate_hz);
+    terms_ = welch_term_psd(segment_length, rate_hz, threads);
     segment_length_ = segment_length;
     rate_hz_ = rate_hz;
   }
@@ -267,7 +290,7 @@ PsdFitResult psd_fit(const PsdResult& psd, const PsdFitOptions& opt, WelchTermCa
     throw std::invalid_argument("psd_fit: psd is not a Welch result (sizes disagree)");
   PsdFitResult res;
   WelchTermCache local;
-  const auto& regs = (terms ? *terms : local).get(L, psd.rate_hz);
+  const auto& regs = (terms ? *terms : local).get(L, psd.rate_hz, opt.threads);
   BinnedDesign d;
   if (!bin_design(psd, regs, opt, d)) return res;  // NoData
   if (!std::isfinite(d.y_min_pos)) return res;     // NoData: an all-zero PSD

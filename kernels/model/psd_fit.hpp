@@ -72,7 +72,7 @@ inline constexpr std::string_view kPsdFitMethod =
 /// the per-segment mean removal; their entries are NaN). L even, >= 16; rate_hz > 0
 /// (std::invalid_argument otherwise).
 std::array<std::vector<double>, kNumTerms> welch_term_psd(std::int64_t segment_length,
-                                                          double rate_hz);
+                                                          double rate_hz, int threads = 1);
 
 /// welch_term_psd for the last (segment_length, rate_hz) asked: the channels of a lot share
 /// both, so they pay for the regressors (two FFTs of the segment length and a cosine per
@@ -80,8 +80,8 @@ std::array<std::vector<double>, kNumTerms> welch_term_psd(std::int64_t segment_l
 /// thread (Eq3Fit's pattern).
 class WelchTermCache {
 public:
-  const std::array<std::vector<double>, kNumTerms>& get(std::int64_t segment_length,
-                                                        double rate_hz);
+  const std::array<std::vector<double>, kNumTerms>& get(std::int64_t segment_length, double rate_hz,
+                                                        int threads = 1);
 
 private:
   std::int64_t segment_length_ = 0;
@@ -98,6 +98,7 @@ struct PsdFitOptions {
   int max_iterations = 50;
   double tolerance = 1e-10;
   double rank_threshold = 1e-10;
+  int threads = 1;  // OpenMP threads of welch_term_psd (the regressors; same bits for any count)
 };
 
 /// The PSD-domain fit.

@@ -102,10 +102,12 @@ io::FitRecord fit_record(std::string_view method, const Fit& f) {
 
 io::FitRecord fit_channel(const kernels::StatResult& oadev, double tau0_s, std::int64_t n_samples,
                           const std::string& units,
-                          std::array<kernels::TermFit, kernels::kNumTerms>* terms_out) {
+                          std::array<kernels::TermFit, kernels::kNumTerms>* terms_out,
+                          int threads) {
   // One fit object per thread: it caches the covariance model of a curve shape, which every
   // channel of the same length and grid shares (about 0.2 s to build, 0.5 ms per fit after).
   thread_local kernels::Eq3Fit fitter;
+  fitter.set_threads(threads);
   const std::vector<std::size_t> rows = fit_rows(oadev);
   kernels::StatResult sub;
   for (const std::size_t i : rows) {
@@ -136,11 +138,14 @@ io::FitRecord fit_channel(const kernels::StatResult& oadev, double tau0_s, std::
 }
 
 io::FitRecord psd_fit_channel(const kernels::PsdResult& psd, const std::string& units,
-                              const std::array<kernels::TermFit, kernels::kNumTerms>* allan_terms) {
+                              const std::array<kernels::TermFit, kernels::kNumTerms>* allan_terms,
+                              int threads) {
   // One cache per thread, as the Eq3Fit plan above: the regressors depend only on the segment
   // length and the rate, which the channels of a lot share.
   thread_local kernels::WelchTermCache welch_terms;
-  const kernels::PsdFitResult f = kernels::psd_fit(psd, {}, &welch_terms);
+  kernels::PsdFitOptions options;
+  options.threads = threads;
+  const kernels::PsdFitResult f = kernels::psd_fit(psd, options, &welch_terms);
   io::FitRecord rec = fit_record(kernels::kPsdFitMethod, f);
   rec.f = f.f_hz;
   rec.psd_model = f.psd_model;

@@ -22,16 +22,20 @@ namespace allanlot::pipeline {
 /// estimates are correlated above 0.9) at a fraction of the cost of the covariance model;
 /// adev_model is given on every oadev tau. Uses one reusable kernels::Eq3Fit per thread.
 /// `terms_out`, when given, receives the fitted terms (for the comparison with the PSD fit).
+/// `threads`: OpenMP threads of a new curve shape's covariance model (the same result for any).
 io::FitRecord fit_channel(const kernels::StatResult& oadev, double tau0_s, std::int64_t n_samples,
                           const std::string& units,
-                          std::array<kernels::TermFit, kernels::kNumTerms>* terms_out = nullptr);
+                          std::array<kernels::TermFit, kernels::kNumTerms>* terms_out = nullptr,
+                          int threads = 1);
 
 /// Fits the same five terms to the channel's Welch PSD (kernels::psd_fit) for psd_fit/, with
 /// f and psd_model on the binned frequencies; when `allan_terms` is given (the fit/ terms of
 /// the same channel), adds the term-by-term comparison (kernels::compare_fits): z_vs_fit,
-/// max_abs_z, worst_term and agree.
+/// max_abs_z, worst_term and agree. `threads`: OpenMP threads of new regressors (the same
+/// result for any).
 io::FitRecord psd_fit_channel(const kernels::PsdResult& psd, const std::string& units,
-                              const std::array<kernels::TermFit, kernels::kNumTerms>* allan_terms);
+                              const std::array<kernels::TermFit, kernels::kNumTerms>* allan_terms,
+                              int threads = 1);
 
 /// The fitted coefficients of every channel of a unit in datasheet units, laid out as the
 /// paper's Table: one block per sensor family, one row per term, one column per channel;

@@ -76,7 +76,7 @@ void add_spectrum(io::ChannelResult& result, kernels::PhaseData& phase,
     return;
   }
   result.psd = psd_record(psd);
-  result.psd_fit = psd_fit_channel(psd, result.units, allan_terms);
+  result.psd_fit = psd_fit_channel(psd, result.units, allan_terms, threads);
   result.crosscheck =
       crosscheck_record(oadev, kernels::avar_from_psd(psd, oadev.tau_s, {}, threads));
 }

@@ -127,6 +127,30 @@ TEST(OavarCovariance, MatchesPlainLagSumsForEveryTerm) {
   }
 }
 
+// The basis is built row by row on OpenMP threads, each entry alone: the same bits at 1, 2
+// and 3 threads, for every term pair and the ramp's cross terms.
+TEST(OavarCovariance, SameBitsForAnyThreadCount) {
+  std::vector<std::int64_t> m;
+  for (std::int64_t v = 1; v < 300000; v = v * 3 / 2 + 1)
+    m.push_back(v);
+  const auto n = full_terms(m, 1000000);
+  kernels::OavarCovariance one;
+  one.prepare(m, n, 1e-3, 1);
+  Theta th{};
+  th[kN] = 1.3, th[kB] = 0.4, th[kK] = 0.02, th[kQ] = 0.7, th[kR] = 0.01;
+  Eigen::MatrixXd a, b;
+  one.assemble(th, a);
+  for (const int threads : {2, 3}) {
+    kernels::OavarCovariance more;
+    more.prepare(m, n, 1e-3, threads);
+    more.assemble(th, b);
+    ASSERT_EQ(a.rows(), b.rows());
+    for (Eigen::Index i = 0; i < a.rows(); ++i)
+      for (Eigen::Index j = 0; j < a.cols(); ++j)
+        ASSERT_EQ(a(i, j), b(i, j)) << i << ", " << j << " at " << threads << " threads";
+  }
+}
+
 TEST(OavarCovariance, WhiteAndRandomWalkFromExplicitPhaseCovariance) {
   // Independent of the generalized autocovariances: the phase covariance written out directly
   // (Brownian motion min(s, t) N^2 for white rate noise; integrated Brownian motion

@@ -227,6 +227,17 @@ TEST(PsdFit, CachedRegressorsChangeNothing) {
   }
 }
 
+// The regressors' four parts run as OpenMP tasks: the same bits at 1, 2 and 4 threads.
+TEST(WelchTermPsd, SameBitsForAnyThreadCount) {
+  const auto one = kernels::welch_term_psd(std::int64_t{1} << 14, 250.0, 1);
+  for (const int threads : {2, 4}) {
+    const auto more = kernels::welch_term_psd(std::int64_t{1} << 14, 250.0, threads);
+    for (std::size_t t = 0; t < kernels::kNumTerms; ++t)
+      for (std::size_t k = 2; k < one[t].size(); ++k)
+        ASSERT_EQ(one[t][k], more[t][k]) << "term " << t << " bin " << k << ", " << threads;
+  }
+}
+
 TEST(PsdFit, DumbInputs) {
   kernels::PsdResult p;
   EXPECT_THROW(kernels::psd_fit(p), std::invalid_argument);
