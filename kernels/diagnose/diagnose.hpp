@@ -76,6 +76,7 @@
 // null distribution of the gap, from which "within statistical noise" is judged.
 #pragma once
 
+#include "kernels/allan/stat_result.hpp"
 #include "kernels/model/terms.hpp"
 #include "kernels/simulate/simulate.hpp"
 
@@ -242,5 +243,25 @@ std::vector<double> diagnose_model_edf(const ChannelSpec& model, std::span<const
 /// avar_model.
 double diagnose_gap(std::span<const double> avar_measured, std::span<const double> avar_model,
                     std::span<const double> edf);
+
+/// The sensor's filter as analyze's eq. (3) fit needs it (issue #23 item 3), named from a
+/// measured overlapping Allan curve alone by diagnose's own test: the five terms of eq. (3),
+/// all re-estimated, against the same with diagnose's lowpass candidate (first-order cutoffs
+/// from rate / 200 to 0.45 rate, moving averages of 1.05 to 16 samples, 8 per octave; the
+/// model's edf; docs/diagnose.md "The sensor's filter"), named when its criterion delta_ic > 0,
+/// the level of one diagnose round (select_alpha / 8 per candidate).
+struct LowpassFinding {
+  Lowpass filter;       // inactive when no filter is significant
+  double delta_ic = 0;  // the candidate's criterion (> 0: named); 0 when not evaluated
+  int bound = 0;        // -1 / +1: the best filter is at the lower / upper end of its grid
+};
+
+/// `oadev` with its edf (kernels::add_confidence) of a channel of n_samples rate samples at
+/// rate_hz; n_eff the effective number of independent taus of `oadev` (effective_taus_of of the
+/// eq. (3) fit's covariance), or 0 to compute it here (one covariance model, about 0.2 s).
+/// Fewer than 7 taus with a positive variance: no filter. Throws std::invalid_argument for a
+/// rate or length that is not positive.
+LowpassFinding find_lowpass(const StatResult& oadev, double rate_hz, std::int64_t n_samples,
+                            double n_eff = 0.0, double select_alpha = 0.05);
 
 }  // namespace allanlot::kernels

@@ -208,6 +208,7 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
   copt.grid = opt.grid;
   copt.confidence = opt.confidence;
   copt.fit = opt.fit;
+  copt.lowpass = pipeline::parse_lowpass_choice(opt.lowpass);
   copt.psd = opt.psd;
   copt.threads = kernel_threads;
   std::uint64_t hash = io::kHashSeed;
@@ -285,8 +286,8 @@ std::string options_stamp(const AnalyzeOptions& opt) {
   std::snprintf(conf, sizeof conf, "%.17g", opt.confidence);
   return "stats=" + join_stats(opt.stats) + ";taus=" + kernels::to_string(opt.grid) +
          ";confidence=" + conf + ";channels=" + opt.channels_glob +
-         ";fit=" + (opt.fit ? "1" : "0") + ";psd=" + (opt.psd ? "1" : "0") +
-         ";version=" + kVersion + input_stamp(opt.input);
+         ";fit=" + (opt.fit ? "1" : "0") + ";lowpass=" + opt.lowpass +
+         ";psd=" + (opt.psd ? "1" : "0") + ";version=" + kVersion + input_stamp(opt.input);
 }
 
 // Peak resident memory of this process so far, in bytes (getrusage: kilobytes on Linux).
@@ -608,6 +609,11 @@ AnalyzeOptions checked_options(const AnalyzeArgs& a, const std::string& command_
   }
   opt.outdir = a.outdir;
   opt.fit = !a.no_fit;
+  try {
+    pipeline::parse_lowpass_choice(opt.lowpass);
+  } catch (const std::invalid_argument& e) {
+    throw CLI::ValidationError("--lowpass", e.what());
+  }
   opt.psd = !a.no_psd;
   opt.command_line = command_line;
   opt.summary = !a.no_summary;
@@ -657,6 +663,11 @@ Command add_analyze_command(CLI::App& app) {
   sub->add_option("--threads", a->opt.threads, "Threads (default: OMP_NUM_THREADS, else all cores)")
       ->check(CLI::Range(0, kMaxThreads));
   sub->add_flag("--no-fit", a->no_fit, "Do not fit equation (3) (no fit/ group)");
+  sub->add_option("--lowpass", a->opt.lowpass,
+                  "The sensor's filter in the eq. (3) fit: auto (named from the curve; the "
+                  "taus it biases are left out), none (every tau), cutoff_hz=X (first order) "
+                  "or taps=X (moving average)")
+      ->capture_default_str();
   sub->add_flag("--no-psd", a->no_psd, "Do not compute the PSD and the eq. (2) cross-check");
   sub->add_flag("--table", a->opt.table,
                 "Print each unit's coefficient table (default: when at most 10 inputs)");

@@ -26,6 +26,8 @@ struct AnalyzeOptions {
   int threads = 0;                   // 0 = OMP_NUM_THREADS, else all cores
   double confidence = 0.683;         // confidence level of dev_lo / dev_hi, in (0, 1)
   bool fit = true;                   // write fit/ (the eq. (3) fit); --no-fit turns it off
+  // --lowpass: the sensor's filter in the fit (auto, none, cutoff_hz=X, taps=X)
+  std::string lowpass = "auto";
   bool psd = true;       // write psd/ and crosscheck/ (Welch PSD, eq. (2)); --no-psd turns it off
   bool table = false;    // print each unit's fit table (always for <= 10 inputs)
   bool verbose = false;  // per-stage timings on stderr
