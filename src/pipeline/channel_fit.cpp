@@ -76,14 +76,15 @@ struct FilterUsed {
   std::size_t taus = 0;
 };
 
-// --lowpass auto: diagnose's lowpass test on the curve against the all-taus fit (n_eff that
-// fit's effective number of independent taus, so no second covariance model); a filter given
-// by the option is taken as it is. The first m is where the filter biases white FM's Allan
-// variance by less than half a sigma (kernels::lowpass_first_m), so no tau the fit uses is
-// biased by more.
+// --lowpass auto: diagnose's lowpass test on the curve, with the all-taus fit's effective
+// number of independent taus when that fit converged (so no second covariance model; the
+// filter's deficit can keep the all-taus fit from converging, and then find_lowpass computes
+// its own); a filter given by the option is taken as it is. The first m is where the filter
+// biases white FM's Allan variance by less than half a sigma (kernels::lowpass_first_m), so no
+// tau the fit uses is biased by more.
 FilterUsed filter_of(const LowpassChoice& choice, const kernels::StatResult& sub,
-                     const kernels::FitResult& all, double n_eff, double rate_hz,
-                     std::int64_t n_samples) {
+                     const kernels::FitResult& all, const Eigen::MatrixXd& all_covariance,
+                     double rate_hz, std::int64_t n_samples) {
   FilterUsed u;
   u.taus = sub.size();
   u.first_tau_s = sub.tau_s.empty() ? kNaN : sub.tau_s.front();
@@ -91,7 +92,9 @@ FilterUsed filter_of(const LowpassChoice& choice, const kernels::StatResult& sub
     kernels::validate_lowpass(choice.filter, rate_hz);  // a cutoff at or above this Nyquist
     u.source = "option";
     u.filter = choice.filter;
-  } else if (choice.mode == LowpassChoice::Mode::Auto && kernels::has_terms(all.status)) {
+  } else if (choice.mode == LowpassChoice::Mode::Auto && !sub.m.empty()) {
+    const double n_eff =
+        kernels::has_terms(all.status) ? kernels::effective_taus_of(all_covariance) : 0.0;
     const kernels::LowpassFinding found = kernels::find_lowpass(sub, rate_hz, n_samples, n_eff);
     u.delta_ic = found.delta_ic;
     if (found.filter.active()) {
@@ -110,7 +113,7 @@ void set_filter_fields(io::FitRecord& rec, const FilterUsed& u, const kernels::F
   rec.lowpass_delta_ic = u.delta_ic;
   rec.first_tau_fitted = u.first_tau_s;
   rec.taus_fitted = static_cast<std::int64_t>(u.taus);
-  rec.chi2_dof_all_taus = kernels::has_terms(all.status) ? all.chi2_dof : kNaN;
+  rec.chi2_dof_all_taus = all.chi2_dof;  // what --lowpass none writes as chi2_dof
 }
 
 // The read-outs (IEEE Std 952 annex C) read the measured curve over all its taus, as a
@@ -205,8 +208,7 @@ io::FitRecord fit_channel(const kernels::StatResult& oadev, double tau0_s, std::
   const kernels::StatResult sub = rows_of(oadev, fit_rows(oadev), 1);
   const kernels::FitResult all = fitter_all.fit(sub, tau0_s, n_samples);
   const double rate_hz = 1.0 / tau0_s;
-  FilterUsed used = filter_of(
-      lowpass, sub, all, kernels::effective_taus_of(fitter_all.covariance()), rate_hz, n_samples);
+  FilterUsed used = filter_of(lowpass, sub, all, fitter_all.covariance(), rate_hz, n_samples);
   kernels::FitResult f = all;
   if (!sub.m.empty() && used.first_m > sub.m.front()) {
     std::vector<std::size_t> rows(sub.size());
@@ -230,7 +232,9 @@ io::FitRecord fit_channel(const kernels::StatResult& oadev, double tau0_s, std::
   }
   for (const double tau : oadev.tau_s)
     rec.adev_model.push_back(std::sqrt(kernels::eq3_avar(theta, tau)));
-  const kernels::FitResult ro = readouts_under(all, f, theta, sub.tau_s);
+  // Without taus left out the fit is the all-taus fit, read-outs and all (bit for bit).
+  const kernels::FitResult ro =
+      used.taus < sub.size() ? readouts_under(all, f, theta, sub.tau_s) : f;
   rec.readouts.push_back(readout_record("N_1s", Term::N, ro.n_1s, units));
   rec.readouts.push_back(readout_record("bias_instability", Term::B, ro.bias_instability, units));
   rec.readouts.push_back(readout_record("K_3s", Term::K, ro.k_3s, units));
