@@ -132,6 +132,19 @@ void warn_unknown_units(const std::string& file, const std::vector<const io::Cha
         << unit << "' and seconds, without datasheet units\n";
 }
 
+// What each channel's analysis is asked for (the pipeline's view of the options).
+pipeline::ChannelOptions channel_options(const AnalyzeOptions& opt, int kernel_threads) {
+  pipeline::ChannelOptions copt;
+  copt.stats = opt.stats;
+  copt.grid = opt.grid;
+  copt.confidence = opt.confidence;
+  copt.fit = opt.fit;
+  copt.lowpass = pipeline::parse_lowpass_choice(opt.lowpass);
+  copt.psd = opt.psd;
+  copt.threads = kernel_threads;
+  return copt;
+}
+
 // Analyses one recording. Throws io::Error when the input as a whole cannot be analysed
 // (unreadable, no channel, every channel failed); channel failures inside a readable file are
 // recorded in the channel's status and reported on `err`. At most
@@ -203,14 +216,7 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
       across ? static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(threads), slots))
              : 1;
   const int kernel_threads = std::max(1, threads / workers);
-  pipeline::ChannelOptions copt;
-  copt.stats = opt.stats;
-  copt.grid = opt.grid;
-  copt.confidence = opt.confidence;
-  copt.fit = opt.fit;
-  copt.lowpass = pipeline::parse_lowpass_choice(opt.lowpass);
-  copt.psd = opt.psd;
-  copt.threads = kernel_threads;
+  const pipeline::ChannelOptions copt = channel_options(opt, kernel_threads);
   std::uint64_t hash = io::kHashSeed;
   std::vector<pipeline::ChannelAnalysis> done(n_selected);
   std::mutex read_mutex;
