@@ -81,6 +81,7 @@
 #include "kernels/simulate/simulate.hpp"
 
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <span>
 #include <string>
@@ -251,9 +252,9 @@ double diagnose_gap(std::span<const double> avar_measured, std::span<const doubl
 /// model's edf; docs/diagnose.md "The sensor's filter"), named when its criterion delta_ic > 0,
 /// the level of one diagnose round (select_alpha / 8 per candidate).
 struct LowpassFinding {
-  Lowpass filter;       // inactive when no filter is significant
-  double delta_ic = 0;  // the candidate's criterion (> 0: named); 0 when not evaluated
-  int bound = 0;        // -1 / +1: the best filter is at the lower / upper end of its grid
+  Lowpass filter;  // inactive when no filter is significant
+  // the candidate's criterion (> 0: named); NaN when not evaluated (too few taus)
+  double delta_ic = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// `oadev` with its edf (kernels::add_confidence) of a channel of n_samples rate samples at

@@ -46,7 +46,6 @@ LowpassFinding find_lowpass(const StatResult& oadev, double rate_hz, std::int64_
       evaluate_candidate(Effect::Lowpass, ref.comps, SpectralLine{}, 0, ref.chi2, cv, bases, crit);
   if (!cf.info.evaluated) return out;
   out.delta_ic = cf.info.delta_ic;
-  out.bound = cf.fit.comps[cf.added].nl_bound;
   if (out.delta_ic > 0.0) out.filter = cf.fit.comps[cf.added].lp;
   return out;
 }
