@@ -259,8 +259,7 @@ LowpassChoice parse_lowpass_choice(const std::string& text) {
   }
   if (eq == std::string::npos || used == 0 || eq + 1 + used != text.size() ||
       (key != "cutoff_hz" && key != "taps"))
-    throw std::invalid_argument("--lowpass: expected auto, none, cutoff_hz=X or taps=X, got '" +
-                                text + "'");
+    throw std::invalid_argument("expected auto, none, cutoff_hz=X or taps=X, got '" + text + "'");
   c.mode = LowpassChoice::Mode::Given;
   (key == "taps" ? c.filter.taps : c.filter.cutoff_hz) = value;
   // The range checks of the model file's lowpass (kernels/simulate/lowpass.hpp); the cutoff
