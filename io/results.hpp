@@ -65,6 +65,18 @@ struct FitRecord {
   double max_abs_z = std::numeric_limits<double>::quiet_NaN();
   std::string worst_term;
   int agree = -1;
+  // fit/ only: the sensor's filter and the taus it leaves the fit (docs/fit-and-psd.md "The
+  // sensor's filter"): lowpass "auto" (found on the curve), "option" (--lowpass) or "none";
+  // its cutoff_hz or taps (NaN for the other form and without a filter); the auto test's
+  // criterion (NaN when not tested); the first tau and the number of taus the fit used; the
+  // chi2/dof of the fit over all taus, for comparison with chi2_dof.
+  std::string lowpass;
+  double lowpass_cutoff_hz = std::numeric_limits<double>::quiet_NaN();
+  double lowpass_taps = std::numeric_limits<double>::quiet_NaN();
+  double lowpass_delta_ic = std::numeric_limits<double>::quiet_NaN();
+  double first_tau_fitted = std::numeric_limits<double>::quiet_NaN();
+  std::int64_t taus_fitted = 0;
+  double chi2_dof_all_taus = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// The fit's status as people read it: "ok", "poor fit (chi2/dof = 5974)" (the model misses

@@ -103,6 +103,20 @@ std::span<const Field<FitRecord>> fit_fields() {
        Need::IfPresent, true},
       {"rank", A, &F::rank, "i64: independent regressors"},
       {"chi2_dof", A, &F::chi2_dof, "reduced chi-square", nullptr, Need::IfPresent, true},
+      // fit/ only (written with its taus); absent from files written before issue #23.
+      {"lowpass", A, &F::lowpass, "the sensor's filter: auto, option or none", on_taus,
+       Need::IfPresent},
+      {"lowpass_cutoff_hz", A, &F::lowpass_cutoff_hz, "Hz, first order; NaN otherwise", on_taus,
+       Need::IfPresent},
+      {"lowpass_taps", A, &F::lowpass_taps, "moving average, samples; NaN otherwise", on_taus,
+       Need::IfPresent},
+      {"lowpass_delta_ic", A, &F::lowpass_delta_ic, "auto test's criterion, > 0 named; NaN",
+       on_taus, Need::IfPresent},
+      {"first_tau_fitted", A, &F::first_tau_fitted, "s, the first tau the fit used", on_taus,
+       Need::IfPresent},
+      {"taus_fitted", A, &F::taus_fitted, "i64: taus the fit used", on_taus, Need::IfPresent},
+      {"chi2_dof_all_taus", A, &F::chi2_dof_all_taus, "the fit over every tau", on_taus,
+       Need::IfPresent},
   };
   return t;
 }

@@ -76,10 +76,12 @@
 // null distribution of the gap, from which "within statistical noise" is judged.
 #pragma once
 
+#include "kernels/allan/stat_result.hpp"
 #include "kernels/model/terms.hpp"
 #include "kernels/simulate/simulate.hpp"
 
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <span>
 #include <string>
@@ -242,5 +244,25 @@ std::vector<double> diagnose_model_edf(const ChannelSpec& model, std::span<const
 /// avar_model.
 double diagnose_gap(std::span<const double> avar_measured, std::span<const double> avar_model,
                     std::span<const double> edf);
+
+/// The sensor's filter as analyze's eq. (3) fit needs it (issue #23 item 3), named from a
+/// measured overlapping Allan curve alone by diagnose's own test: the five terms of eq. (3),
+/// all re-estimated, against the same with diagnose's lowpass candidate (first-order cutoffs
+/// from rate / 200 to 0.45 rate, moving averages of 1.05 to 16 samples, 8 per octave; the
+/// model's edf; docs/diagnose.md "The sensor's filter"), named when its criterion delta_ic > 0,
+/// the level of one diagnose round (select_alpha / 8 per candidate).
+struct LowpassFinding {
+  Lowpass filter;  // inactive when no filter is significant
+  // the candidate's criterion (> 0: named); NaN when not evaluated (too few taus)
+  double delta_ic = std::numeric_limits<double>::quiet_NaN();
+};
+
+/// `oadev` with its edf (kernels::add_confidence) of a channel of n_samples rate samples at
+/// rate_hz; n_eff the effective number of independent taus of `oadev` (effective_taus_of of the
+/// eq. (3) fit's covariance), or 0 to compute it here (one covariance model, about 0.2 s).
+/// Fewer than 7 taus with a positive variance: no filter. Throws std::invalid_argument for a
+/// rate or length that is not positive.
+LowpassFinding find_lowpass(const StatResult& oadev, double rate_hz, std::int64_t n_samples,
+                            double n_eff = 0.0, double select_alpha = 0.05);
 
 }  // namespace allanlot::kernels

@@ -7,6 +7,7 @@
 #include "kernels/allan/stats.hpp"
 #include "kernels/common/parallel.hpp"
 #include "kernels/common/quantile.hpp"
+#include "kernels/model/effective_taus.hpp"
 #include "kernels/model/fit.hpp"
 #include "kernels/uncertainty/chi2.hpp"
 
@@ -116,20 +117,8 @@ double effective_taus(const Curve& cv) {
   in.tau0_s = cv.tau0;
   in.n_samples = cv.n_samples;
   const FitResult r = fit.fit(in);
-  const Eigen::MatrixXd& s = fit.covariance();
-  if (has_terms(r.status) && s.rows() == static_cast<Eigen::Index>(p) && s.allFinite()) {
-    double sum = 0.0;
-    bool ok = true;
-    for (Eigen::Index i = 0; i < s.rows(); ++i)
-      for (Eigen::Index j = 0; j < s.cols(); ++j) {
-        const double d = s(i, i) * s(j, j);
-        if (!(d > 0.0)) ok = false;
-        const double c = ok ? s(i, j) / std::sqrt(d) : 0.0;
-        sum += c * c;
-      }
-    if (ok && sum > 0.0)
-      return std::clamp(static_cast<double>(p * p) / sum, 1.0, static_cast<double>(p));
-  }
+  if (has_terms(r.status) && fit.covariance().rows() == static_cast<Eigen::Index>(p))
+    if (const double n_eff = effective_taus_of(fit.covariance()); n_eff > 0.0) return n_eff;
   // Fallback: one independent estimate per octave of tau (overlapping estimates an octave or
   // more apart are correlated well below 0.5 for the common noises).
   return std::clamp(std::log2(cv.tau.back() / cv.tau.front()) + 1.0, 1.0, static_cast<double>(p));

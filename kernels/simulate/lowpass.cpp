@@ -30,13 +30,13 @@ void validate_lowpass(const Lowpass& lp, double rate_hz) {
   if (!std::isfinite(lp.cutoff_hz) || lp.cutoff_hz < 0 ||
       (lp.cutoff_hz > 0 && lp.cutoff_hz >= rate_hz / 2))
     throw std::invalid_argument(
-        "simulate: lowpass.cutoff_hz must be in (0, rate_hz/2 = " + std::to_string(rate_hz / 2) +
-        "), got " + std::to_string(lp.cutoff_hz));
+        "lowpass.cutoff_hz must be in (0, rate_hz/2 = " + std::to_string(rate_hz / 2) + "), got " +
+        std::to_string(lp.cutoff_hz));
   if (!std::isfinite(lp.taps) || (lp.taps != 0 && !(lp.taps > 1 && lp.taps <= kMaxTaps)))
-    throw std::invalid_argument("simulate: lowpass.taps must be in (1, " +
-                                std::to_string(kMaxTaps) + "], got " + std::to_string(lp.taps));
+    throw std::invalid_argument("lowpass.taps must be in (1, " + std::to_string(kMaxTaps) +
+                                "], got " + std::to_string(lp.taps));
   if (lp.cutoff_hz > 0 && lp.taps > 0)
-    throw std::invalid_argument("simulate: a lowpass has cutoff_hz or taps, not both");
+    throw std::invalid_argument("a lowpass has cutoff_hz or taps, not both");
 }
 
 std::vector<double> lowpass_impulse(const Lowpass& lp, double rate_hz) {

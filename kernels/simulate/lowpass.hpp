@@ -19,7 +19,8 @@ struct Lowpass {
   friend bool operator==(const Lowpass&, const Lowpass&) = default;
 };
 
-/// Checks a filter against the sample rate; throws std::invalid_argument naming the field:
+/// Checks a filter against the sample rate (simulate's model, analyze's --lowpass); throws
+/// std::invalid_argument naming the field:
 /// cutoff_hz finite, >= 0 and below rate_hz / 2; taps 0 or in (1, 100000]; not both.
 void validate_lowpass(const Lowpass& lp, double rate_hz);
 

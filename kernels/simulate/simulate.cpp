@@ -135,7 +135,11 @@ void validate(const ChannelSpec& spec) {
   check_finite_nonneg(spec.terms.N, "N");
   check_finite_nonneg(spec.terms.Q, "Q");
   if (!std::isfinite(spec.offset)) throw std::invalid_argument("simulate: offset must be finite");
-  validate_lowpass(spec.lowpass, spec.rate_hz);
+  try {
+    validate_lowpass(spec.lowpass, spec.rate_hz);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("simulate: ") + e.what());
+  }
   for (std::size_t i = 0; i < spec.sinusoids.size(); ++i) {
     const auto& s = spec.sinusoids[i];
     const std::string at = "sinusoids[" + std::to_string(i) + "].";

@@ -120,13 +120,16 @@ def deviation(data, stat="oadev", rate=1.0, data_type="phase", taus=None,
     return Deviation(d, units)
 
 
-def fit(result, units=None, tau0=None, n_samples=None):
+def fit(result, units=None, tau0=None, n_samples=None, lowpass="auto"):
     """The eq. (3) fit (R, K, B, N, Q) of an overlapping Allan deviation curve.
 
     result: a Deviation of stat "oadev" (with its edf: confidence not None), or a dict with
     arrays m, tau, dev, n, edf and the keys tau0 and n_samples (also accepted as arguments).
     units: the channel's units ("deg/s", "m/s^2", ...; default the Deviation's), which give the
     datasheet units of the terms and read-outs.
+    lowpass: the sensor's filter, as analyze --lowpass: "auto" (named from the curve, the taus
+    it biases left out), "none" (every tau), "cutoff_hz=X" or "taps=X" (docs/fit-and-psd.md
+    "The sensor's filter").
 
     Returns the fit/ group of a results file as a dict: status ("ok", "poor fit", ...),
     status_text, chi2_dof, rank, terms (columns term, value, sigma, upper, detected, unit,
@@ -154,7 +157,7 @@ def fit(result, units=None, tau0=None, n_samples=None):
                          np.asarray(arrays["tau"], float).tolist(),
                          np.asarray(arrays["dev"], float).tolist(),
                          np.asarray(arrays["n"], np.int64).tolist(), edf.tolist(),
-                         float(tau0), int(n_samples), units or "")
+                         float(tau0), int(n_samples), units or "", str(lowpass))
 
 
 def psd(data, rate=1.0, segments=16, bins_per_decade=10, threads=None):

@@ -29,7 +29,7 @@ namespace {
 py::dict fit(const std::vector<std::int64_t>& m, const std::vector<double>& tau,
              const std::vector<double>& dev, const std::vector<std::int64_t>& n,
              const std::vector<double>& edf, double tau0, std::int64_t n_samples,
-             const std::string& units) {
+             const std::string& units, const std::string& lowpass) {
   const std::size_t k = m.size();
   if (tau.size() != k || dev.size() != k || n.size() != k || edf.size() != k)
     throw std::invalid_argument("fit: m, tau, dev, n and edf must have the same length");
@@ -40,10 +40,11 @@ py::dict fit(const std::vector<std::int64_t>& m, const std::vector<double>& tau,
   oadev.dev = dev;
   oadev.n = n;
   oadev.edf = edf;
+  const pipeline::LowpassChoice choice = pipeline::parse_lowpass_choice(lowpass);
   io::FitRecord f;
   {
     const py::gil_scoped_release unlocked;
-    f = pipeline::fit_channel(oadev, tau0, n_samples, units);
+    f = pipeline::fit_channel(oadev, tau0, n_samples, units, choice);
   }
   return fit_dict(f);
 }
@@ -106,7 +107,7 @@ std::filesystem::path summary_file(const std::filesystem::path& p) {
 
 void bind_records(py::module_& m) {
   m.def("fit", &fit, py::arg("m"), py::arg("tau"), py::arg("dev"), py::arg("n"), py::arg("edf"),
-        py::arg("tau0"), py::arg("n_samples"), py::arg("units"),
+        py::arg("tau0"), py::arg("n_samples"), py::arg("units"), py::arg("lowpass") = "auto",
         "The eq. (3) fit of an overlapping Allan deviation curve (public wrapper: allanlot.fit).");
   m.def("read_results", &read_results, py::arg("path"), "A results file as nested dicts.");
   m.def(

@@ -6,12 +6,12 @@
 #include "io/paths.hpp"
 #include "io/recording.hpp"
 #include "io/results.hpp"
-#include "kernels/common/large_vector.hpp"
 #include "kernels/common/parallel.hpp"
 #include "kernels/model/units.hpp"
 #include "src/cli/input_options.hpp"
 #include "src/cli/inputs.hpp"
 #include "src/cli/interrupt.hpp"
+#include "src/cli/memory.hpp"
 #include "src/cli/progress.hpp"
 #include "src/cli/resume.hpp"
 #include "src/cli/unit_tables.hpp"
@@ -22,8 +22,6 @@
 #include <allanlot/version.hpp>
 
 #include <CLI/CLI.hpp>
-
-#include <malloc.h>
 
 #include <algorithm>
 #include <array>
@@ -40,8 +38,6 @@
 #include <optional>
 #include <ostream>
 #include <sstream>
-#include <sys/resource.h>
-#include <unistd.h>
 
 namespace fs = std::filesystem;
 
@@ -70,8 +66,6 @@ std::string join_stats(const std::vector<kernels::Stat>& stats) {
   }
   return s;
 }
-
-std::uint64_t physical_memory();
 
 // Bytes one channel of n samples may hold while it is analysed, counted generously: the phase
 // (8 n), the rate rebuilt for the PSD (8 n), the fixed-point prefix sums of MDEV/TDEV (8 n) and
@@ -131,6 +125,19 @@ void warn_unknown_units(const std::string& file, const std::vector<const io::Cha
     err << "allanlot: warning: " << file << ": unit '" << unit << "' (" << channels
         << ") is not in allanlot's vocabulary (docs/formats.md#units): its coefficients stay in '"
         << unit << "' and seconds, without datasheet units\n";
+}
+
+// What each channel's analysis is asked for (the pipeline's view of the options).
+pipeline::ChannelOptions channel_options(const AnalyzeOptions& opt, int kernel_threads) {
+  pipeline::ChannelOptions copt;
+  copt.stats = opt.stats;
+  copt.grid = opt.grid;
+  copt.confidence = opt.confidence;
+  copt.fit = opt.fit;
+  copt.lowpass = pipeline::parse_lowpass_choice(opt.lowpass);
+  copt.psd = opt.psd;
+  copt.threads = kernel_threads;
+  return copt;
 }
 
 // Analyses one recording. Throws io::Error when the input as a whole cannot be analysed
@@ -204,13 +211,7 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
       across ? static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(threads), slots))
              : 1;
   const int kernel_threads = std::max(1, threads / workers);
-  pipeline::ChannelOptions copt;
-  copt.stats = opt.stats;
-  copt.grid = opt.grid;
-  copt.confidence = opt.confidence;
-  copt.fit = opt.fit;
-  copt.psd = opt.psd;
-  copt.threads = kernel_threads;
+  const pipeline::ChannelOptions copt = channel_options(opt, kernel_threads);
   std::vector<pipeline::ChannelAnalysis> done(n_selected);
   std::vector<std::optional<std::uint64_t>> digest(n_selected);  // of the channels read
   std::mutex read_mutex;
@@ -290,22 +291,8 @@ std::string options_stamp(const AnalyzeOptions& opt) {
   std::snprintf(conf, sizeof conf, "%.17g", opt.confidence);
   return "stats=" + join_stats(opt.stats) + ";taus=" + kernels::to_string(opt.grid) +
          ";confidence=" + conf + ";channels=" + opt.channels_glob +
-         ";fit=" + (opt.fit ? "1" : "0") + ";psd=" + (opt.psd ? "1" : "0") +
-         ";version=" + kVersion + input_stamp(opt.input);
-}
-
-// Peak resident memory of this process so far, in bytes (getrusage: kilobytes on Linux).
-std::uint64_t peak_rss_bytes() {
-  rusage ru{};
-  getrusage(RUSAGE_SELF, &ru);
-  return static_cast<std::uint64_t>(ru.ru_maxrss) * 1024;
-}
-
-std::uint64_t physical_memory() {
-  const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
-  return pages > 0 && page > 0
-             ? static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page)
-             : std::uint64_t{8} << 30;
+         ";fit=" + (opt.fit ? "1" : "0") + ";lowpass=" + opt.lowpass +
+         ";psd=" + (opt.psd ? "1" : "0") + ";version=" + kVersion + input_stamp(opt.input);
 }
 
 // Fails with a usage-level message when OUTDIR cannot hold results.
@@ -480,15 +467,7 @@ int run_analyze(const AnalyzeOptions& opt, std::ostream& out, std::ostream& err)
   run.spec = sp ? &*sp : nullptr;
   run.threads = kernels::resolve_threads(opt.threads);
   run.memory_limit = opt.memory_limit ? opt.memory_limit : physical_memory() / 2;
-  // Channels' large arrays are reused from one channel to the next (kernels/common/
-  // large_vector.hpp), holding at most a quarter of the memory limit between channels; and
-  // glibc keeps the medium ones (a PSD's 1 MiB bins, the sweeps' block sums: up to 32 MiB) in
-  // its heap rather than in fresh mappings: each channel would otherwise fault and zero its
-  // ~30 MB of them again (15 000 page faults of a 90-minute unit's 27 000, docs/performance.md).
-  mallopt(M_MMAP_THRESHOLD, 32 << 20);
-  mallopt(M_TRIM_THRESHOLD, 256 << 20);
-  const kernels::HugeBlockPool::Scope reuse_blocks(
-      std::min<std::uint64_t>(kernels::HugeBlockPool::kHeldBytes, run.memory_limit / 4));
+  const MemoryReuse reuse(run.memory_limit);
   run.options = options_stamp(opt);
   // OUTDIR and the results in it are never inputs, also when OUTDIR lies inside an input.
   const InputList inputs = expand_inputs(opt.inputs, opt.outdir);
@@ -528,35 +507,6 @@ int run_analyze(const AnalyzeOptions& opt, std::ostream& out, std::ostream& err)
   if (run.n_ok == 0) return 2;
   // A summary that could not be written fails the run, not its usage: the results stand.
   return (run.n_ok < n_inputs || run.channel_failed || !summary_ok) ? 1 : 0;
-}
-
-std::uint64_t parse_memory_size(const std::string& text) {
-  std::size_t pos = 0;
-  double v = 0;
-  try {
-    v = std::stod(text, &pos);
-  } catch (const std::exception&) {
-    throw std::invalid_argument("'" + text + "' is not a memory size (e.g. 8G, 512M, 40%)");
-  }
-  std::string unit = text.substr(pos);
-  for (auto& c : unit)
-    c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  double scale = 0;
-  if (unit.empty() || unit == "B")
-    scale = 1;
-  else if (unit == "K" || unit == "KB" || unit == "KIB")
-    scale = 1024.0;
-  else if (unit == "M" || unit == "MB" || unit == "MIB")
-    scale = 1024.0 * 1024;
-  else if (unit == "G" || unit == "GB" || unit == "GIB")
-    scale = 1024.0 * 1024 * 1024;
-  else if (unit == "T" || unit == "TB" || unit == "TIB")
-    scale = 1024.0 * 1024 * 1024 * 1024;
-  else if (unit == "%")
-    scale = static_cast<double>(physical_memory()) / 100.0;
-  if (!(scale > 0) || !(v > 0) || !std::isfinite(v) || (unit == "%" && v > 100))
-    throw std::invalid_argument("'" + text + "' is not a memory size (e.g. 8G, 512M, 40%)");
-  return static_cast<std::uint64_t>(std::min(v * scale, 1.8e19));
 }
 
 namespace {
@@ -622,6 +572,11 @@ AnalyzeOptions checked_options(const AnalyzeArgs& a, const std::string& command_
   }
   opt.outdir = a.outdir;
   opt.fit = !a.no_fit;
+  try {
+    pipeline::parse_lowpass_choice(opt.lowpass);
+  } catch (const std::invalid_argument& e) {
+    throw CLI::ValidationError("--lowpass", e.what());
+  }
   opt.psd = !a.no_psd;
   opt.command_line = command_line;
   opt.summary = !a.no_summary;
@@ -671,6 +626,11 @@ Command add_analyze_command(CLI::App& app) {
   sub->add_option("--threads", a->opt.threads, "Threads (default: OMP_NUM_THREADS, else all cores)")
       ->check(CLI::Range(0, kMaxThreads));
   sub->add_flag("--no-fit", a->no_fit, "Do not fit equation (3) (no fit/ group)");
+  sub->add_option("--lowpass", a->opt.lowpass,
+                  "The sensor's filter in the eq. (3) fit: auto (named from the curve; the "
+                  "taus it biases are left out), none (every tau), cutoff_hz=X (first order) "
+                  "or taps=X (moving average)")
+      ->capture_default_str();
   sub->add_flag("--no-psd", a->no_psd, "Do not compute the PSD and the eq. (2) cross-check");
   sub->add_flag("--table", a->opt.table,
                 "Print each unit's coefficient table (default: when at most 10 inputs)");

@@ -26,6 +26,8 @@ struct AnalyzeOptions {
   int threads = 0;                   // 0 = OMP_NUM_THREADS, else all cores
   double confidence = 0.683;         // confidence level of dev_lo / dev_hi, in (0, 1)
   bool fit = true;                   // write fit/ (the eq. (3) fit); --no-fit turns it off
+  // --lowpass: the sensor's filter in the fit (auto, none, cutoff_hz=X, taps=X)
+  std::string lowpass = "auto";
   bool psd = true;       // write psd/ and crosscheck/ (Welch PSD, eq. (2)); --no-psd turns it off
   bool table = false;    // print each unit's fit table (always for <= 10 inputs)
   bool verbose = false;  // per-stage timings on stderr
@@ -44,10 +46,6 @@ struct AnalyzeOptions {
 /// Runs the analysis and returns the exit status of docs/cli.md (0, 1 or 2). Failures are named
 /// on `err` with file, dataset and reason; the closing summary goes to `out`.
 int run_analyze(const AnalyzeOptions& opt, std::ostream& out, std::ostream& err);
-
-/// Parses a memory size: "512M", "8G", "1.5GiB", "2000000000", or "40%" of the machine's RAM.
-/// Throws std::invalid_argument naming the text.
-std::uint64_t parse_memory_size(const std::string& text);
 
 /// Adds the `analyze` subcommand to `app` (see cli.hpp, struct Command).
 Command add_analyze_command(CLI::App& app);

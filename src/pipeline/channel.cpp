@@ -168,7 +168,7 @@ void run_stages(ChannelAnalysis& a, const io::ChannelInfo& channel,
   if (opt.fit) {
     const auto t_fit = Clock::now();
     a.result.fit = fit_channel(*oadev, phase.tau0_s, phase.n_points() - 1, a.result.units,
-                               &allan_terms, opt.threads);
+                               opt.lowpass, &allan_terms, opt.threads);
     have_allan_terms = kernels::has_terms(a.result.fit->status);
     a.times.fit += seconds_since(t_fit);
   }

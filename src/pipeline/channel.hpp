@@ -5,6 +5,8 @@
 // no file, no thread across channels, no printing (the driver, src/cli/analyze.cpp, owns those).
 #pragma once
 
+#include "src/pipeline/channel_fit.hpp"
+
 #include "io/recording.hpp"
 #include "io/results.hpp"
 #include "kernels/allan/stats.hpp"
@@ -20,6 +22,7 @@ struct ChannelOptions {
   kernels::TauGridSpec grid;         // which taus
   double confidence = 0.683;         // confidence level of dev_lo / dev_hi, in (0, 1)
   bool fit = true;                   // fit/ (the eq. (3) fit)
+  LowpassChoice lowpass;             // the sensor's filter in the fit (analyze --lowpass)
   bool psd = true;                   // psd/, psd_fit/ and crosscheck/ (Welch PSD, eq. (2))
   int threads = 1;                   // threads inside the kernels (results do not depend on it)
 };

@@ -1,5 +1,7 @@
 #include "src/pipeline/channel_fit.hpp"
 
+#include "kernels/diagnose/diagnose.hpp"
+#include "kernels/model/effective_taus.hpp"
 #include "kernels/model/fit.hpp"
 #include "kernels/model/psd_fit.hpp"
 #include "kernels/model/units.hpp"
@@ -7,8 +9,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <exception>
+#include <limits>
 #include <map>
+#include <numeric>
+#include <span>
 #include <sstream>
+#include <stdexcept>
 #include <string_view>
 
 namespace allanlot::pipeline {
@@ -40,6 +47,99 @@ std::vector<std::size_t> fit_rows(const kernels::StatResult& r) {
     if (rows.empty() || rows.back() != i) rows.push_back(i);
   }
   return rows;
+}
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// The rows `rows` of `r` whose averaging factor is at least first_m.
+kernels::StatResult rows_of(const kernels::StatResult& r, const std::vector<std::size_t>& rows,
+                            std::int64_t first_m) {
+  kernels::StatResult sub;
+  for (const std::size_t i : rows) {
+    if (r.m[i] < first_m) continue;
+    sub.m.push_back(r.m[i]);
+    sub.tau_s.push_back(r.tau_s[i]);
+    sub.dev.push_back(r.dev[i]);
+    sub.n.push_back(r.n[i]);
+    sub.edf.push_back(r.edf[i]);
+  }
+  return sub;
+}
+
+// The filter the fit leaves its taus to, and where that leaves the fit.
+struct FilterUsed {
+  std::string source = "none";  // "auto" (found on the curve), "option" (--lowpass), "none"
+  kernels::Lowpass filter;
+  double delta_ic = kNaN;  // the auto test's criterion; NaN when not tested
+  std::int64_t first_m = 1;
+  double first_tau_s = kNaN;
+  std::size_t taus = 0;
+};
+
+// --lowpass auto: diagnose's lowpass test on the curve when the all-taus fit is not ok (an ok
+// fit explains every tau within its noise, so no filter biases it beyond what the fit allows;
+// the test's 84 trial fits, about 0.25 s a channel, are spared). n_eff is the all-taus fit's
+// when it converged (no second covariance model); the filter's deficit can keep it from
+// converging, and then find_lowpass computes its own. A filter given by the option is taken as
+// it is. The first m is where the filter biases white FM's Allan variance by less than half a
+// sigma (kernels::lowpass_first_m), so no tau the fit uses is biased by more.
+FilterUsed filter_of(const LowpassChoice& choice, const kernels::StatResult& sub,
+                     const kernels::FitResult& all, const Eigen::MatrixXd& all_covariance,
+                     double rate_hz, std::int64_t n_samples) {
+  FilterUsed u;
+  u.taus = sub.size();
+  u.first_tau_s = sub.tau_s.empty() ? kNaN : sub.tau_s.front();
+  if (choice.mode == LowpassChoice::Mode::Given) {
+    kernels::validate_lowpass(choice.filter, rate_hz);  // a cutoff at or above this Nyquist
+    u.source = "option";
+    u.filter = choice.filter;
+  } else if (choice.mode == LowpassChoice::Mode::Auto && !sub.m.empty() &&
+             all.status != kernels::FitStatus::Ok) {
+    const double n_eff =
+        kernels::has_terms(all.status) ? kernels::effective_taus_of(all_covariance) : 0.0;
+    const kernels::LowpassFinding found = kernels::find_lowpass(sub, rate_hz, n_samples, n_eff);
+    u.delta_ic = found.delta_ic;
+    if (found.filter.active()) {
+      u.source = "auto";
+      u.filter = found.filter;
+    }
+  }
+  u.first_m = kernels::lowpass_first_m(u.filter, rate_hz, n_samples);
+  return u;
+}
+
+void set_filter_fields(io::FitRecord& rec, const FilterUsed& u, const kernels::FitResult& all) {
+  rec.lowpass = u.source;
+  rec.lowpass_cutoff_hz = u.filter.cutoff_hz > 0 ? u.filter.cutoff_hz : kNaN;
+  rec.lowpass_taps = u.filter.taps > 0 ? u.filter.taps : kNaN;
+  rec.lowpass_delta_ic = u.delta_ic;
+  rec.first_tau_fitted = u.first_tau_s;
+  rec.taus_fitted = static_cast<std::int64_t>(u.taus);
+  rec.chi2_dof_all_taus = all.chi2_dof;  // what --lowpass none writes as chi2_dof
+}
+
+// The read-outs (IEEE Std 952 annex C) read the measured curve over all its taus, as a
+// datasheet reads it, whatever taus the fit leaves out; whether each is valid (its term
+// detected) and its `model` come from the fit reported, `used` with squared coefficients theta,
+// on the same taus (FitResult: N at 1 s, the minimum over 2 ln2 / pi, the lowest +1/2 line at
+// 3 s).
+kernels::FitResult readouts_under(const kernels::FitResult& all, const kernels::FitResult& used,
+                                  const std::array<double, kernels::kNumTerms>& theta,
+                                  std::span<const double> taus) {
+  kernels::FitResult out = all;
+  double min_avar = std::numeric_limits<double>::infinity(), min_k = min_avar;
+  for (const double tau : taus) {
+    min_avar = std::min(min_avar, kernels::eq3_avar(theta, tau));
+    min_k = std::min(min_k, kernels::eq3_avar(theta, tau) / tau);
+  }
+  const double floor = kernels::eq3_regressors(1.0)[static_cast<std::size_t>(Term::B)];
+  out.n_1s.model = std::sqrt(kernels::eq3_avar(theta, 1.0));
+  out.bias_instability.model = std::sqrt(min_avar / floor);
+  out.k_3s.model = std::sqrt(3.0 * min_k);
+  out.n_1s.valid = out.n_1s.value > 0.0 && used[Term::N].detected;  // 1 s on the curve
+  out.bias_instability.valid = used[Term::B].detected;
+  out.k_3s.valid = used[Term::K].detected;
+  return out;
 }
 
 io::TermRecord term_record(Term t, const kernels::TermFit& f, const std::string& units) {
@@ -101,26 +201,32 @@ io::FitRecord fit_record(std::string_view method, const Fit& f) {
 }  // namespace
 
 io::FitRecord fit_channel(const kernels::StatResult& oadev, double tau0_s, std::int64_t n_samples,
-                          const std::string& units,
+                          const std::string& units, const LowpassChoice& lowpass,
                           std::array<kernels::TermFit, kernels::kNumTerms>* terms_out,
                           int threads) {
-  // One fit object per thread: it caches the covariance model of a curve shape, which every
-  // channel of the same length and grid shares (about 0.2 s to build, 0.5 ms per fit after).
-  thread_local kernels::Eq3Fit fitter;
-  fitter.set_threads(threads);
-  const std::vector<std::size_t> rows = fit_rows(oadev);
-  kernels::StatResult sub;
-  for (const std::size_t i : rows) {
-    sub.m.push_back(oadev.m[i]);
-    sub.tau_s.push_back(oadev.tau_s[i]);
-    sub.dev.push_back(oadev.dev[i]);
-    sub.n.push_back(oadev.n[i]);
-    sub.edf.push_back(oadev.edf[i]);
+  // One fit object per thread and curve shape: each caches the covariance model of a shape,
+  // which every channel of the same length and grid shares (about 0.2 s to build, 0.5 ms per
+  // fit after); the fit from a filter's first tau on has a shape of its own.
+  thread_local kernels::Eq3Fit fitter_all, fitter_cut;
+  fitter_all.set_threads(threads);
+  fitter_cut.set_threads(threads);
+  const kernels::StatResult sub = rows_of(oadev, fit_rows(oadev), 1);
+  const kernels::FitResult all = fitter_all.fit(sub, tau0_s, n_samples);
+  const double rate_hz = 1.0 / tau0_s;
+  FilterUsed used = filter_of(lowpass, sub, all, fitter_all.covariance(), rate_hz, n_samples);
+  kernels::FitResult f = all;
+  if (!sub.m.empty() && used.first_m > sub.m.front()) {
+    std::vector<std::size_t> rows(sub.size());
+    std::iota(rows.begin(), rows.end(), std::size_t{0});
+    const kernels::StatResult cut = rows_of(sub, rows, used.first_m);
+    f = fitter_cut.fit(cut, tau0_s, n_samples);
+    used.first_tau_s = cut.tau_s.empty() ? kNaN : cut.tau_s.front();
+    used.taus = cut.size();
   }
-  const kernels::FitResult f = fitter.fit(sub, tau0_s, n_samples);
 
   io::FitRecord rec = fit_record(kernels::kFitMethod, f);
   rec.tau = oadev.tau_s;
+  set_filter_fields(rec, used, all);
   if (!kernels::has_terms(f.status)) return rec;
   if (terms_out) *terms_out = f.terms;
   std::array<double, kernels::kNumTerms> theta{};
@@ -131,10 +237,38 @@ io::FitRecord fit_channel(const kernels::StatResult& oadev, double tau0_s, std::
   }
   for (const double tau : oadev.tau_s)
     rec.adev_model.push_back(std::sqrt(kernels::eq3_avar(theta, tau)));
-  rec.readouts.push_back(readout_record("N_1s", Term::N, f.n_1s, units));
-  rec.readouts.push_back(readout_record("bias_instability", Term::B, f.bias_instability, units));
-  rec.readouts.push_back(readout_record("K_3s", Term::K, f.k_3s, units));
+  // Without taus left out the fit is the all-taus fit, read-outs and all (bit for bit).
+  const kernels::FitResult ro =
+      used.taus < sub.size() ? readouts_under(all, f, theta, sub.tau_s) : f;
+  rec.readouts.push_back(readout_record("N_1s", Term::N, ro.n_1s, units));
+  rec.readouts.push_back(readout_record("bias_instability", Term::B, ro.bias_instability, units));
+  rec.readouts.push_back(readout_record("K_3s", Term::K, ro.k_3s, units));
   return rec;
+}
+
+LowpassChoice parse_lowpass_choice(const std::string& text) {
+  LowpassChoice c;
+  if (text == "auto") return c;
+  c.mode = LowpassChoice::Mode::None;
+  if (text == "none") return c;
+  const auto eq = text.find('=');
+  const std::string key = text.substr(0, eq);
+  double value = 0.0;
+  std::size_t used = 0;
+  try {
+    if (eq != std::string::npos) value = std::stod(text.substr(eq + 1), &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (eq == std::string::npos || used == 0 || eq + 1 + used != text.size() ||
+      (key != "cutoff_hz" && key != "taps"))
+    throw std::invalid_argument("expected auto, none, cutoff_hz=X or taps=X, got '" + text + "'");
+  c.mode = LowpassChoice::Mode::Given;
+  (key == "taps" ? c.filter.taps : c.filter.cutoff_hz) = value;
+  // The range checks of the model file's lowpass (kernels/simulate/lowpass.hpp); the cutoff
+  // against each channel's Nyquist frequency when it is fitted.
+  kernels::validate_lowpass(c.filter, std::numeric_limits<double>::infinity());
+  return c;
 }
 
 io::FitRecord psd_fit_channel(const kernels::PsdResult& psd, const std::string& units,
@@ -193,6 +327,36 @@ std::string format_readout(const io::ReadoutRecord& x, bool* undetected) {
     *undetected = true;
   }
   return cell;
+}
+
+// The sensor's filter and the taus the fit used (docs/fit-and-psd.md "The sensor's filter"):
+// "auto 29.2 Hz" or "option 1.5 taps" or "none", and the first tau with the chi2/dof of the
+// fit over every tau when the filter left taus out.
+void add_filter_rows(const std::vector<const io::ChannelResult*>& chans,
+                     std::vector<std::vector<std::string>>& rows) {
+  std::vector<std::string> filter = {"lowpass", ""}, from = {"fitted from", "s"};
+  bool cut = false;
+  for (const auto* ch : chans) {
+    const io::FitRecord& f = *ch->fit;
+    char buf[96];
+    if (std::isfinite(f.lowpass_cutoff_hz))
+      std::snprintf(buf, sizeof buf, "%s %.3g Hz", f.lowpass.c_str(), f.lowpass_cutoff_hz);
+    else if (std::isfinite(f.lowpass_taps))
+      std::snprintf(buf, sizeof buf, "%s %.3g taps", f.lowpass.c_str(), f.lowpass_taps);
+    else
+      std::snprintf(buf, sizeof buf, "%s", f.lowpass.empty() ? "-" : f.lowpass.c_str());
+    filter.emplace_back(buf);
+    const bool left_out = !f.tau.empty() && f.first_tau_fitted > f.tau.front();
+    cut = cut || left_out;
+    if (left_out)
+      std::snprintf(buf, sizeof buf, "%.3g (all: chi2/dof %.3g)", f.first_tau_fitted,
+                    f.chi2_dof_all_taus);
+    else
+      std::snprintf(buf, sizeof buf, "%.3g", f.first_tau_fitted);
+    from.emplace_back(buf);
+  }
+  rows.push_back(filter);
+  if (cut) rows.push_back(from);
 }
 
 // The read-out rows under a group's coefficients (IEEE Std 952 annex C).
@@ -292,6 +456,7 @@ std::string fit_table(const io::RecordingResult& r) {
       poor = poor || ch->fit->status == kernels::FitStatus::PoorFit;
     }
     rows.push_back(status);
+    add_filter_rows(chans, rows);
     add_readout_rows(chans, rows, &undetected);
     out << aligned_rows(rows);
   }

@@ -6,6 +6,7 @@
 #include "kernels/allan/phase.hpp"
 #include "kernels/allan/stats.hpp"
 #include "kernels/model/fit.hpp"
+#include "kernels/simulate/lowpass.hpp"
 #include "kernels/spectral/psd.hpp"
 
 #include <array>
@@ -15,18 +16,38 @@
 
 namespace allanlot::pipeline {
 
+/// How the eq. (3) fit treats the sensor's own anti-alias and decimation filter (analyze
+/// --lowpass, docs/fit-and-psd.md "The sensor's filter").
+struct LowpassChoice {
+  enum class Mode {
+    Auto,  // named from the curve by diagnose's lowpass test (kernels::find_lowpass)
+    None,  // no filter: every tau is fitted
+    Given  // `filter`, as the option gave it
+  };
+  Mode mode = Mode::Auto;
+  kernels::Lowpass filter;  // Mode::Given
+};
+
 /// Fits eq. (3) to `oadev` (with edf filled by add_confidence) of a channel of `n_samples` rate
 /// samples (one fewer than its phase points) at interval `tau0_s`, in channel units `units`. When
 /// the curve has more taus than the fit needs (--taus all), it is fitted on a log-spaced subset of
 /// at most 16 taus per decade, which carries the same information (neighbouring overlapping
 /// estimates are correlated above 0.9) at a fraction of the cost of the covariance model;
-/// adev_model is given on every oadev tau. Uses one reusable kernels::Eq3Fit per thread.
-/// `terms_out`, when given, receives the fitted terms (for the comparison with the PSD fit).
-/// `threads`: OpenMP threads of a new curve shape's covariance model (the same result for any).
+/// adev_model is given on every oadev tau. A filter (named by `lowpass` or found on the curve)
+/// leaves the taus it biases out of the fit: the fit starts at kernels::lowpass_first_m, and the
+/// record says the filter, the first tau fitted and the chi2/dof of the fit over all taus. Uses
+/// reusable kernels::Eq3Fit objects per thread. `terms_out`, when given, receives the fitted
+/// terms (for the comparison with the PSD fit). `threads`: OpenMP threads of a new curve
+/// shape's covariance model (the same result for any).
 io::FitRecord fit_channel(const kernels::StatResult& oadev, double tau0_s, std::int64_t n_samples,
-                          const std::string& units,
+                          const std::string& units, const LowpassChoice& lowpass = {},
                           std::array<kernels::TermFit, kernels::kNumTerms>* terms_out = nullptr,
                           int threads = 1);
+
+/// "auto", "none", "cutoff_hz=X" or "taps=X" as a LowpassChoice (the filter checked against
+/// rate_hz when given, else only for its own range); throws std::invalid_argument naming the
+/// text.
+LowpassChoice parse_lowpass_choice(const std::string& text);
 
 /// Fits the same five terms to the channel's Welch PSD (kernels::psd_fit) for psd_fit/, with
 /// f and psd_model on the binned frequencies; when `allan_terms` is given (the fit/ terms of

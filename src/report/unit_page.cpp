@@ -215,6 +215,11 @@ std::string channel_section(const Unit& u, const io::ChannelResult& ch, const Ex
       << number(ch.fit->chi2_dof, 3);
     if (ch.fit->status == kernels::FitStatus::PoorFit)
       h << " (the model misses part of the curve: <code>allanlot diagnose</code> names what)";
+    // The taus the sensor's filter left out of the fit (docs/fit-and-psd.md).
+    if (!ch.fit->tau.empty() && ch.fit->first_tau_fitted > ch.fit->tau.front())
+      h << "; fitted from &tau; = " << number(ch.fit->first_tau_fitted, 3)
+        << " s (the sensor's low-pass filter acts below; " << escape(ch.fit->lowpass)
+        << "; all taus: &chi;&sup2;/dof " << number(ch.fit->chi2_dof_all_taus, 3) << ")";
   }
   if (ch.crosscheck)
     h << "; eq. (2) max |log&#8321;&#8320; ratio| "

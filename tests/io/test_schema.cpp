@@ -74,6 +74,13 @@ io::FitRecord fit(bool psd_domain) {
   f.max_abs_z = 1.2;
   f.worst_term = "N";
   f.agree = 1;
+  f.lowpass = "auto";
+  f.lowpass_cutoff_hz = 29.2;
+  f.lowpass_taps = 1.24;
+  f.lowpass_delta_ic = 6197.7;
+  f.first_tau_fitted = 0.002;
+  f.taus_fitted = 1;
+  f.chi2_dof_all_taus = 365.7;
   f.readouts.push_back({"N_1s", true, 0.005, 4e-5, 1.0, 0.00505, 18.0, 0.14, "deg/h/sqrt(Hz)", 0.3,
                         0.0024, "deg/sqrt(h)"});
   f.readouts.push_back(
