@@ -68,7 +68,9 @@ kernels::StatResult rows_of(const kernels::StatResult& r, const std::vector<std:
 
 // The filter the fit leaves its taus to, and where that leaves the fit.
 struct FilterUsed {
-  std::string source = "none";  // "auto" (found on the curve), "option" (--lowpass), "none"
+  // "auto" (found on the curve), "auto-unused" (found, all taus kept: see fit_channel),
+  // "option" (--lowpass), "none"
+  std::string source = "none";
   kernels::Lowpass filter;
   double delta_ic = kNaN;  // the auto test's criterion; NaN when not tested
   std::int64_t first_m = 1;
@@ -222,6 +224,16 @@ io::FitRecord fit_channel(const kernels::StatResult& oadev, double tau0_s, std::
     f = fitter_cut.fit(cut, tau0_s, n_samples);
     used.first_tau_s = cut.tau_s.empty() ? kNaN : cut.tau_s.front();
     used.taus = cut.size();
+    // A filter found on the curve must explain its misfit: when the fit from the filter's first
+    // tau is no better per degree of freedom than the fit over every tau, the misfit lies
+    // elsewhere (the real accelerometers' vibration lines, docs/fit-and-psd.md), and leaving
+    // out the short taus would only lose the white noise they measure best.
+    if (used.source == "auto" && kernels::has_terms(all.status) && !(f.chi2_dof < all.chi2_dof)) {
+      used.source = "auto-unused";
+      used.first_tau_s = sub.tau_s.front();
+      used.taus = sub.size();
+      f = all;
+    }
   }
 
   io::FitRecord rec = fit_record(kernels::kFitMethod, f);
