@@ -118,6 +118,37 @@ TEST(FitLowpass, UnfilteredRecordIsFittedOverEveryTauAsBefore) {
   }
 }
 
+// A filter found on the curve is applied only when it explains the misfit: here a small filter
+// (a boxcar of 1.3 samples) beside a strong line (a sinusoid whose bump towers over the white
+// noise at 1-5 s), as on the real accelerometers. The filter is found, but the fit from its
+// first tau keeps the line's misfit on fewer taus, so it is recorded as auto-unused and every
+// tau is fitted, bit for bit the fit of --lowpass none.
+TEST(FitLowpass, AFilterThatDoesNotExplainTheMisfitIsNotApplied) {
+  const fs::path dir = test::fresh_dir("fit_lowpass_line");
+  simulate(dir,
+           R"({"type": "lowpass", "taps": 1.3}, )"
+           R"({"type": "sinusoid", "amplitude": 0.02, "frequency_hz": 0.15})",
+           41);
+  std::string out;
+  const io::FitRecord f = analyze(dir, "auto", &out);
+  EXPECT_NE(f.status, kernels::FitStatus::Ok) << f.chi2_dof;
+  ASSERT_EQ(f.lowpass, "auto-unused") << "criterion " << f.lowpass_delta_ic << "\n" << out;
+  EXPECT_GT(f.lowpass_delta_ic, 0.0);
+  EXPECT_TRUE(std::isfinite(f.lowpass_taps) || std::isfinite(f.lowpass_cutoff_hz));
+  EXPECT_EQ(f.first_tau_fitted, f.tau.front());
+  EXPECT_EQ(f.taus_fitted, static_cast<std::int64_t>(f.tau.size()));
+  EXPECT_EQ(f.chi2_dof, f.chi2_dof_all_taus);
+  EXPECT_EQ(out.find("fitted from"), std::string::npos) << out;
+  const io::FitRecord none = analyze(dir, "none", &out);
+  ASSERT_EQ(f.terms.size(), none.terms.size());
+  for (std::size_t i = 0; i < f.terms.size(); ++i)
+    EXPECT_EQ(f.terms[i].value, none.terms[i].value) << f.terms[i].term;
+  // Given by the option, the same filter is applied whatever the fit says.
+  const io::FitRecord given = analyze(dir, "taps=1.3", &out);
+  EXPECT_EQ(given.lowpass, "option");
+  EXPECT_LT(given.taus_fitted, static_cast<std::int64_t>(given.tau.size()));
+}
+
 TEST(FitLowpass, BadOptionIsAUsageError) {
   const fs::path dir = test::fresh_dir("fit_lowpass_bad");
   simulate(dir, "", 5);
