@@ -26,32 +26,12 @@ namespace {
 
 using namespace allanlot;
 
-struct Eq3 {
-  kernels::FitResult fit;
-  std::size_t first = 0;  // first row used
-};
-
 // The eq. (3) fit of the rows of `oadev` from averaging factor first_m on.
-Eq3 eq3(const kernels::StatResult& oadev, double rate_hz, std::int64_t n, std::int64_t first_m) {
-  Eq3 out;
-  while (out.first < oadev.size() && oadev.m[out.first] < first_m)
-    ++out.first;
-  const std::size_t p = oadev.size() - out.first;
-  std::vector<double> tau(oadev.tau_s.begin() + out.first, oadev.tau_s.end());
-  std::vector<double> dev(oadev.dev.begin() + out.first, oadev.dev.end());
-  std::vector<double> edf(oadev.edf.begin() + out.first, oadev.edf.end());
-  std::vector<std::int64_t> nn(oadev.n.begin() + out.first, oadev.n.end());
-  kernels::Eq3Fit fit(p);
-  kernels::FitInput in;
-  in.tau_s = tau;
-  in.values = dev;
-  in.is_deviation = true;
-  in.n = nn;
-  in.edf = edf;
-  in.tau0_s = 1.0 / rate_hz;
-  in.n_samples = n;
-  out.fit = fit.fit(in);
-  return out;
+kernels::FitResult eq3(const kernels::StatResult& oadev, double rate_hz, std::int64_t n,
+                       std::int64_t first_m) {
+  const kernels::StatResult rows = kernels::fit_subset(oadev, first_m);
+  kernels::Eq3Fit fit(rows.size());
+  return fit.fit(rows, 1.0 / rate_hz, n);
 }
 
 std::string names(const kernels::Diagnosis& d) {
@@ -98,21 +78,21 @@ int main(int argc, char** argv) {
           kernels::Stat::Oadev, ph,
           kernels::make_m_list(grid, kernels::max_m(kernels::Stat::Oadev, ph.n_points())), 0);
       kernels::add_confidence(kernels::Stat::Oadev, ph, oadev, kernels::kDefaultConfidence, 0);
-      const Eq3 all = eq3(oadev, rate, n, 1);
+      const kernels::FitResult all = eq3(oadev, rate, n, 1);
       kernels::ChannelSpec own;
       own.rate_hz = rate;
       for (const kernels::Term t : kernels::all_terms())
-        kernels::coefficient(own.terms, t) = all.fit.terms[static_cast<std::size_t>(t)].value;
+        kernels::coefficient(own.terms, t) = all.terms[static_cast<std::size_t>(t)].value;
       kernels::DiagnoseOptions opt;
       opt.mc_replicas = replicas;
       const kernels::Diagnosis d = kernels::diagnose(y, rate, own, opt);
       const std::int64_t first = kernels::lowpass_first_m(d.model_after.lowpass, rate, n);
-      const Eq3 cut = eq3(oadev, rate, n, first);
+      const kernels::FitResult cut = eq3(oadev, rate, n, first);
       const kernels::Diagnosis again = kernels::diagnose(y, rate, d.model_after, opt);
       std::printf("| %s | %s | %.4g | %s | %.3g -> %.3g (%.3g) | %lld | %.4g | %s, gap %.3g |\n",
-                  file.stem().string().c_str(), ch.path.c_str(), all.fit.chi2_dof, names(d).c_str(),
+                  file.stem().string().c_str(), ch.path.c_str(), all.chi2_dof, names(d).c_str(),
                   d.before.gap, d.after.gap, d.mc_after.gap_p95, static_cast<long long>(first),
-                  cut.fit.chi2_dof, names(again).c_str(), again.after.gap);
+                  cut.chi2_dof, names(again).c_str(), again.after.gap);
       if (std::getenv("BENCH_VERBOSE"))
         for (std::size_t i = 0; i < d.tau_s.size(); ++i)
           std::printf("    tau %.4g  meas/before %.4f  meas/after %.4f  z_after %.2f  edf %.4g\n",

@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <limits>
 #include <numbers>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 
@@ -113,6 +114,26 @@ Eq3Fit::Eq3Fit(std::size_t max_taus, FitOptions options) : options_(options) {
   design_.bs.resize(p);
   amat_.resize(kNumTerms, p);
   qr_ = Eigen::ColPivHouseholderQR<Eigen::MatrixXd>(p, kNumTerms);
+}
+
+StatResult fit_subset(const StatResult& r, std::span<const std::size_t> rows,
+                      std::int64_t first_m) {
+  StatResult sub;
+  for (const std::size_t i : rows) {
+    if (r.m[i] < first_m) continue;
+    sub.m.push_back(r.m[i]);
+    sub.tau_s.push_back(r.tau_s[i]);
+    sub.dev.push_back(r.dev[i]);
+    sub.n.push_back(r.n[i]);
+    sub.edf.push_back(r.edf[i]);
+  }
+  return sub;
+}
+
+StatResult fit_subset(const StatResult& r, std::int64_t first_m) {
+  std::vector<std::size_t> rows(r.size());
+  std::iota(rows.begin(), rows.end(), std::size_t{0});
+  return fit_subset(r, rows, first_m);
 }
 
 FitResult Eq3Fit::fit(const StatResult& oadev, double tau0_s, std::int64_t n_samples) {

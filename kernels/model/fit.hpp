@@ -239,6 +239,14 @@ struct FitInput {
   std::int64_t n_samples = 0;       // rate samples of the channel (N + 1 phase points)
 };
 
+/// The rows `rows` (increasing indices) of `r` whose averaging factor is at least first_m, with
+/// what Eq3Fit::fit reads of them (m, tau_s, dev, n, edf): the part of a curve to fit, e.g.
+/// without the shortest taus that a sensor's filter biases.
+StatResult fit_subset(const StatResult& r, std::span<const std::size_t> rows,
+                      std::int64_t first_m = 1);
+/// Every row of `r` from averaging factor first_m on.
+StatResult fit_subset(const StatResult& r, std::int64_t first_m);
+
 /// The eq. (3) fit as a reusable plan (Eigen's decomposition style): the constructor reserves
 /// the workspaces for up to `max_taus` taus; fit() rebuilds the covariance basis only when the
 /// curve's shape (m, n, tau0) differs from the previous call's, so the channels of a lot, which

@@ -628,8 +628,8 @@ Command add_analyze_command(CLI::App& app) {
   sub->add_flag("--no-fit", a->no_fit, "Do not fit equation (3) (no fit/ group)");
   sub->add_option("--lowpass", a->opt.lowpass,
                   "The sensor's filter in the eq. (3) fit: auto (named from the curve; the "
-                  "taus it biases are left out), none (every tau), cutoff_hz=X (first order) "
-                  "or taps=X (moving average)")
+                  "taus it biases are left out when that lowers chi2/dof), none (every tau), "
+                  "cutoff_hz=X (first order) or taps=X (moving average)")
       ->capture_default_str();
   sub->add_flag("--no-psd", a->no_psd, "Do not compute the PSD and the eq. (2) cross-check");
   sub->add_flag("--table", a->opt.table,

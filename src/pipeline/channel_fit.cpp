@@ -12,7 +12,6 @@
 #include <exception>
 #include <limits>
 #include <map>
-#include <numeric>
 #include <span>
 #include <sstream>
 #include <stdexcept>
@@ -50,21 +49,6 @@ std::vector<std::size_t> fit_rows(const kernels::StatResult& r) {
 }
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-// The rows `rows` of `r` whose averaging factor is at least first_m.
-kernels::StatResult rows_of(const kernels::StatResult& r, const std::vector<std::size_t>& rows,
-                            std::int64_t first_m) {
-  kernels::StatResult sub;
-  for (const std::size_t i : rows) {
-    if (r.m[i] < first_m) continue;
-    sub.m.push_back(r.m[i]);
-    sub.tau_s.push_back(r.tau_s[i]);
-    sub.dev.push_back(r.dev[i]);
-    sub.n.push_back(r.n[i]);
-    sub.edf.push_back(r.edf[i]);
-  }
-  return sub;
-}
 
 // The filter the fit leaves its taus to, and where that leaves the fit.
 struct FilterUsed {
@@ -212,15 +196,13 @@ io::FitRecord fit_channel(const kernels::StatResult& oadev, double tau0_s, std::
   thread_local kernels::Eq3Fit fitter_all, fitter_cut;
   fitter_all.set_threads(threads);
   fitter_cut.set_threads(threads);
-  const kernels::StatResult sub = rows_of(oadev, fit_rows(oadev), 1);
+  const kernels::StatResult sub = kernels::fit_subset(oadev, fit_rows(oadev));
   const kernels::FitResult all = fitter_all.fit(sub, tau0_s, n_samples);
   const double rate_hz = 1.0 / tau0_s;
   FilterUsed used = filter_of(lowpass, sub, all, fitter_all.covariance(), rate_hz, n_samples);
   kernels::FitResult f = all;
   if (!sub.m.empty() && used.first_m > sub.m.front()) {
-    std::vector<std::size_t> rows(sub.size());
-    std::iota(rows.begin(), rows.end(), std::size_t{0});
-    const kernels::StatResult cut = rows_of(sub, rows, used.first_m);
+    const kernels::StatResult cut = kernels::fit_subset(sub, used.first_m);
     f = fitter_cut.fit(cut, tau0_s, n_samples);
     used.first_tau_s = cut.tau_s.empty() ? kNaN : cut.tau_s.front();
     used.taus = cut.size();

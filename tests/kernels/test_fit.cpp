@@ -127,6 +127,27 @@ TEST(OavarCovariance, MatchesPlainLagSumsForEveryTerm) {
   }
 }
 
+// The part of a curve the fit takes: the rows asked for from first_m on, with the columns the
+// fit reads.
+TEST(FitSubset, RowsFromFirstM) {
+  kernels::StatResult r;
+  r.m = {1, 2, 4, 8, 16};
+  r.tau_s = {0.1, 0.2, 0.4, 0.8, 1.6};
+  r.dev = {5, 4, 3, 2, 1};
+  r.n = {99, 97, 93, 85, 69};
+  r.edf = {90, 80, 60, 40, 20};
+  const std::vector<std::size_t> rows = {0, 2, 3, 4};
+  const kernels::StatResult a = kernels::fit_subset(r, rows, 4);
+  EXPECT_EQ(a.m, (std::vector<std::int64_t>{4, 8, 16}));
+  EXPECT_EQ(a.tau_s, (std::vector<double>{0.4, 0.8, 1.6}));
+  EXPECT_EQ(a.dev, (std::vector<double>{3, 2, 1}));
+  EXPECT_EQ(a.n, (std::vector<std::int64_t>{93, 85, 69}));
+  EXPECT_EQ(a.edf, (std::vector<double>{60, 40, 20}));
+  EXPECT_EQ(kernels::fit_subset(r, rows).m, (std::vector<std::int64_t>{1, 4, 8, 16}));
+  EXPECT_EQ(kernels::fit_subset(r, 3).m, (std::vector<std::int64_t>{4, 8, 16}));
+  EXPECT_EQ(kernels::fit_subset(r, 32).size(), 0u);
+}
+
 // The basis is built row by row on OpenMP threads, each entry alone: the same bits at 1, 2
 // and 3 threads, for every term pair and the ramp's cross terms.
 TEST(OavarCovariance, SameBitsForAnyThreadCount) {
