@@ -252,6 +252,11 @@ std::vector<SummaryRow> summary_rows(const RecordingResult& r) {
         }
       row.chi2_dof = ch.fit->chi2_dof;
       row.fit_status = fit_status_text(*ch.fit);
+      row.lowpass = ch.fit->lowpass;
+      row.lowpass_cutoff_hz = ch.fit->lowpass_cutoff_hz;
+      row.lowpass_taps = ch.fit->lowpass_taps;
+      row.first_tau_fitted = ch.fit->first_tau_fitted;
+      row.chi2_dof_all_taus = ch.fit->chi2_dof_all_taus;
       add_readouts(row, *ch.fit);
     }
     if (ch.crosscheck) {

@@ -213,6 +213,13 @@ struct SummaryRow {
   // channels behind it, e.g. "fail: gyro_x (N); undecided: accel_z".
   std::string unit_spec_status;
   std::string unit_spec_detail;
+  // The sensor's filter in the eq. (3) fit (fit/, docs/fit-and-psd.md "The sensor's filter"):
+  // fit/lowpass ("auto", "auto-unused", "option", "none"; "" without a fit), its cutoff or taps
+  // (NaN for the other form), the first tau the fit used and the chi2/dof over every tau.
+  std::string lowpass;
+  double lowpass_cutoff_hz = nan(), lowpass_taps = nan();
+  double first_tau_fitted = nan();
+  double chi2_dof_all_taus = nan();
 
   SummaryRow() = default;
   SummaryRow(std::string device, std::string chan, std::string u, std::int64_t n, ChannelStatus st,

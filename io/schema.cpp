@@ -104,19 +104,19 @@ std::span<const Field<FitRecord>> fit_fields() {
       {"rank", A, &F::rank, "i64: independent regressors"},
       {"chi2_dof", A, &F::chi2_dof, "reduced chi-square", nullptr, Need::IfPresent, true},
       // fit/ only (written with its taus); absent from files written before issue #23.
-      {"lowpass", A, &F::lowpass, "the sensor's filter: auto, option or none", on_taus,
-       Need::IfPresent},
+      {"lowpass", A, &F::lowpass, "the sensor's filter: auto, auto-unused, option or none", on_taus,
+       Need::IfPresent, true},
       {"lowpass_cutoff_hz", A, &F::lowpass_cutoff_hz, "Hz, first order; NaN otherwise", on_taus,
-       Need::IfPresent},
+       Need::IfPresent, true},
       {"lowpass_taps", A, &F::lowpass_taps, "moving average, samples; NaN otherwise", on_taus,
-       Need::IfPresent},
+       Need::IfPresent, true},
       {"lowpass_delta_ic", A, &F::lowpass_delta_ic, "auto test's criterion, > 0 named; NaN",
        on_taus, Need::IfPresent},
       {"first_tau_fitted", A, &F::first_tau_fitted, "s, the first tau the fit used", on_taus,
-       Need::IfPresent},
+       Need::IfPresent, true},
       {"taus_fitted", A, &F::taus_fitted, "i64: taus the fit used", on_taus, Need::IfPresent},
       {"chi2_dof_all_taus", A, &F::chi2_dof_all_taus, "the fit over every tau", on_taus,
-       Need::IfPresent},
+       Need::IfPresent, true},
   };
   return t;
 }
@@ -321,6 +321,12 @@ std::span<const RowColumn<SummaryRow>> summary_columns() {
       {"unit_spec_status", &S::unit_spec_status,
        "the unit's verdict: pass only when every channel with a rule passes; empty"},
       {"unit_spec_detail", &S::unit_spec_detail, "the channels behind it, with their terms"},
+      {"lowpass", &S::lowpass,
+       "the fit's sensor filter: auto, auto-unused, option, none; empty without a fit"},
+      {"lowpass_cutoff_hz", &S::lowpass_cutoff_hz, "first-order cutoff, Hz; NaN for a boxcar"},
+      {"lowpass_taps", &S::lowpass_taps, "moving-average length, samples; NaN for first order"},
+      {"first_tau_fitted", &S::first_tau_fitted, "s, the first tau the fit used"},
+      {"chi2_dof_all_taus", &S::chi2_dof_all_taus, "the fit over every tau, beside chi2_dof"},
   };
   return t;
 }

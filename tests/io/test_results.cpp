@@ -141,6 +141,10 @@ TEST(Results, LotSummaryRoundTripAndCsv) {
                   "/x/broken.h5"});
   rows[0].fits_agree = 0;
   rows[0].fits_max_abs_z = 4.5;
+  rows[0].lowpass = "auto";
+  rows[0].lowpass_cutoff_hz = 29.2;
+  rows[0].first_tau_fitted = 0.9;
+  rows[0].chi2_dof_all_taus = 365.7;
   io::write_lot_summary(dir, rows);
   const auto back = io::read_lot_summary(dir / "lot_summary.h5");
   ASSERT_EQ(back.size(), rows.size());
@@ -165,12 +169,14 @@ TEST(Results, LotSummaryRoundTripAndCsv) {
                       "readout_B_unit,readout_B_tau,readout_K,readout_K_sigma,readout_K_unit,"
                       "readout_K_tau,readouts_valid,quality,n_missing,n_gap_runs,n_time_errors,"
                       "n_saturated,longest_run,n_stuck,n_spikes,max_spike_sigmas,"
-                      "unit_spec_status,unit_spec_detail\n",
+                      "unit_spec_status,unit_spec_detail,lowpass,lowpass_cutoff_hz,lowpass_taps,"
+                      "first_tau_fitted,chi2_dof_all_taus\n",
                       0),
             0u);
   EXPECT_NE(csv.find("SN 1,/imu/gyro_x,deg/s,5400000,ok,/data/sn1.h5,,,,,,,,,,,,,18,0.036,deg/h/"
                      "sqrt(Hz),1,0,1.7,urad,0,0.97,ok,,,0,4.5,,,,18.4,3.5,,,0,,,,,,,18,0.14,"
-                     "deg/h/sqrt(Hz),0.3,0.0024,deg/sqrt(h),,,,,,,,,N,,,,,,,,,,,\n"),
+                     "deg/h/sqrt(Hz),0.3,0.0024,deg/sqrt(h),,,,,,,,,N,,,,,,,,,,,,auto,29.2,,0.9,"
+                     "365.7\n"),
             std::string::npos)
       << csv;
   EXPECT_NE(csv.find("\"failed: not an HDF5 file, \"\"really\"\"\""), std::string::npos);

@@ -321,6 +321,11 @@ TEST(Schema, LotSummaryColumnsRoundTrip) {
   row.max_spike_sigmas = 12.5;
   row.unit_spec_status = "fail";
   row.unit_spec_detail = "fail: gyro_x (N)";
+  row.lowpass = "auto";
+  row.lowpass_cutoff_hz = 29.2;
+  row.lowpass_taps = 1.36;
+  row.first_tau_fitted = 0.9;
+  row.chi2_dof_all_taus = 365.7;
   io::StatisticsRow st{"/imu/gyro_x", "N", "deg/h/sqrt(Hz)", 7, 6, 1, 1.5, 0.2, 1.1, 1.3, 1.7, 1.9,
                        1.0,           2.0};
   io::write_lot_summary(dir, {row}, {st});
