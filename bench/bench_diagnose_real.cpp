@@ -5,6 +5,11 @@
 //
 //   bench_diagnose_real FOLDER [REPLICAS] [CHANNEL_SUBSTRING]
 //
+// With BENCH_INJECT=1 it makes the injection table instead: into each channel's real samples
+// a sinusoid, a Gauss-Markov process, a ramp and a step are added, one at a time, small (5
+// sigma of the measured Allan variance where the effect's share is largest) and clear (20
+// sigma), and the record is diagnosed against the corrected model of its untouched samples.
+//
 // Not a Google Benchmark: a table on stdout, one line per channel.
 #include "io/recording.hpp"
 #include "kernels/allan/phase.hpp"
@@ -13,9 +18,11 @@
 #include "kernels/diagnose/diagnose.hpp"
 #include "kernels/model/fit.hpp"
 #include "kernels/simulate/lowpass.hpp"
+#include "kernels/simulate/simulate.hpp"
 #include "kernels/uncertainty/confidence.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -49,6 +56,85 @@ std::string names(const kernels::Diagnosis& d) {
   return s.empty() ? "-" : s;
 }
 
+// One injected effect of unit size: a spec holding only it.
+struct Injection {
+  const char* name;
+  kernels::Effect effect;
+  kernels::ChannelSpec unit;
+};
+
+std::vector<Injection> injections(double rate_hz, double duration_s) {
+  kernels::ChannelSpec base;
+  base.rate_hz = rate_hz;
+  std::vector<Injection> out;
+  // A line at 0.37 Hz (no ADIS16405 line is near it), a hump at tau_c = 2 s, a ramp, and a jump
+  // at 0.37 of the record.
+  auto sin = base;
+  sin.sinusoids.push_back({1.0, 0.37, 0.4});
+  out.push_back({"sinusoid 0.37 Hz", kernels::Effect::Sinusoid, sin});
+  auto gm = base;
+  gm.markovs.push_back({1.0, 2.0});
+  out.push_back({"markov tau_c 2 s", kernels::Effect::Markov, gm});
+  auto ramp = base;
+  ramp.terms.R = 1.0;
+  out.push_back({"ramp", kernels::Effect::Ramp, ramp});
+  auto step = base;
+  step.steps.push_back({1.0, 0.37 * duration_s});
+  out.push_back({"step", kernels::Effect::Step, step});
+  return out;
+}
+
+// The amplitude at which `unit`'s Allan variance is `sigmas` standard deviations of the measured
+// variance (avar sqrt(2 / edf), the chi-square's) at the tau where its share is largest.
+double amplitude_for(const kernels::ChannelSpec& unit, const kernels::Diagnosis& d, std::int64_t n,
+                     double sigmas) {
+  double most = 0.0;
+  for (std::size_t i = 0; i < d.m.size(); ++i) {
+    const double sd = d.avar_measured[i] * std::sqrt(2.0 / d.edf_after[i]);
+    most = std::max(most, kernels::model_avar_sampled(unit, d.m[i], n) / sd);
+  }
+  return std::sqrt(sigmas / most);
+}
+
+kernels::ChannelSpec scaled(kernels::ChannelSpec s, double a) {
+  s.terms.R *= a;
+  for (auto& x : s.sinusoids)
+    x.amplitude *= a;
+  for (auto& x : s.markovs)
+    x.sigma *= a;
+  for (auto& x : s.steps)
+    x.size *= a;
+  return s;
+}
+
+// The injection rows of one channel: each effect, small and clear, added to the real samples
+// and diagnosed against the corrected model of the untouched record (`d.model_after`).
+void inject_rows(const std::string& unit, const std::string& channel,
+                 const kernels::LargeVector<double>& y, double rate, const kernels::Diagnosis& d,
+                 const kernels::DiagnoseOptions& opt) {
+  const auto n = static_cast<std::int64_t>(y.size());
+  std::vector<double> add(y.size()), z(y.size());
+  std::uint64_t stream = 0;
+  for (const Injection& inj : injections(rate, static_cast<double>(n) / rate))
+    for (const double sigmas : {5.0, 20.0}) {
+      const double a = amplitude_for(inj.unit, d, n, sigmas);
+      kernels::simulate_channel(scaled(inj.unit, a), 4242, stream++, add, 0);
+      for (std::size_t i = 0; i < y.size(); ++i)
+        z[i] = y[i] + add[i];
+      const kernels::Diagnosis g = kernels::diagnose(z, rate, d.model_after, opt);
+      const bool named = std::find(g.effects_named.begin(), g.effects_named.end(), inj.effect) !=
+                         g.effects_named.end();
+      const bool exact = named && g.effects_named.size() == 1;
+      std::printf("| %s | %s | %s | %.0f sigma (%.3g) | %s | %s | %.3g (%.3g) |\n", unit.c_str(),
+                  channel.c_str(), inj.name, sigmas, a, names(g).c_str(),
+                  exact   ? "exact"
+                  : named ? "named, with others"
+                          : "missed",
+                  g.after.gap, g.mc_after.gap_p95);
+      std::fflush(stdout);
+    }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -62,9 +148,16 @@ int main(int argc, char** argv) {
   for (const auto& e : std::filesystem::directory_iterator(argv[1]))
     if (e.path().extension() == ".h5") files.push_back(e.path());
   std::sort(files.begin(), files.end());
-  std::printf("| unit | channel | chi2/dof all taus | named against own fit | gap before -> after "
-              "(replica p95) | first m | chi2/dof from first m | fixed model re-diagnosed |\n"
-              "|---|---|---|---|---|---|---|---|\n");
+  const bool inject = std::getenv("BENCH_INJECT") != nullptr;
+  if (inject)
+    std::printf("| unit | channel | injected | size (amplitude) | named against the corrected "
+                "model | verdict | gap after (replica p95) |\n|---|---|---|---|---|---|---|\n");
+  else
+    std::printf(
+        "| unit | channel | chi2/dof all taus | named against own fit | gap before -> after "
+        "(replica p95) | first m | chi2/dof from first m | fixed model re-diagnosed | "
+        "largest jump (rms, p) |\n"
+        "|---|---|---|---|---|---|---|---|---|\n");
   for (const auto& file : files) {
     const io::RecordingReader reader(file.string());
     for (const auto& ch : reader.info().channels) {
@@ -86,13 +179,19 @@ int main(int argc, char** argv) {
       kernels::DiagnoseOptions opt;
       opt.mc_replicas = replicas;
       const kernels::Diagnosis d = kernels::diagnose(y, rate, own, opt);
+      if (inject) {
+        inject_rows(file.stem().string(), ch.path, y, rate, d, opt);
+        continue;
+      }
       const std::int64_t first = kernels::lowpass_first_m(d.model_after.lowpass, rate, n);
       const kernels::FitResult cut = eq3(oadev, rate, n, first);
       const kernels::Diagnosis again = kernels::diagnose(y, rate, d.model_after, opt);
-      std::printf("| %s | %s | %.4g | %s | %.3g -> %.3g (%.3g) | %lld | %.4g | %s, gap %.3g |\n",
+      std::printf("| %s | %s | %.4g | %s | %.3g -> %.3g (%.3g) | %lld | %.4g | %s, gap %.3g | "
+                  "%.3g at %.1f s (%.2g, %.2g) |\n",
                   file.stem().string().c_str(), ch.path.c_str(), all.chi2_dof, names(d).c_str(),
                   d.before.gap, d.after.gap, d.mc_after.gap_p95, static_cast<long long>(first),
-                  cut.chi2_dof, names(again).c_str(), again.after.gap);
+                  cut.chi2_dof, names(again).c_str(), again.after.gap, d.step.size, d.step.time_s,
+                  d.step.statistic, d.step.p_value);
       if (std::getenv("BENCH_VERBOSE"))
         for (std::size_t i = 0; i < d.tau_s.size(); ++i)
           std::printf("    tau %.4g  meas/before %.4f  meas/after %.4f  z_after %.2f  edf %.4g\n",

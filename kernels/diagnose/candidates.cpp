@@ -21,7 +21,9 @@ namespace {
 
 std::vector<double> basis_of(const Component& c, const Curve& cv, const Bases& b) {
   if (c.kind == Kind::Term) return b.term[static_cast<std::size_t>(c.term)];
-  if (c.kind == Kind::Lowpass) return std::vector<double>(cv.size(), 0.0);
+  // A step is removed from the record instead (diagnose.cpp, Search::curve_without): no
+  // variance on the curves compared.
+  if (c.kind == Kind::Lowpass || c.kind == Kind::Step) return std::vector<double>(cv.size(), 0.0);
   ChannelSpec s;
   s.rate_hz = b.rate_hz;
   if (c.kind == Kind::Sinusoid)
@@ -189,6 +191,18 @@ std::vector<Component> components_of(const ChannelSpec& s) {
     c.given = true;
     out.push_back(c);
   }
+  for (const Step& st : s.steps) {
+    // A given jump is kept as given: the Allan curve can neither place it nor size it apart
+    // from a random walk.
+    Component c;
+    c.kind = Kind::Step;
+    c.nl = st.time_s;
+    c.coef = std::abs(st.size);
+    c.sign = st.size < 0.0 ? -1.0 : 1.0;
+    c.pinned = true;
+    c.given = true;
+    out.push_back(c);
+  }
   if (s.lowpass.active()) {
     Component c;
     c.kind = Kind::Lowpass;
@@ -212,6 +226,8 @@ ChannelSpec spec_of(const std::vector<Component>& comps, const ChannelSpec& like
       s.sinusoids.push_back({c.coef, c.nl, c.phase});
     } else if (c.kind == Kind::Lowpass) {
       s.lowpass = c.lp;
+    } else if (c.kind == Kind::Step) {
+      s.steps.push_back({c.sign * c.coef, c.nl});
     } else {
       s.markovs.push_back({c.coef, c.nl});
     }
@@ -345,6 +361,8 @@ std::vector<Parameter> parameters_of(const Component& c, double coef_sigma, doub
   if (c.kind == Kind::Sinusoid)
     return {{"amplitude", c.coef, c.pinned ? c.coef_sigma : coef_sigma},
             {"frequency_hz", c.nl, std::isnan(c.nl_sigma) ? nl_sigma : c.nl_sigma}};
+  if (c.kind == Kind::Step)
+    return {{"size", c.sign * c.coef, c.coef_sigma}, {"time_s", c.nl, c.nl_sigma}};
   // A tau_c at the end of its search range is a limit, not an estimate: its curvature-based
   // sigma would describe the edge of the grid, not the data.
   if (c.nl_bound != 0) return {{"sigma", c.coef, coef_sigma}, {"tau_c_s", c.nl, kNaN, c.nl_bound}};
@@ -358,8 +376,10 @@ std::string component_label(const std::vector<Component>& comps, std::size_t idx
   int ordinal = 0;
   for (std::size_t i = 0; i < idx; ++i)
     ordinal += comps[i].kind == c.kind ? 1 : 0;
-  return std::string(c.kind == Kind::Sinusoid ? "sinusoid[" : "markov[") + std::to_string(ordinal) +
-         "]";
+  const char* kind = c.kind == Kind::Sinusoid ? "sinusoid["
+                     : c.kind == Kind::Step   ? "step["
+                                              : "markov[";
+  return std::string(kind) + std::to_string(ordinal) + "]";
 }
 
 // model_avar_sampled of spec `s` at the curve's taus, from the cached term bases.
@@ -434,9 +454,11 @@ Fit search_tau_c(std::vector<Component> comps, std::size_t idx, const Curve& cv,
   return out;
 }
 
-CandidateFit evaluate_candidate(Effect e, std::vector<Component> comps, const SpectralLine& line,
+CandidateFit evaluate_candidate(Effect e, std::vector<Component> comps, const Witnesses& seen,
                                 int n_refit, double chi2_ref, const Curve& cv, const Bases& b,
                                 const Criterion& crit) {
+  const SpectralLine& line = seen.line;
+  const Curve* fit_cv = &cv;
   CandidateFit cf;
   cf.info.effect = e;
   int k = n_refit;
@@ -476,6 +498,38 @@ CandidateFit evaluate_candidate(Effect e, std::vector<Component> comps, const Sp
     cf.info.note = "PSD line at " + std::to_string(line.frequency_hz) + " Hz, peak/background " +
                    std::to_string(line.peak_ratio);
     k += 2;
+  } else if (e == Effect::Step) {
+    const StepWitness& jump = seen.step;
+    if (!jump.searched) {
+      cf.info.note = "no time-domain witness (gaps or short record)";
+      return cf;
+    }
+    if (!jump.found) {
+      cf.info.note = jump.note.empty()
+                         ? "the record shows no jump (p = " + std::to_string(jump.p_value) +
+                               " >= " + std::to_string(jump.false_alarm) + ")"
+                         : jump.note;
+      return cf;
+    }
+    if (seen.without_jump == nullptr) {
+      cf.info.note = "the record without the jump has another tau grid";
+      return cf;
+    }
+    Component c;
+    c.kind = Kind::Step;
+    c.nl = jump.time_s;
+    c.nl_sigma = jump.time_sigma_s;
+    c.coef = std::abs(jump.size);
+    c.sign = jump.size < 0.0 ? -1.0 : 1.0;
+    c.coef_sigma = jump.size_sigma;
+    c.pinned = true;
+    comps.push_back(c);
+    // The model as it stands, fitted to the record without the jump.
+    fit_cv = seen.without_jump;
+    cf.fit = fit_components(std::move(comps), *fit_cv, b);
+    cf.info.note = "jump of " + std::to_string(jump.size) + " at " + std::to_string(jump.time_s) +
+                   " s, p = " + std::to_string(jump.p_value);
+    k += 2;
   } else if (e == Effect::Lowpass) {
     if (lowpass_of(comps).active()) {
       cf.info.note = "already in the model";
@@ -511,7 +565,7 @@ CandidateFit evaluate_candidate(Effect e, std::vector<Component> comps, const Sp
   cf.info.evaluated = true;
   cf.info.delta_ic = (chi2_ref - cf.fit.chi2) * crit.scale - threshold(k, crit.alpha_candidate);
   std::vector<double> cs, ns;
-  fill_sigmas(cf.fit, cv, b, crit.n_eff, cs, ns);
+  fill_sigmas(cf.fit, *fit_cv, b, crit.n_eff, cs, ns);
   cf.info.parameters = parameters_of(cf.fit.comps[cf.added], cs[cf.added], ns[cf.added]);
   return cf;
 }

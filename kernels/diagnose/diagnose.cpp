@@ -37,6 +37,8 @@ std::string_view effect_name(Effect e) {
     return "markov";
   case Effect::Lowpass:
     return "lowpass";
+  case Effect::Step:
+    return "step";
   }
   return "?";
 }
@@ -74,6 +76,8 @@ void check_options(const DiagnoseOptions& opt) {
     throw std::invalid_argument("diagnose: band_alpha must be in (0, 1)");
   if (!(opt.select_alpha > 0.0 && opt.select_alpha < 1.0))
     throw std::invalid_argument("diagnose: select_alpha must be in (0, 1)");
+  if (!(opt.step_false_alarm > 0.0 && opt.step_false_alarm < 1.0))
+    throw std::invalid_argument("diagnose: step_false_alarm must be in (0, 1)");
   if (opt.mc_replicas < 0) throw std::invalid_argument("diagnose: mc_replicas must be >= 0");
 }
 
@@ -140,12 +144,46 @@ struct Search {
   std::vector<Component> given, current;
   std::vector<std::size_t> added_idx;
   bool refit_taken = false;
+  std::span<const double> rate;  // the record as measured, for the step's witness
+  int threads = 1;
+
+  Curve curve_without(const std::vector<Step>& steps) const;
+  std::optional<Curve> curve_without_jump(const StepWitness& jump) const;
 
   bool round(int& iter);
   Fit refit_final();
   bool prune(Fit& base);
   void finish();
 };
+
+// A step is an event in the time domain, and in the Allan curve it is a random walk's rise
+// (step_avar_sampled grows as m, like K^2 tau / 3): the curve cannot tell the two apart, so a
+// step's uncertain size would decide whether a random walk beside it is seen. Steps are
+// therefore removed from the record, exactly, and the curve every fit and comparison uses is
+// that of the record without them (docs/diagnose.md "A bias jump").
+Curve Search::curve_without(const std::vector<Step>& steps) const {
+  if (steps.empty()) return measure(rate, crit.rate_hz, opt, threads);
+  std::vector<double> y(rate.begin(), rate.end());
+  for (const Step& st : steps) {
+    const double s_at = st.time_s * crit.rate_hz;
+    for (std::size_t k = 0; k < y.size(); ++k)
+      y[k] -= st.size * std::clamp(static_cast<double>(k) + 1.0 - s_at, 0.0, 1.0);
+  }
+  return measure(y, crit.rate_hz, opt, threads);
+}
+
+// The curve with the current steps and the witnessed jump removed, judged under the round's
+// edf, on which the step candidate is fitted; none without a jump (or, never in practice, when
+// a zero variance drops a tau from its grid).
+std::optional<Curve> Search::curve_without_jump(const StepWitness& jump) const {
+  if (!jump.found) return std::nullopt;
+  std::vector<Step> steps = spec_of(current, spec).steps;
+  steps.push_back({jump.size, jump.time_s});
+  Curve c = curve_without(steps);
+  if (c.m != cv.m) return std::nullopt;
+  use_edf(c, cv.edf);
+  return c;
+}
 
 // One round of the add-and-repeat loop (see diagnose()): false when it adds nothing and the
 // loop ends; `iter` counts the effects added.
@@ -166,16 +204,23 @@ bool Search::round(int& iter) {
     if (c.kind == Kind::Sinusoid) known_f.push_back(c.nl);
   SpectralLine line;
   if (periodogram) line = search_line(*periodogram, t_record, known_f, opt.line_false_alarm);
-  if (iter == 0 && !refit_taken) d.line = line;
+  const StepWitness jump =
+      find_step(rate, crit.rate_hz, spec_of(current, spec).steps, opt.step_false_alarm);
+  if (iter == 0 && !refit_taken) {
+    d.line = line;
+    d.step = jump;
+  }
+  std::optional<Curve> without_jump = curve_without_jump(jump);
+  const Witnesses seen{line, jump, without_jump ? &*without_jump : nullptr};
   // Variant (b) is judged against the refit, not against the model as it stands: its effect
   // must pay for itself beyond what re-estimating alone achieves, or any useless term would
   // ride on the refit's improvement.
   const Fit refit = fit_components(free_now, cv, bases);
   std::vector<CandidateFit> cands;
   for (const Effect e : kAllEffects) {
-    CandidateFit a = evaluate_candidate(e, fixed_now, line, 0, ref.chi2, cv, bases, crit);
+    CandidateFit a = evaluate_candidate(e, fixed_now, seen, 0, ref.chi2, cv, bases, crit);
     if (n_free > 0) {
-      CandidateFit b = evaluate_candidate(e, free_now, line, 0, refit.chi2, cv, bases, crit);
+      CandidateFit b = evaluate_candidate(e, free_now, seen, 0, refit.chi2, cv, bases, crit);
       b.info.note +=
           (b.info.note.empty() ? "" : "; ") + std::string("with the coefficients re-estimated");
       if (b.info.evaluated && (!a.info.evaluated || b.info.delta_ic > a.info.delta_ic))
@@ -188,14 +233,18 @@ bool Search::round(int& iter) {
     if (cands[c].info.evaluated && cands[c].info.delta_ic > 0.0 &&
         (best == cands.size() || cands[c].info.delta_ic > cands[best].info.delta_ic))
       best = c;
-  // The PSD witness decides between look-alikes: an unexplained significant line is direct
-  // evidence of a sinusoid, while a Gauss-Markov hump (no line) can mimic its Allan bump. So
-  // when the sinusoid candidate is significant it goes first; the others are judged again in
-  // the next round, with the line explained.
+  // The witnesses decide between look-alikes: an unexplained significant line is direct
+  // evidence of a sinusoid, while a Gauss-Markov hump (no line) can mimic its Allan bump; a jump
+  // in the record is direct evidence of a step, whose Allan rise a random walk or a ramp can
+  // mimic. So a significant witnessed candidate goes first (the larger criterion of the two);
+  // the others are judged again in the next round, with the line or jump explained.
+  std::size_t witnessed = cands.size();
   for (std::size_t c = 0; c < cands.size(); ++c)
-    if (cands[c].info.effect == Effect::Sinusoid && cands[c].info.evaluated &&
-        cands[c].info.delta_ic > 0.0)
-      best = c;
+    if ((cands[c].info.effect == Effect::Sinusoid || cands[c].info.effect == Effect::Step) &&
+        cands[c].info.evaluated && cands[c].info.delta_ic > 0.0 &&
+        (witnessed == cands.size() || cands[c].info.delta_ic > cands[witnessed].info.delta_ic))
+      witnessed = c;
+  if (witnessed < cands.size()) best = witnessed;
   // (c): the coefficients re-estimated with nothing added, taken at most once and only when
   // no effect is significant: incomplete before wrong, because a raised flicker floor can
   // mimic two hidden effects at once (a greedy round cannot see that one effect now and one
@@ -221,6 +270,7 @@ bool Search::round(int& iter) {
   it.parameters = w.info.parameters;
   it.delta_ic = w.info.delta_ic;
   const Comparison cmp_before = compare(cv, ref.model, cv.edf, alpha_tau);
+  if (w.info.effect == Effect::Step) cv = std::move(*without_jump);
   it.model_after = spec_of(w.fit.comps, spec);
   const Comparison cmp_after =
       compare(cv, w.fit.model, model_edf(it.model_after, cv, bases), alpha_tau);
@@ -268,14 +318,14 @@ Fit Search::refit_final() {
 // No phantom effects (issue #23): after the final refit each added effect must still pay for
 // itself, by the round's criterion (its removal, the rest refitted, must cost more than the
 // penalty of its parameters). The least significant one that does not is removed and the
-// model refitted; true when one was. Sinusoids are witnessed by their PSD line instead (their
-// amplitude is not fitted on the Allan curve), and are kept.
+// model refitted; true when one was. Sinusoids and steps are witnessed by their PSD line or
+// their jump instead (their size is not fitted on the Allan curve), and are kept.
 bool Search::prune(Fit& base) {
   double worst = 0.0;
   std::size_t worst_k = added_idx.size();
   for (std::size_t k = 0; k < added_idx.size(); ++k) {
     const Component& c = base.comps[added_idx[k]];
-    if (c.kind == Kind::Sinusoid) continue;
+    if (c.kind == Kind::Sinusoid || c.kind == Kind::Step) continue;
     std::vector<Component> without = base.comps;
     without.erase(without.begin() + static_cast<std::ptrdiff_t>(added_idx[k]));
     const Fit f = fit_components(without, cv, bases);
@@ -330,8 +380,10 @@ void Search::finish() {
     const std::string label = component_label(given, c);
     const std::string key = given[c].kind == Kind::Term       ? label
                             : given[c].kind == Kind::Sinusoid ? label + ".amplitude"
+                            : given[c].kind == Kind::Step     ? label + ".size"
                                                               : label + ".sigma";
-    d.revisions.push_back({key, given[c].coef, base.comps[c].coef, cs[c]});
+    d.revisions.push_back(
+        {key, given[c].sign * given[c].coef, base.comps[c].sign * base.comps[c].coef, cs[c]});
   }
   Fit& final_fit = d.coefficients_wrong ? base : fixed_fit;
   if (d.effects_named.empty() && !d.coefficients_wrong) {
@@ -358,8 +410,10 @@ Diagnosis diagnose(std::span<const double> rate, double rate_hz, const ChannelSp
   validate(spec);
 
   Diagnosis d;
-  Search search{opt, spec, d,    measure(rate, rate_hz, opt, threads), {}, {}, 0.0, {}, 0.0, {},
-                {},  {},   false};
+  Search search{opt, spec, d, {}, {}, {}, 0.0, {}, 0.0, {}, {}, {}, false, rate, threads};
+  search.crit.rate_hz = rate_hz;
+  // The given model's steps are removed from the record before anything is compared.
+  search.cv = search.curve_without(spec.steps);
   const Curve& cv = search.cv;
   d.m = cv.m;
   d.n = cv.n;
@@ -371,7 +425,6 @@ Diagnosis diagnose(std::span<const double> rate, double rate_hz, const ChannelSp
   // an effect to a complete model with probability about select_alpha.
   search.crit.alpha_candidate = opt.select_alpha / kNumEffects;
   search.crit.n_eff = d.n_eff;
-  search.crit.rate_hz = rate_hz;
   d.penalty = threshold(1, search.crit.alpha_candidate);
   search.alpha_tau = opt.band_alpha / d.n_eff;
   d.z_threshold = std::sqrt(chi2_quantile(1.0 - search.alpha_tau, 1.0));
@@ -401,16 +454,29 @@ Diagnosis diagnose(std::span<const double> rate, double rate_hz, const ChannelSp
     if (!search.round(iter)) break;
   search.finish();
 
-  d.mc_before = monte_carlo(d.model_before, cv, d.before.avar_model, d.edf, opt.mc_replicas,
+  // The replicas are of the records without their steps, as the curves compared are.
+  ChannelSpec noise_before = d.model_before, noise_after = d.model_after;
+  noise_before.steps.clear();
+  noise_after.steps.clear();
+  d.mc_before = monte_carlo(noise_before, cv, d.before.avar_model, d.edf, opt.mc_replicas,
                             opt.mc_seed, threads);
   const bool same = d.model_after.terms == d.model_before.terms &&
                     d.model_after.sinusoids == d.model_before.sinusoids &&
                     d.model_after.markovs == d.model_before.markovs &&
+                    d.model_after.steps == d.model_before.steps &&
                     d.model_after.lowpass == d.model_before.lowpass;
   d.mc_after = same ? d.mc_before
-                    : monte_carlo(d.model_after, cv, d.after.avar_model, d.edf_after,
-                                  opt.mc_replicas, opt.mc_seed, threads);
+                    : monte_carlo(noise_after, cv, d.after.avar_model, d.edf_after, opt.mc_replicas,
+                                  opt.mc_seed, threads);
   d.gap_within_noise = opt.mc_replicas > 0 ? d.after.gap <= d.mc_after.gap_p95 : d.after.gap <= 1.0;
+  // What each model predicts for the record as measured, its steps included (z and the gaps
+  // above judge the record without them).
+  for (std::size_t i = 0; i < cv.size(); ++i) {
+    for (const Step& st : d.model_before.steps)
+      d.before.avar_model[i] += step_avar_sampled(st, rate_hz, cv.m[i], cv.n_samples);
+    for (const Step& st : d.model_after.steps)
+      d.after.avar_model[i] += step_avar_sampled(st, rate_hz, cv.m[i], cv.n_samples);
+  }
   return d;
 }
 

@@ -35,7 +35,9 @@
 //   sinusoid  (amplitude, frequency_hz): a bump at tau ~ 0.37 / f, decaying with ripples;
 //   markov    (sigma, tau_c_s): +1/2 then -1/2 ADEV slopes around tau ~ 1.9 tau_c;
 //   lowpass   (cutoff_hz or taps): the sensor's filter, a deficit of the white noises at the
-//             shortest taus (kernels/simulate/lowpass.hpp), 1 parameter.
+//             shortest taus (kernels/simulate/lowpass.hpp), 1 parameter;
+//   step      (size, time_s): a bias jump, a random-walk-like rise of the Allan variance that
+//             falls with the record's length (step_avar_sampled), 2 parameters.
 // A candidate is fitted together with the model's coefficients (non-negative least squares
 // on the variances, reweighted, as kernels/model/fit.hpp), its nonlinear parameter by a grid plus
 // golden-section search (markov tau_c) or from the PSD (sinusoid frequency). The fit quality
@@ -45,15 +47,19 @@
 // the criterion is
 //
 //   delta_ic = (chi2_reference - chi2_candidate) n_eff / P - c_k,
-//   c_k = chi-square quantile at 1 - select_alpha / 8 with k degrees of freedom,
+//   c_k = chi-square quantile at 1 - select_alpha / 9 with k degrees of freedom,
 //
 // a penalized criterion like AIC (c_k = 2k) and BIC (c_k = k ln n) but with the penalty set by
 // the level of the test it implies: with n_eff ~ 8, BIC's ln(8) per parameter would let a
-// complete model pick up one of the eight candidates in about a fifth of records. A candidate
+// complete model pick up one of the nine candidates in about a fifth of records. A candidate
 // is added only when delta_ic > 0, so a model that already fits gets nothing. Each candidate
 // is tried with the model's coefficients fixed (reference: the model as it stands) and
 // re-estimated (reference: the model re-estimated with nothing added, so that the effect pays
 // for itself beyond the re-estimation).
+//
+// Time-domain witness. A step is evaluated only when the change-point test find_step finds a
+// jump in the record, from which its size and time are taken (the Allan curve cannot place it
+// in time, and a random walk or ramp would mimic its rise there).
 //
 // PSD witness. A sinusoid is a line in the spectrum, which the Allan variance smears into a
 // bump that a Gauss-Markov hump can mimic. The sinusoid candidate is therefore only evaluated
@@ -91,14 +97,25 @@
 namespace allanlot::kernels {
 
 /// The effect vocabulary of docs/diagnose.md.
-enum class Effect { Quantization, White, Flicker, RandomWalk, Ramp, Sinusoid, Markov, Lowpass };
-inline constexpr int kNumEffects = 8;
+enum class Effect {
+  Quantization,
+  White,
+  Flicker,
+  RandomWalk,
+  Ramp,
+  Sinusoid,
+  Markov,
+  Lowpass,
+  Step
+};
+inline constexpr int kNumEffects = 9;
 
-/// "quantization", "white", "flicker", "random_walk", "ramp", "sinusoid", "markov", "lowpass".
+/// "quantization", "white", "flicker", "random_walk", "ramp", "sinusoid", "markov", "lowpass",
+/// "step".
 std::string_view effect_name(Effect e);
 /// Inverse of effect_name; nullopt for anything else.
 std::optional<Effect> parse_effect(std::string_view name);
-/// The eq. (3) term an effect adds (Q, N, B, K, R); nullopt for sinusoid, markov and lowpass.
+/// The eq. (3) term an effect adds (Q, N, B, K, R); nullopt for the others.
 std::optional<Term> effect_term(Effect e);
 
 struct DiagnoseOptions {
@@ -108,6 +125,7 @@ struct DiagnoseOptions {
   double band_alpha = 0.05;    // probability that a complete model shows any band
   double select_alpha = 0.05;  // probability that a round adds an effect to a complete model
   double line_false_alarm = 1e-4;  // probability of a spurious PSD line in the whole record
+  double step_false_alarm = 1e-3;  // probability of a spurious jump in the whole record
   int max_effects = 4;             // at most this many effects are added
   int nthreads = 0;                // 0 = OpenMP default; results do not depend on it
 };
@@ -172,6 +190,33 @@ SpectralLine find_spectral_line(std::span<const double> rate, double rate_hz,
                                 std::span<const double> known_hz, double false_alarm = 1e-4,
                                 int nthreads = 0);
 
+/// The most significant bias jump of a record (the step's time-domain witness).
+struct StepWitness {
+  bool searched = false;     // false when the record has gaps or fewer than 68 samples
+  bool found = false;        // p_value < false_alarm, not a spike, not at a known step
+  double time_s = 0;         // the jump's time after the first sample's start
+  double time_sigma_s = 0;   // the finest scale at which it stands out by 3 rms [s]
+  double size = 0;           // the jump [u], signed
+  double size_sigma = 0;     // rms of the differences of adjacent means at the best scale,
+                             // with the triangle's drop over half the time's uncertainty
+  std::int64_t scale_m = 0;  // the best scale (samples per mean)
+  double statistic = 0;      // |D - mean| / rms at the best scale
+  double p_value = 1;        // the largest of the windows' tail (Pickands), times the scales
+  double false_alarm = 0;
+  std::string note;  // why a large excursion is not a jump
+};
+
+/// Searches `rate` (no NaN) at rate_hz, with the `known` steps removed, for its most significant
+/// bias jump by a change-point test on the differences of adjacent means at scales 1, 2, 4, ...
+/// samples (kernels/diagnose/find_step.cpp): Student-t against the other windows' spread, the
+/// maximum over the windows by Pickands' tail, Bonferroni over the scales, so about
+/// `false_alarm` per record or less for any Gaussian
+/// noise of stationary increments (white, flicker, random walk, Gauss-Markov) with no model
+/// needed; spikes are told apart by their plateau. Throws std::invalid_argument for a bad rate
+/// or false_alarm.
+StepWitness find_step(std::span<const double> rate, double rate_hz, std::span<const Step> known,
+                      double false_alarm = 1e-3);
+
 /// One candidate effect as evaluated in one iteration.
 struct Candidate {
   Effect effect = Effect::White;
@@ -213,6 +258,7 @@ struct Diagnosis {
   Comparison before, after;
   McBand mc_before, mc_after;
   SpectralLine line;  // the first iteration's PSD witness
+  StepWitness step;   // the first iteration's time-domain witness
   std::vector<Iteration> iterations;
   std::vector<Effect> effects_named;
   // Effects' final parameters with uncertainties, in effects_named order.
@@ -250,7 +296,7 @@ double diagnose_gap(std::span<const double> avar_measured, std::span<const doubl
 /// all re-estimated, against the same with diagnose's lowpass candidate (first-order cutoffs
 /// from rate / 200 to 0.45 rate, moving averages of 1.05 to 16 samples, 8 per octave; the
 /// model's edf; docs/diagnose.md "The sensor's filter"), named when its criterion delta_ic > 0,
-/// the level of one diagnose round (select_alpha / 8 per candidate).
+/// the level of one diagnose round (select_alpha / 9 per candidate).
 struct LowpassFinding {
   Lowpass filter;  // inactive when no filter is significant
   // the candidate's criterion (> 0: named); NaN when not evaluated (too few taus)

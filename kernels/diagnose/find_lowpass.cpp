@@ -43,7 +43,7 @@ LowpassFinding find_lowpass(const StatResult& oadev, double rate_hz, std::int64_
   crit.scale = n_eff / static_cast<double>(cv.size());
   crit.alpha_candidate = select_alpha / kNumEffects;
   const CandidateFit cf =
-      evaluate_candidate(Effect::Lowpass, ref.comps, SpectralLine{}, 0, ref.chi2, cv, bases, crit);
+      evaluate_candidate(Effect::Lowpass, ref.comps, Witnesses{}, 0, ref.chi2, cv, bases, crit);
   if (!cf.info.evaluated) return out;
   out.delta_ic = cf.info.delta_ic;
   if (out.delta_ic > 0.0) out.filter = cf.fit.comps[cf.added].lp;

@@ -18,8 +18,8 @@ namespace allanlot::kernels::diagnose_detail {
 inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 inline constexpr std::array<Effect, kNumEffects> kAllEffects = {
-    Effect::Quantization, Effect::White,    Effect::Flicker, Effect::RandomWalk,
-    Effect::Ramp,         Effect::Sinusoid, Effect::Markov,  Effect::Lowpass};
+    Effect::Quantization, Effect::White,  Effect::Flicker, Effect::RandomWalk, Effect::Ramp,
+    Effect::Sinusoid,     Effect::Markov, Effect::Lowpass, Effect::Step};
 
 // The measured curve on the comparison grid with the exact moments of its logarithm:
 // for edf * avar_hat / avar ~ chi2_nu, E ln(avar_hat / avar) = psi(nu/2) - ln(nu/2) (about
@@ -38,16 +38,18 @@ struct Curve {
   std::size_t size() const { return m.size(); }
 };
 
-// A model component: an eq. (3) term, a sinusoid or a Gauss-Markov effect. `coef` is the
-// model file's coefficient (R..Q, amplitude, sigma); the avar is coef^2 times a basis curve.
+// A model component: an eq. (3) term, a sinusoid, a Gauss-Markov effect or a step. `coef` is
+// the model file's coefficient (R..Q, amplitude, sigma, |size|); the avar is coef^2 times a
+// basis curve.
 // A lowpass component (Kind::Lowpass) has no variance of its own: it reshapes the white FM,
 // white PM and sinusoid bases of the others (bases_for), and its coefficient is unused.
-enum class Kind { Term, Sinusoid, Markov, Lowpass };
+enum class Kind { Term, Sinusoid, Markov, Lowpass, Step };
 struct Component {
   Kind kind = Kind::Term;
   Term term = Term::N;
-  double nl = 0.0;     // frequency_hz (sinusoid) or tau_c_s (markov)
+  double nl = 0.0;     // frequency_hz (sinusoid), tau_c_s (markov) or time_s (step)
   double phase = 0.0;  // sinusoid phase (no effect on avar; kept for the model file)
+  double sign = 1.0;   // a step's direction: size = sign coef (no effect on avar)
   double coef = 0.0;
   bool free = false;       // re-estimated by the fit
   bool nl_free = false;    // tau_c is searched (for its uncertainty)
@@ -57,7 +59,8 @@ struct Component {
   // An added sinusoid's amplitude comes from the PSD line and is never refitted on the Allan
   // curve: there its bump overlaps any hump nearby (a Gauss-Markov effect at a similar tau),
   // which the amplitude would absorb, whereas the line's power above the local background is
-  // the sinusoid's alone.
+  // the sinusoid's alone. A step's size comes from its jump in the record, for the same reason
+  // (a random walk's or a ramp's rise would be absorbed).
   bool pinned = false;
   double coef_sigma = kNaN;  // uncertainty of coef when pinned
   Lowpass lp;                // Kind::Lowpass: the filter
@@ -80,6 +83,14 @@ struct Fit {
   std::vector<Component> comps;
   std::vector<double> model;  // avar of the components at each tau
   double chi2 = 0.0;          // sum (ln_y - ln model)^2 / var_ln
+};
+
+// The two witnesses of a round: the PSD's strongest unexplained line and the record's most
+// significant unexplained jump.
+struct Witnesses {
+  SpectralLine line;
+  StepWitness step;
+  const Curve* without_jump = nullptr;  // the curve with the jump removed (step.found)
 };
 
 struct CandidateFit {
@@ -117,7 +128,7 @@ std::vector<double> model_curve(const ChannelSpec& s, const Curve& cv, const Bas
 Fit search_tau_c(std::vector<Component> comps, std::size_t idx, const Curve& cv, const Bases& b);
 /// Candidate e added to `comps` (their coefficients fixed or free as they are), fitted and
 /// judged against chi2_ref; n_refit counts the parameters the reference's refit already frees.
-CandidateFit evaluate_candidate(Effect e, std::vector<Component> comps, const SpectralLine& line,
+CandidateFit evaluate_candidate(Effect e, std::vector<Component> comps, const Witnesses& seen,
                                 int n_refit, double chi2_ref, const Curve& cv, const Bases& b,
                                 const Criterion& crit);
 

@@ -163,6 +163,15 @@ void validate(const ChannelSpec& spec) {
       throw std::invalid_argument("simulate: " + at + "tau_c_s must be finite and > 0, got " +
                                   std::to_string(g.tau_c_s));
   }
+  for (std::size_t i = 0; i < spec.steps.size(); ++i) {
+    const auto& st = spec.steps[i];
+    const std::string at = "steps[" + std::to_string(i) + "].";
+    if (!std::isfinite(st.size))
+      throw std::invalid_argument("simulate: " + at + "size must be finite");
+    if (!std::isfinite(st.time_s) || st.time_s <= 0)
+      throw std::invalid_argument("simulate: " + at + "time_s must be finite and > 0, got " +
+                                  std::to_string(st.time_s));
+  }
 }
 
 std::vector<double> kasdin_flicker_filter(std::size_t n) {
@@ -430,6 +439,13 @@ void SimulationPlan::run(const ChannelSpec& spec, std::uint64_t seed, std::uint6
             const double cyc = s.cycles_per_sample * (static_cast<double>(k0 + i) + 0.5);
             y[i] += s.amp_avg * std::sin(2 * pi * (cyc - std::floor(cyc)) + s.phase);
           }
+        // Sample k averages the rate over [k, k + 1] samples, so the jump at s counts for the
+        // part of sample k after it: clamp(k + 1 - s, 0, 1).
+        for (const auto& st : spec.steps) {
+          const double s_at = st.time_s * spec.rate_hz;
+          for (std::size_t i = 0; i < len; ++i)
+            y[i] += st.size * std::clamp(static_cast<double>(k0 + i) + 1.0 - s_at, 0.0, 1.0);
+        }
         for (std::size_t e = 0; e < n_markov; ++e) {
           const auto& st = steps[e];
           double m = 0;  // local state, started at 0; the true start is added in pass 2
@@ -536,13 +552,46 @@ double model_avar(const ChannelSpec& spec, double tau_s) {
   return v;
 }
 
-double model_avar_sampled(const ChannelSpec& spec, std::int64_t m) {
+namespace {
+
+// sum_{k=k1}^{k2} (a - k)^2 in closed form, from b = a - k1 (no cancellation between the large
+// k and a): sum_{j=0}^{c-1} (b - j)^2 = c b^2 - b c (c - 1) + (c - 1) c (2c - 1) / 6.
+double sum_sq_to(double a, std::int64_t k1, std::int64_t k2) {
+  if (k2 < k1) return 0.0;
+  const double b = a - static_cast<double>(k1), c = static_cast<double>(k2 - k1 + 1);
+  return c * b * b - b * c * (c - 1) + (c - 1) * c * (2 * c - 1) / 6;
+}
+
+}  // namespace
+
+double step_avar_sampled(const Step& step, double rate_hz, std::int64_t m, std::int64_t n_samples) {
+  if (m < 1 || n_samples < 2 * m)
+    throw std::invalid_argument("step_avar_sampled: need 1 <= m and 2 m <= n_samples, got m = " +
+                                std::to_string(m) + ", n_samples = " + std::to_string(n_samples));
+  const double s = step.time_s * rate_hz, md = static_cast<double>(m);
+  // Windows k with 0 < s - k < 2 m, inside 0 .. n - 2m; rising where s - k <= m.
+  const std::int64_t k_lo =
+      std::max<std::int64_t>(0, static_cast<std::int64_t>(std::floor(s - 2 * md)) + 1);
+  const std::int64_t k_hi =
+      std::min<std::int64_t>(n_samples - 2 * m, static_cast<std::int64_t>(std::ceil(s)) - 1);
+  if (k_hi < k_lo) return 0.0;
+  const auto k_rise = std::max<std::int64_t>(k_lo, static_cast<std::int64_t>(std::ceil(s - md)));
+  const double rise = sum_sq_to(s, k_rise, k_hi);
+  const double fall = sum_sq_to(s - 2 * md, k_lo, std::min(k_hi, k_rise - 1));
+  return step.size * step.size * (rise + fall) /
+         (md * md * 2.0 * static_cast<double>(n_samples - 2 * m + 1));
+}
+
+double model_avar_sampled(const ChannelSpec& spec, std::int64_t m, std::int64_t n_samples) {
   if (m < 1) throw std::invalid_argument("model_avar_sampled: m must be >= 1");
   if (!std::isfinite(spec.rate_hz) || spec.rate_hz <= 0)
     throw std::invalid_argument("model_avar_sampled: rate_hz must be finite and > 0");
   const double flicker = spec.terms.B * spec.terms.B * 2 * std::numbers::ln2 / pi;
   const double tau = static_cast<double>(m) / spec.rate_hz;
   double v = model_avar(spec, tau) + flicker * (flicker_avar_factor(m) - 1.0);
+  if (n_samples > 0)
+    for (const Step& st : spec.steps)
+      v += step_avar_sampled(st, spec.rate_hz, m, n_samples);
   if (!spec.lowpass.active()) return v;
   const Lowpass& lp = spec.lowpass;
   const auto& t = spec.terms;

@@ -3,7 +3,7 @@
 // A simulated channel is the sum of independent components plus a constant offset:
 //
 //   y_k = offset + flicker(B) + white(N) + random_walk(K) + ramp(R) + quantization(Q)
-//         + sum of sinusoids + sum of first-order Gauss-Markov processes,
+//         + sum of sinusoids + sum of first-order Gauss-Markov processes + sum of steps,
 //
 // all of it then passed through the sensor's low-pass filter when the spec has one
 // (kernels/simulate/lowpass.hpp),
@@ -57,12 +57,22 @@ struct GaussMarkov {
   friend bool operator==(const GaussMarkov&, const GaussMarkov&) = default;
 };
 
+/// A bias jump: the rate error changes by `size` at `time_s` after the first sample's start and
+/// stays (e.g. a turn-on transient ending, a mechanical shock, a temperature-driven bias shift).
+/// The sample that straddles time_s takes the fraction of it that lies after the jump.
+struct Step {
+  double size = 0;    // [u], either sign
+  double time_s = 0;  // > 0; a step at or after the record's end changes nothing
+  friend bool operator==(const Step&, const Step&) = default;
+};
+
 /// Everything that defines one simulated channel.
 struct ChannelSpec {
   double rate_hz = 1;                // sample rate; tau0 = 1 / rate_hz
   NoiseTerms terms;                  // eq. (3) coefficients
   std::vector<Sinusoid> sinusoids;   // effects outside eq. (3)
   std::vector<GaussMarkov> markovs;  // at most rng::kMaxMarkov
+  std::vector<Step> steps;           // bias jumps, in any order
   double offset = 0;                 // constant added to every sample [u] (e.g. 1 g)
   Lowpass lowpass;                   // the sensor's filter, applied to the sum (none by default)
 };
@@ -70,7 +80,7 @@ struct ChannelSpec {
 /// Checks a spec; throws std::invalid_argument naming the field and its value: rate_hz finite
 /// and > 0; the lowpass as validate_lowpass; every coefficient, amplitude and sigma finite and >=
 /// 0; 0 < frequency_hz <= rate_hz / 2; tau_c_s finite and > 0; phase and offset finite; at most
-/// rng::kMaxMarkov Gauss-Markov effects.
+/// rng::kMaxMarkov Gauss-Markov effects; every step's size finite and its time_s finite and > 0.
 void validate(const ChannelSpec& spec);
 
 /// Owns the workspaces and FFTW plans for simulating channels of one length, so that a unit's
@@ -123,7 +133,9 @@ std::vector<double> kasdin_flicker_filter(std::size_t n);
 /// power A^2/2) and, for each Gauss-Markov effect with a = tau / tau_c,
 /// sigma^2 tau_c^2 (2a - 3 + 4 e^-a - e^-2a) / tau^2, which is K^2 tau/3 with
 /// K^2 = 2 sigma^2 / tau_c for tau << tau_c and N^2 / tau with N^2 = 2 sigma^2 tau_c for
-/// tau >> tau_c (IEEE Std 952-1997, annex C). The offset does not contribute.
+/// tau >> tau_c (IEEE Std 952-1997, annex C). The offset does not contribute, and neither do
+/// the steps: a single jump's share of an Allan variance falls as 1 / (record length) (see
+/// step_avar_sampled), so over the unbounded record this continuous form describes it is zero.
 double model_avar(const ChannelSpec& spec, double tau_s);
 
 /// Expected overlapping Allan variance of simulate_channel's output at tau = m / rate_hz
@@ -135,8 +147,21 @@ double model_avar(const ChannelSpec& spec, double tau_s);
 /// floor loses a fraction of itself to a cutoff near Nyquist, which the model leaves out). Exact
 /// for all components at every m, apart from the finite record's effect on flicker (the filter
 /// starts at the first sample, so the earliest terms miss the pre-record past: a deficit of
-/// relative order m / n, negligible for m << n).
-double model_avar_sampled(const ChannelSpec& spec, std::int64_t m);
+/// relative order m / n, negligible for m << n). With n_samples > 0 (the record's length, at
+/// least 2 m) each step adds step_avar_sampled, exactly (the filter's smoothing of the jump is
+/// left out, as the ramp's); with n_samples = 0 (an unbounded record) the steps add nothing.
+double model_avar_sampled(const ChannelSpec& spec, std::int64_t m, std::int64_t n_samples = 0);
+
+/// The overlapping Allan variance at averaging factor m over a record of n_samples (>= 2 m)
+/// samples at rate_hz that a step alone gives, exactly as the estimator averages it. With the
+/// jump at s = time_s rate_hz samples, the phase is size max(0, t - s) and each second
+/// difference (x_{k+2m} - 2 x_{k+m} + x_k) / m is a triangle in u = s - k: size u / m rising
+/// over 0 < u <= m, size (2m - u) / m falling to 2m. The variance is the sum of their squares
+/// over the windows k = 0 .. n - 2m the record holds, over 2 (n - 2m + 1) (NIST SP1065 eq.
+/// (11)); the sums of squares over each run of k are closed forms. Far from the record's ends,
+/// size^2 (2 m^2 + 1) / (6 m (n - 2m + 1)), like a random walk's m / 3 growth but set by the
+/// record's length: its witness is in the time domain (docs/diagnose.md).
+double step_avar_sampled(const Step& step, double rate_hz, std::int64_t m, std::int64_t n_samples);
 
 /// Ratio of the Allan variance of Kasdin's discrete flicker sequence at averaging factor m to
 /// the continuous floor B^2 2 ln2 / pi. From the PSD above and the discrete averaging

@@ -87,6 +87,36 @@ double q_continued_fraction(double a, double x) {
   return h * prefactor(a, x);
 }
 
+// I_x(a, b) by the continued fraction 1 / (1 + d_1 / (1 + d_2 / (1 + ...))) of DLMF 8.17.22,
+// d_{2m+1} = -(a + m)(a + b + m) x / ((a + 2m)(a + 2m + 1)),
+// d_{2m} = m (b - m) x / ((a + 2m - 1)(a + 2m)), times x^a (1 - x)^b / (a B(a, b)).
+double beta_continued_fraction(double a, double b, double x) {
+  constexpr double tiny = 1e-300;
+  double c = 1.0, d = 1.0 - (a + b) * x / (a + 1.0);
+  if (std::fabs(d) < tiny) d = tiny;
+  d = 1.0 / d;
+  double h = d;
+  for (int m = 1; m < kMaxTerms; ++m) {
+    for (int odd = 0; odd < 2; ++odd) {
+      const double dm = odd == 0
+                            ? m * (b - m) * x / ((a + 2.0 * m - 1.0) * (a + 2.0 * m))
+                            : -(a + m) * (a + b + m) * x / ((a + 2.0 * m) * (a + 2.0 * m + 1.0));
+      d = 1.0 + dm * d;
+      if (std::fabs(d) < tiny) d = tiny;
+      c = 1.0 + dm / c;
+      if (std::fabs(c) < tiny) c = tiny;
+      d = 1.0 / d;
+      h *= d * c;
+      if (odd == 1 && std::fabs(d * c - 1.0) < kEps) {
+        const double log_front = a * std::log(x) + b * std::log1p(-x) - std::log(a) -
+                                 (log_gamma(a) + log_gamma(b) - log_gamma(a + b));
+        return std::exp(log_front) * h;
+      }
+    }
+  }
+  throw std::runtime_error("beta_inc: continued fraction did not converge");
+}
+
 double chi2_pdf(double x, double dof) {
   const double k = 0.5 * dof;
   return 0.5 * std::exp((k - 1.0) * std::log(0.5 * x) - 0.5 * x - log_gamma(k));
@@ -106,6 +136,23 @@ double gamma_q(double a, double x) {
   if (x == 0.0) return 1.0;
   if (std::isinf(x)) return 0.0;
   return x < a + 1.0 ? 1.0 - p_series(a, x) : q_continued_fraction(a, x);
+}
+
+double beta_inc(double a, double b, double x) {
+  if (!(a > 0.0) || !(b > 0.0) || !std::isfinite(a) || !std::isfinite(b) || !(x >= 0.0) ||
+      !(x <= 1.0))
+    throw std::invalid_argument("beta_inc: need a, b > 0 and 0 <= x <= 1");
+  if (x == 0.0) return 0.0;
+  if (x == 1.0) return 1.0;
+  if (x < (a + 1.0) / (a + b + 2.0)) return beta_continued_fraction(a, b, x);
+  return 1.0 - beta_continued_fraction(b, a, 1.0 - x);
+}
+
+double student_t_two_sided(double t, double nu) {
+  if (!(nu > 0.0)) throw std::invalid_argument("student_t_two_sided: nu must be > 0");
+  if (std::isnan(t)) throw std::invalid_argument("student_t_two_sided: t is NaN");
+  if (std::isinf(t)) return 0.0;
+  return beta_inc(0.5 * nu, 0.5, nu / (nu + t * t));
 }
 
 double chi2_cdf(double x, double dof) {

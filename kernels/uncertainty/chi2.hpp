@@ -28,6 +28,17 @@ double chi2_cdf(double x, double dof);
 /// Throws std::invalid_argument for p outside (0, 1) or dof <= 0.
 double chi2_quantile(double p, double dof);
 
+/// Regularized incomplete beta function I_x(a, b) for a, b > 0 and 0 <= x <= 1: the continued
+/// fraction of DLMF 8.17.22 in modified Lentz form where it converges fast,
+/// x < (a + 1) / (a + b + 2), and 1 - I_{1-x}(b, a) otherwise (DLMF 8.17.4); relative accuracy
+/// about 1e-14 in the tail it evaluates directly. Throws std::invalid_argument for bad arguments.
+double beta_inc(double a, double b, double x);
+
+/// Two-sided tail P(|T| > t) of Student's t with nu > 0 degrees of freedom:
+/// I_{nu / (nu + t^2)}(nu / 2, 1 / 2) (DLMF 8.17.1 with the t density), small tails to full
+/// relative accuracy.
+double student_t_two_sided(double t, double nu);
+
 /// Digamma psi(x) = d ln Gamma(x) / dx for x > 0. With nu degrees of freedom,
 /// E ln(chi2_nu / nu) = psi(nu/2) - ln(nu/2) (Bartlett & Kendall 1946, JRSS Suppl. 8). Absolute
 /// accuracy about 1e-12.

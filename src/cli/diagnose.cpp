@@ -69,6 +69,10 @@ void print_report(std::ostream& out, const std::string& file, const std::string&
   if (d.line.found)
     out << "  PSD witness: line at " << num(d.line.frequency_hz) << " Hz (peak/background "
         << num(d.line.peak_ratio) << ", threshold " << num(d.line.threshold) << ")\n";
+  if (d.step.found)
+    out << "  time-domain witness: jump of " << num(d.step.size) << " at " << num(d.step.time_s)
+        << " s (" << num(d.step.statistic) << " rms at " << d.step.scale_m << " samples, p "
+        << num(d.step.p_value) << " < " << num(d.step.false_alarm) << ")\n";
   for (std::size_t i = 0; i < d.iterations.size(); ++i) {
     const auto& it = d.iterations[i];
     out << "iteration " << i + 1 << ": add " << kernels::effect_name(it.effect) << " (criterion +"
@@ -223,6 +227,7 @@ int run_diagnose(const DiagnoseOptions& opt, std::ostream& out, std::ostream& er
     cc.terms = d.model_after.terms;
     cc.sinusoids = d.model_after.sinusoids;
     cc.markovs = d.model_after.markovs;
+    cc.steps = d.model_after.steps;
     cc.lowpass = d.model_after.lowpass;
     const std::string before_json = model::to_json(model), after_json = model::to_json(corrected);
     const Json report = diagnosis_json(ch->path, d);

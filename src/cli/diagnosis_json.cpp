@@ -107,6 +107,10 @@ Json diagnosis_json(const std::string& channel, const kernels::Diagnosis& d) {
                    {"frequency_hz", d.line.frequency_hz},
                    {"peak_ratio", d.line.peak_ratio},
                    {"threshold", d.line.threshold}};
+  j["step_witness"] = {{"searched", d.step.searched},   {"found", d.step.found},
+                       {"time_s", d.step.time_s},       {"size", d.step.size},
+                       {"statistic", d.step.statistic}, {"scale_m", d.step.scale_m},
+                       {"p_value", d.step.p_value},     {"false_alarm", d.step.false_alarm}};
   j["notes"] = d.notes;
   return j;
 }

@@ -177,9 +177,15 @@ void parse_effects(const Json& j, double rate_hz, Channel& ch, const std::string
       ch.markovs.push_back(g);
     } else if (kind == "lowpass") {
       parse_lowpass(e, rate_hz, ch, source, at);
+    } else if (kind == "step") {
+      only_keys(e, {"type", "size", "time_s"}, source, at);
+      kernels::Step st;
+      st.size = number(required(e, "size", source, at), source, join(at, "size"));
+      st.time_s = positive(required(e, "time_s", source, at), source, join(at, "time_s"));
+      ch.steps.push_back(st);
     } else {
       fail(source, join(at, "type"),
-           "unknown effect type '" + kind + "' (expected sinusoid, markov or lowpass)");
+           "unknown effect type '" + kind + "' (expected sinusoid, markov, lowpass or step)");
     }
   }
 }
@@ -220,6 +226,8 @@ Json channel_body_json(const Channel& ch) {
                        {"phase_rad", s.phase_rad}});
   for (const auto& g : ch.markovs)
     effects.push_back({{"type", "markov"}, {"sigma", g.sigma}, {"tau_c_s", g.tau_c_s}});
+  for (const auto& st : ch.steps)
+    effects.push_back({{"type", "step"}, {"size", st.size}, {"time_s", st.time_s}});
   if (ch.lowpass.cutoff_hz > 0)
     effects.push_back({{"type", "lowpass"}, {"cutoff_hz", ch.lowpass.cutoff_hz}});
   else if (ch.lowpass.taps > 0)
@@ -404,6 +412,7 @@ kernels::ChannelSpec to_spec(const UnitModel& m, std::size_t channel) {
   s.terms = ch.terms;
   s.sinusoids = ch.sinusoids;
   s.markovs = ch.markovs;
+  s.steps = ch.steps;
   s.offset = ch.offset;
   s.lowpass = ch.lowpass;
   return s;

@@ -1,6 +1,7 @@
 // `allanlot diagnose` through the binary: a simulated measurement with a hidden sinusoid, the
 // JSON object of docs/diagnose.md, the -o group written into an existing file, the corrected model
-// accepted by `simulate`, the input never modified, and usage errors with exit status 2.
+// accepted by `simulate`, the input never modified, and usage errors with exit status 2; a
+// hidden jump named as a step, end to end.
 #include "support/h5_fixture.hpp"
 
 #include <gtest/gtest.h>
@@ -88,6 +89,47 @@ TEST(DiagnoseCommand, NamesTheHiddenSinusoidAndWritesEverything) {
                         &out),
             1)
       << out;
+}
+
+TEST(DiagnoseCommand, AJumpIsNamedAsAStepAndTheCorrectedModelCarriesIt) {
+  // A bias jump of 0.05 at 250.3 s (9 rms of adjacent 10 s means, test_diagnose_support.hpp):
+  // simulate draws it, diagnose names it from its time-domain witness, the corrected model
+  // holds it under the model file's keys, and that model re-diagnosed names nothing.
+  const auto dir = test::fresh_dir("diagnose_cli_step");
+  {
+    std::ofstream g(dir / "given.json");
+    g << R"({"units": "deg/s", "sample_rate_hz": 100, "terms": {"N": 0.01, "B": 0.003}})";
+    std::ofstream t(dir / "truth.json");
+    t << R"({"units": "deg/s", "sample_rate_hz": 100, "terms": {"N": 0.01, "B": 0.003},
+             "effects": [{"type": "step", "size": 0.05, "time_s": 250.3}]})";
+  }
+  const std::string in = (dir / "meas.h5").string();
+  std::string out;
+  ASSERT_EQ(run_command(binary() + " simulate -q --model " + (dir / "truth.json").string() +
+                            " --duration 600 --seed 3 -o " + in,
+                        &out),
+            0)
+      << out;
+  const std::string fixed = (dir / "fixed.json").string();
+  ASSERT_EQ(run_command(binary() + " diagnose " + in + " --model " + (dir / "given.json").string() +
+                            " --replicas 4 --json --model-out " + fixed,
+                        &out),
+            0)
+      << out;
+  const auto j = nlohmann::json::parse(out);
+  ASSERT_EQ(j["effects_named"], nlohmann::json::array({"step"})) << out;
+  EXPECT_NEAR(j["parameters"]["step"]["time_s"].get<double>(), 250.3, 1.0);
+  EXPECT_NEAR(j["parameters"]["step"]["size"].get<double>(), 0.05, 0.015);
+  EXPECT_TRUE(j["step_witness"]["found"].get<bool>());
+  std::ifstream f(fixed);
+  const auto model = nlohmann::json::parse(f);
+  ASSERT_EQ(model["effects"].size(), 1u);
+  EXPECT_EQ(model["effects"][0]["type"], "step");
+  ASSERT_EQ(run_command(binary() + " diagnose " + in + " --model " + fixed + " --replicas 4 --json",
+                        &out),
+            0)
+      << out;
+  EXPECT_TRUE(nlohmann::json::parse(out)["effects_named"].empty()) << out;
 }
 
 }  // namespace

@@ -100,6 +100,17 @@ TEST(Model, LowpassRoundTripsAndReachesTheSpec) {
   }
 }
 
+TEST(Model, StepRoundTripsAndReachesTheSpec) {
+  const auto m = model::parse_model(R"({"sample_rate_hz": 100, "units": "deg/s",
+      "terms": {"N": 0.01}, "effects": [{"type": "step", "size": -0.25, "time_s": 12.5},
+      {"type": "step", "size": 0.1, "time_s": 40}]})",
+                                    "step.json");
+  ASSERT_EQ(m.channels[0].steps.size(), 2u);
+  EXPECT_EQ(m.channels[0].steps[0], (kernels::Step{-0.25, 12.5}));
+  EXPECT_EQ(model::parse_model(model::to_json(m), "roundtrip.json"), m);
+  EXPECT_EQ(model::to_spec(m, 0).steps, m.channels[0].steps);
+}
+
 struct BadCase {
   const char* json;
   const char* expected;  // substring of the message after "bad.json: "
@@ -153,6 +164,18 @@ TEST(Model, BadFilesNameTheKey) {
       {R"({"sample_rate_hz": 1000, "units": "deg/s", "effects": [{"type": "markov",
            "sigma": 1, "tau_c_s": 0}]})",
        "effects[0].tau_c_s: must be > 0"},
+      {R"({"sample_rate_hz": 100, "units": "deg/s", "effects": [{"type": "step",
+           "size": 1, "time_s": 0}]})",
+       "effects[0].time_s: must be > 0"},
+      {R"({"sample_rate_hz": 100, "units": "deg/s", "effects": [{"type": "step",
+           "time_s": 3}]})",
+       "effects[0].size: missing"},
+      {R"({"sample_rate_hz": 100, "units": "deg/s", "effects": [{"type": "step",
+           "size": "big", "time_s": 3}]})",
+       "effects[0].size: must be a number"},
+      {R"({"sample_rate_hz": 100, "units": "deg/s", "effects": [{"type": "step",
+           "size": 1, "time_s": 3, "width": 2}]})",
+       "effects[0].width: unknown key"},
       {R"({"sample_rate_hz": 1000, "units": "deg/s", "effects": [{"type": "markov",
            "sigma": 1, "tau_c_s": -3}]})",
        "effects[0].tau_c_s: must be > 0"},

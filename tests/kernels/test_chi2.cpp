@@ -147,3 +147,24 @@ TEST(Edf, DumbInputs) {
 
 }  // namespace
 }  // namespace allanlot
+
+namespace allanlot {
+namespace {
+
+// Reference values: scipy.stats.t.sf (two-sided, doubled) and scipy.special.betainc 1.10.
+TEST(StudentT, TwoSidedTailMatchesReference) {
+  const struct {
+    double t, nu, p;
+  } cases[] = {{2.228, 10, 0.05001177181711133}, {5, 30, 2.3296685467007786e-05},
+               {7, 15, 4.280115581127817e-06},   {0.5, 3, 0.651447964848151},
+               {10, 100, 9.901688984594094e-17}, {3, 1.5, 0.13354775425491328}};
+  for (const auto& c : cases)
+    EXPECT_NEAR(kernels::student_t_two_sided(c.t, c.nu), c.p, 1e-12 * c.p) << c.t << " " << c.nu;
+  EXPECT_NEAR(kernels::beta_inc(2.5, 3.5, 0.7), 0.9228190654779194, 1e-14);
+  EXPECT_NEAR(kernels::beta_inc(0.5, 0.5, 0.01), 0.06376856085851987, 1e-14);
+  EXPECT_EQ(kernels::student_t_two_sided(0.0, 5.0), 1.0);
+  EXPECT_THROW(kernels::beta_inc(0.0, 1.0, 0.5), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace allanlot

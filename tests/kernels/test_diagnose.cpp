@@ -57,11 +57,20 @@ void check_scenario(const test::Scenario& s, std::uint64_t seed) {
     EXPECT_NEAR(t->value, s.truth.markovs[0].tau_c_s, 0.35 * s.truth.markovs[0].tau_c_s);
     EXPECT_NEAR(t->value, s.truth.markovs[0].tau_c_s, 4.0 * t->sigma);
   }
-  // Named effects carry their parameters under the model file's keys.
+  if (!s.truth.steps.empty()) {
+    // The witness's time within its stated scale, the size within 3 sigma, the sign kept.
+    const auto* t = find_param(d, Effect::Step, "time_s");
+    const auto* z = find_param(d, Effect::Step, "size");
+    ASSERT_NE(t, nullptr);
+    ASSERT_NE(z, nullptr);
+    EXPECT_LE(std::abs(t->value - s.truth.steps[0].time_s), t->sigma);
+    EXPECT_NEAR(z->value, s.truth.steps[0].size, 3.0 * z->sigma);
+  }
+  // Named effects carry their parameters under the model file's keys (a step's size is signed).
   ASSERT_EQ(d.effect_parameters.size(), d.effects_named.size());
   for (const auto& ps : d.effect_parameters)
     for (const auto& p : ps)
-      EXPECT_GT(p.value, 0.0) << p.name;
+      EXPECT_GT(p.name == "size" ? std::abs(p.value) : p.value, 0.0) << p.name;
 }
 
 TEST(Diagnose, EachHiddenEffectIsNamed) {
@@ -71,7 +80,9 @@ TEST(Diagnose, EachHiddenEffectIsNamed) {
 
 TEST(Diagnose, TwoHiddenEffectsAreTwoNamedEffects) {
   for (const auto& s : test::hidden_scenarios())
-    if (s.name == "markov+quantization" || s.name == "sinusoid+markov") check_scenario(s, 1001);
+    if (s.name == "markov+quantization" || s.name == "sinusoid+markov" ||
+        s.name == "step+random_walk")
+      check_scenario(s, 1001);
 }
 
 TEST(Diagnose, SensorFilterIsNamedAsALowpass) {

@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace allanlot::test {
@@ -53,6 +54,11 @@ struct Scenario {
 ///    its long taus of few edf, flicker competing with the Lorentzian's plateau) neither the
 ///    Allan curve nor a Whittle fit of the periodogram pinned tau_c better than a factor 2 over
 ///    20 seeds: the 35 % of the issue needs a record of many correlation times;
+///  - step of 0.05 at 250.3 s: 9 rms of the differences of adjacent 10 s means (0.0053, where
+///    white and flicker cross), the change-point witness's level for a named jump (about 6 rms)
+///    with margin; its Allan variance 0.05^2 m / (3 n) passes the base's at 20 s and is 8 x it at
+///    the longest tau, where a random walk or ramp would mimic it without the witness; beside
+///    the random walk below (which raises that rms to 0.0074) the jump is -0.08, 11 rms;
 ///  - two at once: the sinusoid and the random walk; the sinusoid and the markov, whose bump
 ///    (0.74 s) and hump (0.95 s) overlap; the markov and the quantization; the ramp and the
 ///    markov (issue #23: once named markov, ramp, markov with the first at sigma = 0).
@@ -106,9 +112,20 @@ inline std::vector<Scenario> hidden_scenarios() {
   }
   {
     auto t = base;
+    t.steps.push_back({0.05, 250.3});
+    add("step", t, base, {Effect::Step});
+  }
+  {
+    auto t = base;
     t.sinusoids.push_back({0.008, 0.5, 0.3});
     t.terms.K = 2e-3;
     add("sinusoid+random_walk", t, base, {Effect::Sinusoid, Effect::RandomWalk});
+  }
+  {
+    auto t = base;
+    t.steps.push_back({-0.08, 410.7});
+    t.terms.K = 2e-3;
+    add("step+random_walk", t, base, {Effect::Step, Effect::RandomWalk});
   }
   {
     auto t = base;
@@ -129,6 +146,38 @@ inline std::vector<Scenario> hidden_scenarios() {
     add("ramp+markov", t, base, {Effect::Ramp, Effect::Markov});
   }
   return out;
+}
+
+/// The levels of the detection study (issue #23 item 5). The scenarios above are `medium`; a
+/// level scales every hidden effect's amplitude (the eq. (3) coefficients the given model
+/// lacks, a sinusoid's amplitude, a Gauss-Markov sigma, a step's size) so that its variance is
+/// half (`weak`: amplitude / sqrt 2) or four times (`strong`: amplitude x 2) the medium one's.
+/// Weak effects thus contribute 15 to 50 % of the base curve's variance over about a decade of
+/// tau, the step 6.4 rms of its witness's differences (its detection level is about 6), the
+/// ramp R = 1.06e-4 crosses the flicker floor at 27 s.
+struct Level {
+  const char* name;
+  double amplitude;
+};
+inline constexpr Level kLevels[] = {
+    {"weak", 0.70710678118654752}, {"medium", 1.0}, {"strong", 2.0}};
+
+/// Scenario `s` at `level`: each hidden coefficient (zero in the given model) and each effect
+/// of the truth scaled by level.amplitude; the name gets the level's.
+inline Scenario at_level(Scenario s, const Level& level) {
+  const double a = level.amplitude;
+  auto& t = s.truth.terms;
+  const auto& g = s.given.terms;
+  for (auto [tc, gc] : {std::pair{&t.R, g.R}, {&t.K, g.K}, {&t.B, g.B}, {&t.N, g.N}, {&t.Q, g.Q}})
+    if (gc == 0.0) *tc *= a;
+  for (auto& sn : s.truth.sinusoids)
+    sn.amplitude *= a;
+  for (auto& mk : s.truth.markovs)
+    mk.sigma *= a;
+  for (auto& st : s.truth.steps)
+    st.size *= a;
+  s.name += std::string("/") + level.name;
+  return s;
 }
 
 /// The measurement of scenario `s` for `seed`, diagnosed with `replicas` Monte Carlo replicas.

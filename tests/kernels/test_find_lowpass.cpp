@@ -2,7 +2,7 @@
 // as analyze's eq. (3) fit uses it. Over seeds, white + flicker + random walk through a
 // first-order filter or a fractional boxcar is named (and says where the fit may start), and the
 // same noise unfiltered is not named beyond the test's level
-// (0.05 / 8 per record: one seed in twenty is already six times the nominal rate).
+// (0.05 / 9 per record: one seed in twenty is already six times the nominal rate).
 #include "kernels/allan/phase.hpp"
 #include "kernels/allan/stats.hpp"
 #include "kernels/allan/tau_grid.hpp"
