@@ -131,6 +131,35 @@ Curve measure(std::span<const double> rate, double rate_hz, const DiagnoseOption
 }
 
 // One diagnosis in progress: the measurement, the criterion and the model as it grows.
+// A Gauss-Markov process is a random walk at taus well below its tau_c (K^2 = 2 sigma^2 /
+// tau_c, diagnose.hpp) and white noise well above it (N^2 = 2 sigma^2 tau_c): each is the
+// Gauss-Markov candidate in a limit of tau_c, so the hump is told apart from them by its
+// turnover alone (issue #23 item 4). When the markov candidate wins a round and the random walk
+// or white candidate is significant too, the turnover must pay for its extra parameter by the
+// round's criterion (the nested chi-square difference, scaled, above c_1), or the simpler
+// process is named: a random walk whose longest taus fall low by chance was named markov in 1
+// of 10 records at every level of the study. Returns the index chosen and says why in `note`.
+std::size_t prefer_nested(const std::vector<CandidateFit>& cands, std::size_t best,
+                          const Criterion& crit, std::string& note) {
+  if (best == cands.size() || cands[best].info.effect != Effect::Markov) return best;
+  std::size_t simpler = cands.size();
+  for (std::size_t c = 0; c < cands.size(); ++c) {
+    const Effect e = cands[c].info.effect;
+    if ((e == Effect::RandomWalk || e == Effect::White) && cands[c].info.evaluated &&
+        cands[c].info.delta_ic > 0.0 &&
+        (simpler == cands.size() || cands[c].info.delta_ic > cands[simpler].info.delta_ic))
+      simpler = c;
+  }
+  if (simpler == cands.size()) return best;
+  const double turnover = (cands[simpler].fit.chi2 - cands[best].fit.chi2) * crit.scale -
+                          threshold(1, crit.alpha_candidate);
+  if (turnover > 0.0) return best;
+  note = "markov's turnover is not significant against " +
+         std::string(effect_name(cands[simpler].info.effect)) + " (criterion " +
+         std::to_string(turnover) + "): the simpler process is named";
+  return simpler;
+}
+
 struct Search {
   const DiagnoseOptions& opt;
   const ChannelSpec& spec;
@@ -147,8 +176,12 @@ struct Search {
   std::span<const double> rate;  // the record as measured, for the step's witness
   int threads = 1;
 
+  std::vector<double> record_without(const std::vector<Step>& steps) const;
   Curve curve_without(const std::vector<Step>& steps) const;
   std::optional<Curve> curve_without_jump(const StepWitness& jump) const;
+  std::size_t ramp_or_random_walk(const std::vector<CandidateFit>& cands, std::size_t best,
+                                  const std::vector<Component>& fixed_now,
+                                  const std::vector<Component>& free_now, std::string& note) const;
 
   bool round(int& iter);
   Fit refit_final();
@@ -161,15 +194,72 @@ struct Search {
 // step's uncertain size would decide whether a random walk beside it is seen. Steps are
 // therefore removed from the record, exactly, and the curve every fit and comparison uses is
 // that of the record without them (docs/diagnose.md "A bias jump").
-Curve Search::curve_without(const std::vector<Step>& steps) const {
-  if (steps.empty()) return measure(rate, crit.rate_hz, opt, threads);
+std::vector<double> Search::record_without(const std::vector<Step>& steps) const {
   std::vector<double> y(rate.begin(), rate.end());
   for (const Step& st : steps) {
     const double s_at = st.time_s * crit.rate_hz;
     for (std::size_t k = 0; k < y.size(); ++k)
       y[k] -= st.size * std::clamp(static_cast<double>(k) + 1.0 - s_at, 0.0, 1.0);
   }
-  return measure(y, crit.rate_hz, opt, threads);
+  return y;
+}
+
+Curve Search::curve_without(const std::vector<Step>& steps) const {
+  if (steps.empty()) return measure(rate, crit.rate_hz, opt, threads);
+  return measure(record_without(steps), crit.rate_hz, opt, threads);
+}
+
+// A ramp and a random walk both raise the longest taus, and one record of a random walk often
+// holds a trend that a ramp's tau^2 fits there better than the walk's tau (issue #23 item 4).
+// What tells them apart is that a ramp is deterministic: without the record's least-squares
+// line it is gone, while a random walk keeps its rise at the taus below the longest, which the
+// line hardly touches. So when the ramp wins a round and the random walk is significant too,
+// the random walk candidate is judged again on the curve of the record without its line (the
+// steps named so far removed too), by the round's criterion: significant there, it is named
+// instead (the ramp may come back next round); not, the ramp stands. The line also takes a
+// little of any noise's variance at the longest taus, which only makes the random walk harder
+// to see there: the ramp is kept whenever in doubt, as before this test.
+std::size_t Search::ramp_or_random_walk(const std::vector<CandidateFit>& cands, std::size_t best,
+                                        const std::vector<Component>& fixed_now,
+                                        const std::vector<Component>& free_now,
+                                        std::string& note) const {
+  if (best == cands.size() || cands[best].info.effect != Effect::Ramp) return best;
+  std::size_t rw = cands.size();
+  for (std::size_t c = 0; c < cands.size(); ++c)
+    if (cands[c].info.effect == Effect::RandomWalk && cands[c].info.evaluated &&
+        cands[c].info.delta_ic > 0.0)
+      rw = c;
+  if (rw == cands.size() || rate.size() < 3) return best;
+  std::vector<double> y = record_without(spec_of(current, spec).steps);
+  // The least-squares line over the samples' centres t_k = k + 1/2 (in samples).
+  const double n = static_cast<double>(y.size()), t_mean = 0.5 * n;
+  double y_mean = 0.0, sty = 0.0, stt = 0.0;
+  for (const double v : y)
+    y_mean += v;
+  y_mean /= n;
+  for (std::size_t k = 0; k < y.size(); ++k) {
+    const double t = static_cast<double>(k) + 0.5 - t_mean;
+    sty += t * (y[k] - y_mean);
+    stt += t * t;
+  }
+  const double slope = sty / stt;
+  for (std::size_t k = 0; k < y.size(); ++k)
+    y[k] -= slope * (static_cast<double>(k) + 0.5 - t_mean);
+  Curve flat = measure(y, crit.rate_hz, opt, threads);
+  if (flat.m != cv.m) return best;
+  use_edf(flat, cv.edf);
+  const Witnesses none{};
+  double delta = -std::numeric_limits<double>::infinity();
+  for (const auto* comps : {&fixed_now, &free_now}) {
+    const double ref = fit_components(*comps, flat, bases).chi2;
+    const CandidateFit c =
+        evaluate_candidate(Effect::RandomWalk, *comps, none, 0, ref, flat, bases, crit);
+    if (c.info.evaluated) delta = std::max(delta, c.info.delta_ic);
+  }
+  if (!(delta > 0.0)) return best;
+  note = "the record without its least-squares line still shows the random walk (criterion +" +
+         std::to_string(delta) + "), which the ramp does not explain: random_walk named first";
+  return rw;
 }
 
 // The curve with the current steps and the witnessed jump removed, judged under the round's
@@ -244,6 +334,9 @@ bool Search::round(int& iter) {
         cands[c].info.evaluated && cands[c].info.delta_ic > 0.0 &&
         (witnessed == cands.size() || cands[c].info.delta_ic > cands[witnessed].info.delta_ic))
       witnessed = c;
+  std::string nested_note;
+  best = prefer_nested(cands, best, crit, nested_note);
+  best = ramp_or_random_walk(cands, best, fixed_now, free_now, nested_note);
   if (witnessed < cands.size()) best = witnessed;
   // (c): the coefficients re-estimated with nothing added, taken at most once and only when
   // no effect is significant: incomplete before wrong, because a raised flicker floor can
@@ -292,6 +385,8 @@ bool Search::round(int& iter) {
   d.iterations.push_back(std::move(it));
   d.effects_named.push_back(w.info.effect);
   added_idx.push_back(w.added);
+  if (!nested_note.empty() && best != witnessed)
+    d.notes.push_back("round " + std::to_string(iter + 1) + ": " + nested_note);
 
   current = w.fit.comps;
   ++iter;

@@ -47,7 +47,8 @@
 // the criterion is
 //
 //   delta_ic = (chi2_reference - chi2_candidate) n_eff / P - c_k,
-//   c_k = chi-square quantile at 1 - select_alpha / 9 with k degrees of freedom,
+//   c_k = chi-square quantile at 1 - select_alpha / 9 with k degrees of freedom
+//         (k counts the parameters fitted on the curve: none for a witnessed effect below),
 //
 // a penalized criterion like AIC (c_k = 2k) and BIC (c_k = k ln n) but with the penalty set by
 // the level of the test it implies: with n_eff ~ 8, BIC's ln(8) per parameter would let a
@@ -59,7 +60,9 @@
 //
 // Time-domain witness. A step is evaluated only when the change-point test find_step finds a
 // jump in the record, from which its size and time are taken (the Allan curve cannot place it
-// in time, and a random walk or ramp would mimic its rise there).
+// in time, and a random walk or ramp would mimic its rise there). A witnessed effect (step or
+// sinusoid) pays no penalty c_k: its false alarm is the witness's own (step_false_alarm,
+// line_false_alarm per record), and the curve is asked only whether it agrees better with it.
 //
 // PSD witness. A sinusoid is a line in the spectrum, which the Allan variance smears into a
 // bump that a Gauss-Markov hump can mimic. The sinusoid candidate is therefore only evaluated

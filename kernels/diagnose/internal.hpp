@@ -108,7 +108,8 @@ struct Criterion {
   double rate_hz = 1.0;
 };
 
-/// The chi-square quantile at 1 - alpha with k degrees of freedom.
+/// The chi-square quantile at 1 - alpha with k degrees of freedom; 0 for k = 0 (a witnessed
+/// effect, whose parameters are not fitted on the curve).
 double threshold(int k, double alpha);
 
 // candidates.cpp: model components, their fits and the candidates.
