@@ -151,8 +151,10 @@ Comparison compare(const Curve& cv, std::vector<double> model, const std::vector
 McBand monte_carlo(const ChannelSpec& spec, const Curve& cv, const std::vector<double>& model,
                    const std::vector<double>& edf, int replicas, std::uint64_t seed, int threads);
 double effective_taus(const Curve& cv);
+// The line search of find_spectral_line over the bins from f_lo_hz to f_hi_hz (all by default).
 SpectralLine search_line(const PsdResult& psd, double n_seconds, std::span<const double> known,
-                         double false_alarm);
+                         double false_alarm, double f_lo_hz = 0.0,
+                         double f_hi_hz = std::numeric_limits<double>::infinity());
 PsdResult full_periodogram(std::span<const double> rate, double rate_hz, int threads);
 bool has_nan(std::span<const double> v);
 

@@ -126,7 +126,7 @@ double effective_taus(const Curve& cv) {
 
 // Line search on a periodogram (see find_spectral_line).
 SpectralLine search_line(const PsdResult& psd, double n_seconds, std::span<const double> known,
-                         double false_alarm) {
+                         double false_alarm, double f_lo_hz, double f_hi_hz) {
   SpectralLine out;
   out.searched = true;
   out.resolution_hz = psd.df_hz;
@@ -142,6 +142,7 @@ SpectralLine search_line(const PsdResult& psd, double n_seconds, std::span<const
   std::int64_t best_k = -1, n_searched = 0;
   for (std::int64_t k = k_lo; k <= k_hi; ++k) {
     const double f = static_cast<double>(k) * psd.df_hz;
+    if (f < f_lo_hz || f > f_hi_hz) continue;
     bool near_known = false;
     for (const double fk : known)
       near_known = near_known || std::abs(f - fk) <= 4.0 * psd.df_hz;

@@ -13,22 +13,34 @@ namespace {
 using test::binary;
 using test::run_command;
 
-TEST(DiagnoseCommand, NamesTheHiddenSinusoidAndWritesEverything) {
-  const auto dir = test::fresh_dir("diagnose_cli");
+// Writes dir/given.json (white N = 0.01 and flicker B = 0.003 in deg/s at 100 Hz) and
+// dir/truth.json (the same with the model file's `effects`), and simulates 600 s of the truth
+// with `seed` into dir/meas.h5, whose path it returns.
+std::string measurement(const std::filesystem::path& dir, const std::string& effects, int seed) {
   {
     std::ofstream g(dir / "given.json");
     g << R"({"units": "deg/s", "sample_rate_hz": 100, "terms": {"N": 0.01, "B": 0.003}})";
     std::ofstream t(dir / "truth.json");
     t << R"({"units": "deg/s", "sample_rate_hz": 100, "terms": {"N": 0.01, "B": 0.003},
-             "effects": [{"type": "sinusoid", "amplitude": 0.008, "frequency_hz": 0.5}]})";
+             "effects": )"
+      << effects << "}";
   }
   const std::string in = (dir / "meas.h5").string();
   std::string out;
-  ASSERT_EQ(run_command(binary() + " simulate -q --model " + (dir / "truth.json").string() +
-                            " --duration 600 --seed 4 -o " + in,
+  EXPECT_EQ(run_command(binary() + " simulate -q --model " + (dir / "truth.json").string() +
+                            " --duration 600 --seed " + std::to_string(seed) + " -o " + in,
                         &out),
             0)
       << out;
+  return in;
+}
+
+TEST(DiagnoseCommand, NamesTheHiddenSinusoidAndWritesEverything) {
+  const auto dir = test::fresh_dir("diagnose_cli");
+  const std::string in =
+      measurement(dir, R"([{"type": "sinusoid", "amplitude": 0.008, "frequency_hz": 0.5}])", 4);
+  ASSERT_FALSE(::testing::Test::HasFailure());
+  std::string out;
   const std::string bytes = test::file_bytes(in);
   // -o twice into the same file: the second run replaces the group of the first in a copy.
   const std::string cmd =
@@ -96,20 +108,10 @@ TEST(DiagnoseCommand, AJumpIsNamedAsAStepAndTheCorrectedModelCarriesIt) {
   // simulate draws it, diagnose names it from its time-domain witness, the corrected model
   // holds it under the model file's keys, and that model re-diagnosed names nothing.
   const auto dir = test::fresh_dir("diagnose_cli_step");
-  {
-    std::ofstream g(dir / "given.json");
-    g << R"({"units": "deg/s", "sample_rate_hz": 100, "terms": {"N": 0.01, "B": 0.003}})";
-    std::ofstream t(dir / "truth.json");
-    t << R"({"units": "deg/s", "sample_rate_hz": 100, "terms": {"N": 0.01, "B": 0.003},
-             "effects": [{"type": "step", "size": 0.05, "time_s": 250.3}]})";
-  }
-  const std::string in = (dir / "meas.h5").string();
+  const std::string in =
+      measurement(dir, R"([{"type": "step", "size": 0.05, "time_s": 250.3}])", 3);
+  ASSERT_FALSE(::testing::Test::HasFailure());
   std::string out;
-  ASSERT_EQ(run_command(binary() + " simulate -q --model " + (dir / "truth.json").string() +
-                            " --duration 600 --seed 3 -o " + in,
-                        &out),
-            0)
-      << out;
   const std::string fixed = (dir / "fixed.json").string();
   ASSERT_EQ(run_command(binary() + " diagnose " + in + " --model " + (dir / "given.json").string() +
                             " --replicas 4 --json --model-out " + fixed,
