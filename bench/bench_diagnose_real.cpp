@@ -193,6 +193,9 @@ int main(int argc, char** argv) {
                   cut.chi2_dof, names(again).c_str(), again.after.gap, d.step.size, d.step.time_s,
                   d.step.statistic, d.step.p_value);
       if (std::getenv("BENCH_VERBOSE"))
+        for (const auto& note : d.notes)
+          std::printf("    note: %s\n", note.c_str());
+      if (std::getenv("BENCH_VERBOSE"))
         for (std::size_t i = 0; i < d.tau_s.size(); ++i)
           std::printf("    tau %.4g  meas/before %.4f  meas/after %.4f  z_after %.2f  edf %.4g\n",
                       d.tau_s[i], d.avar_measured[i] / d.before.avar_model[i],

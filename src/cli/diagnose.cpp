@@ -217,6 +217,7 @@ int run_diagnose(const DiagnoseOptions& opt, std::ostream& out, std::ostream& er
 
     kernels::DiagnoseOptions kopt;
     kopt.mc_replicas = opt.replicas;
+    kopt.max_effects = opt.max_effects;
     kopt.mc_seed = opt.seed;
     kopt.nthreads = opt.threads;
     const kernels::Diagnosis d =
@@ -277,6 +278,9 @@ Command add_diagnose_command(CLI::App& app) {
                 "Print one JSON object (docs/diagnose.md) instead of the report");
   sub->add_option("--replicas", opt->replicas, "Monte Carlo replicas per model")
       ->check(CLI::Range(0, 100000))
+      ->capture_default_str();
+  sub->add_option("--max-effects", opt->max_effects, "At most this many effects are named")
+      ->check(CLI::Range(1, 32))
       ->capture_default_str();
   sub->add_option("--seed", opt->seed, "Seed of the Monte Carlo replicas")
       ->check(seed_number())

@@ -20,6 +20,7 @@ struct DiagnoseOptions {
   std::string model_out;           // --model-out FILE.json: the corrected model ("" = none)
   bool json = false;               // print the JSON object of docs/diagnose.md instead
   int replicas = 30;               // Monte Carlo replicas per model
+  int max_effects = 8;             // at most this many effects are added
   std::uint64_t seed = 7;          // seed of the replicas
   int threads = 0;                 // 0 = OMP_NUM_THREADS, else all cores
   io::InputOptions input_options;  // --data-type and the options of text recordings

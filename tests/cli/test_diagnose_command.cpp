@@ -79,7 +79,13 @@ TEST(DiagnoseCommand, NamesTheHiddenSinusoidAndWritesEverything) {
   ASSERT_EQ(run_command(cmd + " --replicas 0", &out), 0) << out;
   EXPECT_NE(out.find("add sinusoid"), std::string::npos) << out;
 
-  // Usage errors: missing channel, bad model file, -o naming the input.
+  // --max-effects is taken (1: the one hidden effect is still named).
+  ASSERT_EQ(run_command(cmd + " --replicas 0 --max-effects 1 --json", &out), 0) << out;
+  EXPECT_EQ(nlohmann::json::parse(out)["effects_named"].size(), 1u) << out;
+
+  // Usage errors: missing channel, --max-effects out of range, bad model file, -o naming the
+  // input.
+  EXPECT_EQ(run_command(cmd + " --max-effects 0", &out), 2) << out;
   EXPECT_EQ(run_command(cmd + " --channel nope", &out), 2) << out;
   EXPECT_NE(out.find("no channel 'nope'"), std::string::npos) << out;
   {
