@@ -220,18 +220,19 @@ def simulate(model=None, duration=60.0, seed=1, threads=None):
 
 
 def diagnose(data, rate, model, channel=None, data_type="freq", replicas=30, seed=7,
-             threads=None):
+             threads=None, max_effects=8):
     """What the noise model misses: the dict ``allanlot diagnose --json`` prints.
 
     data: the channel's samples (rate, or phase with data_type="phase"). model: as for
     simulate(); channel: the model's channel when it has several. replicas and seed: the Monte
-    Carlo band of docs/diagnose.md. AllanTools has no equivalent.
+    Carlo band of docs/diagnose.md; max_effects: at most this many effects are named (as
+    --max-effects). AllanTools has no equivalent.
     """
     text, source = _model_text(model)
     if not text:
         raise ValueError("diagnose needs a model (a file, JSON text or a dict)")
     out = _allanlot.diagnose(data, float(rate), data_type, text, source, channel or "",
-                             int(replicas), int(seed), _threads(threads))
+                             int(replicas), int(seed), _threads(threads), int(max_effects))
     return json.loads(out)
 
 

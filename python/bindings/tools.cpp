@@ -79,7 +79,8 @@ py::list simulate(const std::string& json_text, const std::string& source, doubl
 
 std::string diagnose(const Samples& data, double rate, const std::string& data_type,
                      const std::string& json_text, const std::string& source,
-                     const std::string& channel, int replicas, std::uint64_t seed, int threads) {
+                     const std::string& channel, int replicas, std::uint64_t seed, int threads,
+                     int max_effects) {
   const std::span<const double> samples = samples_of(data);
   std::vector<double> y(samples.begin(), samples.end());
   if (data_type == "phase") {
@@ -102,10 +103,13 @@ std::string diagnose(const Samples& data, double rate, const std::string& data_t
                                   " (channel=...)");
   }
   if (replicas < 0) throw std::invalid_argument("replicas must be >= 0");
+  if (max_effects < 1 || max_effects > 32)
+    throw std::invalid_argument("max_effects must be in 1..32, as diagnose --max-effects");
   kernels::DiagnoseOptions opt;
   opt.mc_replicas = replicas;
   opt.mc_seed = seed;
   opt.nthreads = threads;
+  opt.max_effects = max_effects;
   kernels::Diagnosis d;
   {
     const py::gil_scoped_release unlocked;
@@ -133,7 +137,7 @@ void bind_tools(py::module_& m) {
       py::arg("threads"), "Simulated unit (public wrapper: allanlot.simulate).");
   m.def("diagnose", &diagnose, py::arg("data"), py::arg("rate"), py::arg("data_type"),
         py::arg("model_json"), py::arg("source"), py::arg("channel"), py::arg("replicas"),
-        py::arg("seed"), py::arg("threads"),
+        py::arg("seed"), py::arg("threads"), py::arg("max_effects"),
         "diagnose --json as text (public: allanlot.diagnose).");
   m.def(
       "default_model", [] { return model::to_json(model::default_demo_model()); },

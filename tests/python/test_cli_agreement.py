@@ -91,3 +91,11 @@ def test_diagnose_returns_diagnose_json(lot, binary):
     cli.pop("channel")
     py.pop("channel")
     assert py == cli
+    capped = json.loads(run(binary, "diagnose", lot["recording"], "--model", lot["model"],
+                            "--json", "--replicas", 0, "--max-effects", 1).stdout)
+    capped.pop("channel")
+    py_capped = allanlot.diagnose(y, 100.0, lot["model"], replicas=0, max_effects=1)
+    py_capped.pop("channel")
+    assert py_capped == capped
+    with pytest.raises(ValueError, match="max_effects"):
+        allanlot.diagnose(y, 100.0, lot["model"], replicas=0, max_effects=0)
