@@ -1,6 +1,6 @@
 // The seed study behind the detection and false-alarm rates quoted in docs/diagnose.md: every
 // hidden-effect scenario at three levels (test::kLevels), the complete model (null case) and
-// the wrong-coefficient case over many seeds. Disabled by default (about a minute per 10 seeds
+// the wrong-coefficient case over many seeds. Disabled by default (about two minutes per 10 seeds
 // of one level's scenarios on one core); run with
 //   test_kernels_diagnose_study --gtest_also_run_disabled_tests
 // and DIAGNOSE_STUDY_SEEDS=N (default 20) seeds per scenario; DIAGNOSE_STUDY_ONLY=TEXT keeps
