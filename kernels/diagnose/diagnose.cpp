@@ -577,11 +577,9 @@ Diagnosis diagnose(std::span<const double> rate, double rate_hz, const ChannelSp
     if (!search.round(iter)) break;
   search.finish();
 
-  // The replicas are of the records without their steps, as the curves compared are.
-  ChannelSpec noise_before = d.model_before, noise_after = d.model_after;
-  noise_before.steps.clear();
-  noise_after.steps.clear();
-  d.mc_before = monte_carlo(noise_before, cv, d.before.avar_model, d.edf, opt.mc_replicas,
+  // The replicas' gaps are of the records without their steps, as the curves compared are;
+  // their bands are of the records with them (monte_carlo).
+  d.mc_before = monte_carlo(d.model_before, cv, d.before.avar_model, d.edf, opt.mc_replicas,
                             opt.mc_seed, threads);
   const bool same = d.model_after.terms == d.model_before.terms &&
                     d.model_after.sinusoids == d.model_before.sinusoids &&
@@ -589,8 +587,8 @@ Diagnosis diagnose(std::span<const double> rate, double rate_hz, const ChannelSp
                     d.model_after.steps == d.model_before.steps &&
                     d.model_after.lowpass == d.model_before.lowpass;
   d.mc_after = same ? d.mc_before
-                    : monte_carlo(noise_after, cv, d.after.avar_model, d.edf_after, opt.mc_replicas,
-                                  opt.mc_seed, threads);
+                    : monte_carlo(d.model_after, cv, d.after.avar_model, d.edf_after,
+                                  opt.mc_replicas, opt.mc_seed, threads);
   d.gap_within_noise = opt.mc_replicas > 0 ? d.after.gap <= d.mc_after.gap_p95 : d.after.gap <= 1.0;
   // What each model predicts for the record as measured, its steps included (z and the gaps
   // above judge the record without them).

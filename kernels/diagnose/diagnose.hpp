@@ -166,7 +166,8 @@ struct Comparison {
 /// Monte Carlo replicas of one model at the measurement's length and rate.
 struct McBand {
   int replicas = 0;
-  std::vector<double> avar_lo, avar_median, avar_hi;  // per-tau 5 %, 50 %, 95 % quantiles
+  // per-tau 5 %, 50 %, 95 % quantiles (of the replicas with the model's steps added)
+  std::vector<double> avar_lo, avar_median, avar_hi;
   std::vector<double> gaps;  // each replica's gap against the analytic model (measured edf)
   double gap_median = 0, gap_p95 = 0;
 };

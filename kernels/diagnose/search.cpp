@@ -61,7 +61,13 @@ McBand monte_carlo(const ChannelSpec& spec, const Curve& cv, const std::vector<d
   const std::size_t p = cv.size();
   if (replicas <= 0) return out;
   const auto n = static_cast<std::size_t>(cv.n_samples);
+  ChannelSpec noise = spec;
+  noise.steps.clear();
+  // Per replica: the avar of the noise (its gap is judged, as the record without its steps is)
+  // and, with steps, of the noise plus the model's jumps (the band drawn around the model's
+  // curve for the record as measured: a jump's share and its cross term with the noise).
   std::vector<std::vector<double>> avar(static_cast<std::size_t>(replicas));
+  std::vector<std::vector<double>> drawn(spec.steps.empty() ? 0 : avar.size());
   ExceptionCollector errors;
   // One replica per iteration, each written by one thread into its own row, with its own
   // Philox stream (the replica index): the band does not depend on the thread count.
@@ -69,24 +75,34 @@ McBand monte_carlo(const ChannelSpec& spec, const Curve& cv, const std::vector<d
   for (int r = 0; r < replicas; ++r) {
     errors.run([&] {
       std::vector<double> buf(n);
-      simulate_channel(spec, seed, static_cast<std::uint64_t>(r), buf, 1);
-      const PhaseData ph = phase_from_rate(buf, spec.rate_hz, 1);
-      const StatResult s = compute(Stat::Oadev, ph, cv.m, 1);
-      if (s.size() != p) throw std::logic_error("diagnose: replica tau grid differs");
-      auto& row = avar[static_cast<std::size_t>(r)];
-      row.resize(p);
-      for (std::size_t i = 0; i < p; ++i)
-        row[i] = s.dev[i] * s.dev[i];
+      simulate_channel(noise, seed, static_cast<std::uint64_t>(r), buf, 1);
+      const auto avar_of = [&](std::vector<double>& row) {
+        const PhaseData ph = phase_from_rate(buf, spec.rate_hz, 1);
+        const StatResult s = compute(Stat::Oadev, ph, cv.m, 1);
+        if (s.size() != p) throw std::logic_error("diagnose: replica tau grid differs");
+        row.resize(p);
+        for (std::size_t i = 0; i < p; ++i)
+          row[i] = s.dev[i] * s.dev[i];
+      };
+      avar_of(avar[static_cast<std::size_t>(r)]);
+      if (spec.steps.empty()) return;
+      for (const Step& st : spec.steps) {
+        const double s_at = st.time_s * spec.rate_hz;
+        for (std::size_t k = 0; k < n; ++k)
+          buf[k] += st.size * std::clamp(static_cast<double>(k) + 1.0 - s_at, 0.0, 1.0);
+      }
+      avar_of(drawn[static_cast<std::size_t>(r)]);
     });
   }
   errors.rethrow();
+  const auto& band_rows = spec.steps.empty() ? avar : drawn;
   out.avar_lo.resize(p);
   out.avar_median.resize(p);
   out.avar_hi.resize(p);
   std::vector<double> col(static_cast<std::size_t>(replicas));
   for (std::size_t i = 0; i < p; ++i) {
     for (std::size_t r = 0; r < col.size(); ++r)
-      col[r] = avar[r][i];
+      col[r] = band_rows[r][i];
     std::sort(col.begin(), col.end());
     out.avar_lo[i] = quantile_sorted(col, 0.05);
     out.avar_median[i] = quantile_sorted(col, 0.5);

@@ -3,6 +3,8 @@
 #include "kernels/allan/stats.hpp"
 #include "src/report/svg.hpp"
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -93,6 +95,21 @@ std::string coefficient_table(const io::ChannelResult& ch, const io::FitRecord* 
   return h.str();
 }
 
+// The notes of diagnose's JSON report (the group's `report` attribute, docs/diagnose.md): why a
+// look-alike was passed over, an effect pruned, the coefficients re-estimated. None when the
+// attribute is missing or not that JSON.
+std::vector<std::string> diagnose_notes(const io::DiagnosisView& d) {
+  std::vector<std::string> out;
+  for (const auto& [k, v] : d.attributes) {
+    if (k != "report") continue;
+    const nlohmann::json j = nlohmann::json::parse(v, nullptr, false);
+    if (!j.is_object() || !j.contains("notes") || !j["notes"].is_array()) continue;
+    for (const auto& n : j["notes"])
+      if (n.is_string()) out.push_back(n.get<std::string>());
+  }
+  return out;
+}
+
 std::string diagnosis_section(const std::string& id, const io::DiagnosisView& d,
                               const std::string& units) {
   std::ostringstream h;
@@ -129,6 +146,8 @@ std::string diagnosis_section(const std::string& id, const io::DiagnosisView& d,
         << "</td></tr>\n";
     h << "</table>\n";
   }
+  for (const std::string& n : diagnose_notes(d))
+    h << "<p class=\"small\">" << escape(n) << "</p>\n";
   // Everything else diagnose recorded (models, settings) folded away: it can be long.
   if (!d.attributes.empty()) {
     h << "<details><summary class=\"small\">All attributes of the diagnosis group</summary>"

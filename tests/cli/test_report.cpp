@@ -257,6 +257,9 @@ void write_diagnosis(const fs::path& path, const std::string& device, bool malfo
     f.attr(g, "gap_before", 4.2);
     f.attr(g, "gap_after", 1.05);
     f.attr(g, "model_after", std::string(R"({"units": "deg/s"})"));
+    f.attr(g, "report",
+           std::string(R"({"notes": ["round 2: the record without its least-squares line )"
+                       R"(still shows the random walk"]})"));
   }
 }
 
@@ -273,6 +276,10 @@ TEST_F(Report, ShowsADiagnosisWhenThereIsOne) {
   EXPECT_NE(s.find("Monte Carlo band"), std::string::npos);
   EXPECT_NE(s.find("&quot;amplitude&quot;: 0.006"), std::string::npos);  // escaped JSON
   EXPECT_NE(s.find("<td>-120</td>"), std::string::npos);                 // delta IC
+  // diagnose's notes, from its JSON report: why each round chose what it did.
+  EXPECT_NE(s.find("<p class=\"small\">round 2: the record without its least-squares line "
+                   "still shows the random walk</p>"),
+            std::string::npos);
   // The malformed one: the short curve left out with a note, the gap after from the last
   // iteration.
   EXPECT_NE(s.find("id=\"u-unit_0003-_imu_gyro_x-diag\""), std::string::npos);
