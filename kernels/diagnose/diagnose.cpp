@@ -223,11 +223,7 @@ SpectralLine Search::focused_line(const Fit& ref, const std::vector<double>& kno
 
 std::vector<double> Search::record_without(const std::vector<Step>& steps) const {
   std::vector<double> y(rate.begin(), rate.end());
-  for (const Step& st : steps) {
-    const double s_at = st.time_s * crit.rate_hz;
-    for (std::size_t k = 0; k < y.size(); ++k)
-      y[k] -= st.size * std::clamp(static_cast<double>(k) + 1.0 - s_at, 0.0, 1.0);
-  }
+  add_steps(y, steps, crit.rate_hz, -1.0);
   return y;
 }
 

@@ -142,13 +142,12 @@ StepWitness find_step(std::span<const double> rate, double rate_hz, std::span<co
   for (const double v : rate)
     mean += v;
   mean /= static_cast<double>(n);
-  std::vector<double> x(static_cast<std::size_t>(n) + 1, 0.0);
-  for (std::int64_t k = 0; k < n; ++k) {
-    double v = rate[static_cast<std::size_t>(k)] - mean;
-    for (const Step& st : known)
-      v -= st.size * std::clamp(static_cast<double>(k) + 1.0 - st.time_s * rate_hz, 0.0, 1.0);
-    x[static_cast<std::size_t>(k) + 1] = x[static_cast<std::size_t>(k)] + v;
-  }
+  std::vector<double> y(rate.size()), x(static_cast<std::size_t>(n) + 1, 0.0);
+  for (std::size_t k = 0; k < y.size(); ++k)
+    y[k] = rate[k] - mean;
+  add_steps(y, known, rate_hz, -1.0);
+  for (std::size_t k = 0; k < y.size(); ++k)
+    x[k + 1] = x[k] + y[k];
   // Scales m = 1, 2, 4, ... while the record holds 16 non-overlapping pairs of means.
   std::vector<ScaleScan> scans;
   for (std::int64_t m = 1; (n - 2 * m + 1) / (2 * m) >= 16; m *= 2)

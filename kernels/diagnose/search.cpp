@@ -86,11 +86,7 @@ McBand monte_carlo(const ChannelSpec& spec, const Curve& cv, const std::vector<d
       };
       avar_of(avar[static_cast<std::size_t>(r)]);
       if (spec.steps.empty()) return;
-      for (const Step& st : spec.steps) {
-        const double s_at = st.time_s * spec.rate_hz;
-        for (std::size_t k = 0; k < n; ++k)
-          buf[k] += st.size * std::clamp(static_cast<double>(k) + 1.0 - s_at, 0.0, 1.0);
-      }
+      add_steps(buf, spec.steps, spec.rate_hz);
       avar_of(drawn[static_cast<std::size_t>(r)]);
     });
   }

@@ -174,6 +174,15 @@ void validate(const ChannelSpec& spec) {
   }
 }
 
+void add_steps(std::span<double> y, std::span<const Step> steps, double rate_hz, double scale,
+               std::size_t first) {
+  for (const Step& st : steps) {
+    const double s_at = st.time_s * rate_hz, d = scale * st.size;
+    for (std::size_t i = 0; i < y.size(); ++i)
+      y[i] += d * std::clamp(static_cast<double>(first + i) + 1.0 - s_at, 0.0, 1.0);
+  }
+}
+
 std::vector<double> kasdin_flicker_filter(std::size_t n) {
   std::vector<double> h(n);
   if (n == 0) return h;
@@ -439,13 +448,7 @@ void SimulationPlan::run(const ChannelSpec& spec, std::uint64_t seed, std::uint6
             const double cyc = s.cycles_per_sample * (static_cast<double>(k0 + i) + 0.5);
             y[i] += s.amp_avg * std::sin(2 * pi * (cyc - std::floor(cyc)) + s.phase);
           }
-        // Sample k averages the rate over [k, k + 1] samples, so the jump at s counts for the
-        // part of sample k after it: clamp(k + 1 - s, 0, 1).
-        for (const auto& st : spec.steps) {
-          const double s_at = st.time_s * spec.rate_hz;
-          for (std::size_t i = 0; i < len; ++i)
-            y[i] += st.size * std::clamp(static_cast<double>(k0 + i) + 1.0 - s_at, 0.0, 1.0);
-        }
+        add_steps(std::span<double>(y, len), spec.steps, spec.rate_hz, 1.0, k0);
         for (std::size_t e = 0; e < n_markov; ++e) {
           const auto& st = steps[e];
           double m = 0;  // local state, started at 0; the true start is added in pass 2

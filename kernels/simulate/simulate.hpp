@@ -66,6 +66,13 @@ struct Step {
   friend bool operator==(const Step&, const Step&) = default;
 };
 
+/// Adds `scale` times each step to the samples y (sample i is sample first + i of the record,
+/// at rate_hz): sample k averages the rate over [k, k + 1] sample intervals, so a jump at
+/// s = time_s rate_hz samples counts for clamp(k + 1 - s, 0, 1) of itself. With scale = -1 it
+/// removes the steps exactly (diagnose). The one owner of a step's samples.
+void add_steps(std::span<double> y, std::span<const Step> steps, double rate_hz, double scale = 1.0,
+               std::size_t first = 0);
+
 /// Everything that defines one simulated channel.
 struct ChannelSpec {
   double rate_hz = 1;                // sample rate; tau0 = 1 / rate_hz
