@@ -125,6 +125,17 @@ CandidateFit markov_candidate(std::vector<Component> base, const Curve& cv, cons
   return out;
 }
 
+// A jump as a component: |size| and its sign, at time_s, pinned (never refitted on the curve).
+Component step_component(const Step& st) {
+  Component c;
+  c.kind = Kind::Step;
+  c.nl = st.time_s;
+  c.coef = std::abs(st.size);
+  c.sign = st.size < 0.0 ? -1.0 : 1.0;
+  c.pinned = true;
+  return c;
+}
+
 }  // namespace
 
 double threshold(int k, double alpha) {
@@ -195,12 +206,7 @@ std::vector<Component> components_of(const ChannelSpec& s) {
   for (const Step& st : s.steps) {
     // A given jump is kept as given: the Allan curve can neither place it nor size it apart
     // from a random walk.
-    Component c;
-    c.kind = Kind::Step;
-    c.nl = st.time_s;
-    c.coef = std::abs(st.size);
-    c.sign = st.size < 0.0 ? -1.0 : 1.0;
-    c.pinned = true;
+    Component c = step_component(st);
     c.given = true;
     out.push_back(c);
   }
@@ -520,14 +526,9 @@ CandidateFit evaluate_candidate(Effect e, std::vector<Component> comps, const Wi
       cf.info.note = "the record without the jump has another tau grid";
       return cf;
     }
-    Component c;
-    c.kind = Kind::Step;
-    c.nl = jump.time_s;
+    Component c = step_component({jump.size, jump.time_s});
     c.nl_sigma = jump.time_sigma_s;
-    c.coef = std::abs(jump.size);
-    c.sign = jump.size < 0.0 ? -1.0 : 1.0;
     c.coef_sigma = jump.size_sigma;
-    c.pinned = true;
     comps.push_back(c);
     // The model as it stands, fitted to the record without the jump.
     fit_cv = seen.without_jump;

@@ -79,6 +79,9 @@ void check_options(const DiagnoseOptions& opt) {
   if (!(opt.step_false_alarm > 0.0 && opt.step_false_alarm < 1.0))
     throw std::invalid_argument("diagnose: step_false_alarm must be in (0, 1)");
   if (opt.mc_replicas < 0) throw std::invalid_argument("diagnose: mc_replicas must be >= 0");
+  if (opt.max_effects < 1 || opt.max_effects > kMaxEffects)
+    throw std::invalid_argument("diagnose: max_effects must be in 1.." +
+                                std::to_string(kMaxEffects));
 }
 
 }  // namespace
@@ -130,7 +133,18 @@ Curve measure(std::span<const double> rate, double rate_hz, const DiagnoseOption
   return cv;
 }
 
-// One diagnosis in progress: the measurement, the criterion and the model as it grows.
+// The significant candidate (evaluated, delta_ic > 0) with the largest criterion among those
+// `pick` accepts (the first of equals); cands.size() when there is none.
+template <class Pick>
+std::size_t strongest(const std::vector<CandidateFit>& cands, Pick pick) {
+  std::size_t best = cands.size();
+  for (std::size_t c = 0; c < cands.size(); ++c)
+    if (pick(cands[c].info.effect) && cands[c].info.evaluated && cands[c].info.delta_ic > 0.0 &&
+        (best == cands.size() || cands[c].info.delta_ic > cands[best].info.delta_ic))
+      best = c;
+  return best;
+}
+
 // A Gauss-Markov process is a random walk at taus well below its tau_c (K^2 = 2 sigma^2 /
 // tau_c, diagnose.hpp) and white noise well above it (N^2 = 2 sigma^2 tau_c): each is the
 // Gauss-Markov candidate in a limit of tau_c, so the hump is told apart from them by its
@@ -147,14 +161,8 @@ Curve measure(std::span<const double> rate, double rate_hz, const DiagnoseOption
 std::size_t prefer_nested(const std::vector<CandidateFit>& cands, std::size_t best, const Curve& cv,
                           std::string& note) {
   if (best == cands.size() || cands[best].info.effect != Effect::Markov) return best;
-  std::size_t simpler = cands.size();
-  for (std::size_t c = 0; c < cands.size(); ++c) {
-    const Effect e = cands[c].info.effect;
-    if ((e == Effect::RandomWalk || e == Effect::White) && cands[c].info.evaluated &&
-        cands[c].info.delta_ic > 0.0 &&
-        (simpler == cands.size() || cands[c].info.delta_ic > cands[simpler].info.delta_ic))
-      simpler = c;
-  }
+  const std::size_t simpler =
+      strongest(cands, [](Effect e) { return e == Effect::RandomWalk || e == Effect::White; });
   if (simpler == cands.size()) return best;
   const double peak = 1.9 * cands[best].fit.comps[cands[best].added].nl;
   const bool walk = cands[simpler].info.effect == Effect::RandomWalk;
@@ -165,6 +173,7 @@ std::size_t prefer_nested(const std::vector<CandidateFit>& cands, std::size_t be
   return simpler;
 }
 
+// One diagnosis in progress: the measurement, the criterion and the model as it grows.
 struct Search {
   const DiagnoseOptions& opt;
   const ChannelSpec& spec;
@@ -196,11 +205,6 @@ struct Search {
   void finish();
 };
 
-// A step is an event in the time domain, and in the Allan curve it is a random walk's rise
-// (step_avar_sampled grows as m, like K^2 tau / 3): the curve cannot tell the two apart, so a
-// step's uncertain size would decide whether a random walk beside it is seen. Steps are
-// therefore removed from the record, exactly, and the curve every fit and comparison uses is
-// that of the record without them (docs/diagnose.md "A bias jump").
 // A second look for a line where the Allan curve says one may be: the frequencies a sinusoid
 // would raise the most significant band of taus measured above the model, tau_lo .. tau_hi
 // (its Allan variance A^2 sin^4(pi f tau) / (pi f tau)^2 peaks at tau = 0.371 / f and is a
@@ -221,6 +225,11 @@ SpectralLine Search::focused_line(const Fit& ref, const std::vector<double>& kno
   return near.found ? near : global;
 }
 
+// A step is an event in the time domain, and in the Allan curve it is a random walk's rise
+// (step_avar_sampled grows as m, like K^2 tau / 3): the curve cannot tell the two apart, so a
+// step's uncertain size would decide whether a random walk beside it is seen. Steps are
+// therefore removed from the record, exactly, and the curve every fit and comparison uses is
+// that of the record without them (docs/diagnose.md "A bias jump").
 std::vector<double> Search::record_without(const std::vector<Step>& steps) const {
   std::vector<double> y(rate.begin(), rate.end());
   add_steps(y, steps, crit.rate_hz, -1.0);
@@ -247,11 +256,7 @@ std::size_t Search::ramp_or_random_walk(const std::vector<CandidateFit>& cands, 
                                         const std::vector<Component>& free_now,
                                         std::string& note) const {
   if (best == cands.size() || cands[best].info.effect != Effect::Ramp) return best;
-  std::size_t rw = cands.size();
-  for (std::size_t c = 0; c < cands.size(); ++c)
-    if (cands[c].info.effect == Effect::RandomWalk && cands[c].info.evaluated &&
-        cands[c].info.delta_ic > 0.0)
-      rw = c;
+  const std::size_t rw = strongest(cands, [](Effect e) { return e == Effect::RandomWalk; });
   if (rw == cands.size() || rate.size() < 3) return best;
   std::vector<double> y = record_without(spec_of(current, spec).steps);
   // The least-squares line over the samples' centres t_k = k + 1/2 (in samples).
@@ -342,22 +347,14 @@ bool Search::round(int& iter) {
     }
     cands.push_back(std::move(a));
   }
-  std::size_t best = cands.size();
-  for (std::size_t c = 0; c < cands.size(); ++c)
-    if (cands[c].info.evaluated && cands[c].info.delta_ic > 0.0 &&
-        (best == cands.size() || cands[c].info.delta_ic > cands[best].info.delta_ic))
-      best = c;
+  std::size_t best = strongest(cands, [](Effect) { return true; });
   // The witnesses decide between look-alikes: an unexplained significant line is direct
   // evidence of a sinusoid, while a Gauss-Markov hump (no line) can mimic its Allan bump; a jump
   // in the record is direct evidence of a step, whose Allan rise a random walk or a ramp can
   // mimic. So a significant witnessed candidate goes first (the larger criterion of the two);
   // the others are judged again in the next round, with the line or jump explained.
-  std::size_t witnessed = cands.size();
-  for (std::size_t c = 0; c < cands.size(); ++c)
-    if ((cands[c].info.effect == Effect::Sinusoid || cands[c].info.effect == Effect::Step) &&
-        cands[c].info.evaluated && cands[c].info.delta_ic > 0.0 &&
-        (witnessed == cands.size() || cands[c].info.delta_ic > cands[witnessed].info.delta_ic))
-      witnessed = c;
+  const std::size_t witnessed =
+      strongest(cands, [](Effect e) { return e == Effect::Sinusoid || e == Effect::Step; });
   std::string nested_note;
   best = prefer_nested(cands, best, cv, nested_note);
   best = ramp_or_random_walk(cands, best, fixed_now, free_now, nested_note);
@@ -577,22 +574,18 @@ Diagnosis diagnose(std::span<const double> rate, double rate_hz, const ChannelSp
   // their bands are of the records with them (monte_carlo).
   d.mc_before = monte_carlo(d.model_before, cv, d.before.avar_model, d.edf, opt.mc_replicas,
                             opt.mc_seed, threads);
-  const bool same = d.model_after.terms == d.model_before.terms &&
-                    d.model_after.sinusoids == d.model_before.sinusoids &&
-                    d.model_after.markovs == d.model_before.markovs &&
-                    d.model_after.steps == d.model_before.steps &&
-                    d.model_after.lowpass == d.model_before.lowpass;
-  d.mc_after = same ? d.mc_before
-                    : monte_carlo(d.model_after, cv, d.after.avar_model, d.edf_after,
-                                  opt.mc_replicas, opt.mc_seed, threads);
+  d.mc_after = d.model_after == d.model_before
+                   ? d.mc_before
+                   : monte_carlo(d.model_after, cv, d.after.avar_model, d.edf_after,
+                                 opt.mc_replicas, opt.mc_seed, threads);
   d.gap_within_noise = opt.mc_replicas > 0 ? d.after.gap <= d.mc_after.gap_p95 : d.after.gap <= 1.0;
   // What each model predicts for the record as measured, its steps included (z and the gaps
   // above judge the record without them).
   for (std::size_t i = 0; i < cv.size(); ++i) {
-    for (const Step& st : d.model_before.steps)
-      d.before.avar_model[i] += step_avar_sampled(st, rate_hz, cv.m[i], cv.n_samples);
-    for (const Step& st : d.model_after.steps)
-      d.after.avar_model[i] += step_avar_sampled(st, rate_hz, cv.m[i], cv.n_samples);
+    double& before = d.before.avar_model[i];
+    double& after = d.after.avar_model[i];
+    before = plus_steps_avar(before, d.model_before.steps, rate_hz, cv.m[i], cv.n_samples);
+    after = plus_steps_avar(after, d.model_after.steps, rate_hz, cv.m[i], cv.n_samples);
   }
   return d;
 }

@@ -121,6 +121,9 @@ std::optional<Effect> parse_effect(std::string_view name);
 /// The eq. (3) term an effect adds (Q, N, B, K, R); nullopt for the others.
 std::optional<Term> effect_term(Effect e);
 
+/// The largest DiagnoseOptions::max_effects (diagnose --max-effects, allanlot.diagnose).
+inline constexpr int kMaxEffects = 32;
+
 struct DiagnoseOptions {
   int taus_per_decade = 8;     // log tau grid of the comparison (kernels/allan/tau_grid.hpp log:K)
   int mc_replicas = 30;        // Monte Carlo replicas per model (0 = no band)
@@ -129,8 +132,9 @@ struct DiagnoseOptions {
   double select_alpha = 0.05;  // probability that a round adds an effect to a complete model
   double line_false_alarm = 1e-4;  // probability of a spurious PSD line in the whole record
   double step_false_alarm = 1e-3;  // probability of a spurious jump in the whole record
-  // At most this many effects are added. A real accelerometer shows several lines, its filter,
-  // a bias jump and a hump (docs/diagnose.md "Real sensors"); four left some unnamed.
+  // At most this many effects are added, 1 .. kMaxEffects. A real accelerometer shows several
+  // lines, its filter, a bias jump and a hump (docs/diagnose.md "Real sensors"); four left some
+  // unnamed.
   int max_effects = 8;
   int nthreads = 0;  // 0 = OpenMP default; results do not depend on it
 };

@@ -88,10 +88,10 @@ void prepare_edf(Curve& cv) {
 //    add at most linearly: sd_n <= sum_k a_k sqrt(2 / e_k), equality when the spectra are
 //    alike (two white noises are one white noise, whose edf this returns exactly). The upper
 //    bound of the variance is used: the edf is never overstated.
-//  - deterministic components (ramp, sinusoids; steps are removed from the record) of total a_d add
-//  no variance of their own but
-//    a cross term with the noise: 2/M sum_j c_j e_j, of variance about 4 a_d a_n / e_n for
-//    second differences c_j that vary over the noise's correlation length. Hence
+//  - deterministic components (ramp, sinusoids; steps are removed from the record) of total
+//    a_d add no variance of their own but a cross term with the noise: 2/M sum_j c_j e_j, of
+//    variance about 4 a_d a_n / e_n for second differences c_j that vary over the noise's
+//    correlation length. Hence
 //    edf = 2 (a_n + a_d)^2 / (2 a_n^2 / e_n + 4 a_d a_n / e_n)
 //        = e_n (a_n + a_d)^2 / (a_n (a_n + 2 a_d)).
 //  - the result is at most the largest edf any power-law noise reaches at that m and N (white

@@ -585,6 +585,13 @@ double step_avar_sampled(const Step& step, double rate_hz, std::int64_t m, std::
          (md * md * 2.0 * static_cast<double>(n_samples - 2 * m + 1));
 }
 
+double plus_steps_avar(double avar, std::span<const Step> steps, double rate_hz, std::int64_t m,
+                       std::int64_t n_samples) {
+  for (const Step& st : steps)
+    avar += step_avar_sampled(st, rate_hz, m, n_samples);
+  return avar;
+}
+
 double model_avar_sampled(const ChannelSpec& spec, std::int64_t m, std::int64_t n_samples) {
   if (m < 1) throw std::invalid_argument("model_avar_sampled: m must be >= 1");
   if (!std::isfinite(spec.rate_hz) || spec.rate_hz <= 0)
@@ -592,9 +599,7 @@ double model_avar_sampled(const ChannelSpec& spec, std::int64_t m, std::int64_t 
   const double flicker = spec.terms.B * spec.terms.B * 2 * std::numbers::ln2 / pi;
   const double tau = static_cast<double>(m) / spec.rate_hz;
   double v = model_avar(spec, tau) + flicker * (flicker_avar_factor(m) - 1.0);
-  if (n_samples > 0)
-    for (const Step& st : spec.steps)
-      v += step_avar_sampled(st, spec.rate_hz, m, n_samples);
+  if (n_samples > 0) v = plus_steps_avar(v, spec.steps, spec.rate_hz, m, n_samples);
   if (!spec.lowpass.active()) return v;
   const Lowpass& lp = spec.lowpass;
   const auto& t = spec.terms;

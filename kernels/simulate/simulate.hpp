@@ -82,6 +82,7 @@ struct ChannelSpec {
   std::vector<Step> steps;           // bias jumps, in any order
   double offset = 0;                 // constant added to every sample [u] (e.g. 1 g)
   Lowpass lowpass;                   // the sensor's filter, applied to the sum (none by default)
+  friend bool operator==(const ChannelSpec&, const ChannelSpec&) = default;
 };
 
 /// Checks a spec; throws std::invalid_argument naming the field and its value: rate_hz finite
@@ -169,6 +170,11 @@ double model_avar_sampled(const ChannelSpec& spec, std::int64_t m, std::int64_t 
 /// size^2 (2 m^2 + 1) / (6 m (n - 2m + 1)), like a random walk's m / 3 growth but set by the
 /// record's length: its witness is in the time domain (docs/diagnose.md).
 double step_avar_sampled(const Step& step, double rate_hz, std::int64_t m, std::int64_t n_samples);
+
+/// `avar` plus step_avar_sampled of each of `steps`, added in order: a model's Allan variance
+/// with what its jumps add over the record.
+double plus_steps_avar(double avar, std::span<const Step> steps, double rate_hz, std::int64_t m,
+                       std::int64_t n_samples);
 
 /// Ratio of the Allan variance of Kasdin's discrete flicker sequence at averaging factor m to
 /// the continuous floor B^2 2 ln2 / pi. From the PSD above and the discrete averaging

@@ -103,8 +103,6 @@ std::string diagnose(const Samples& data, double rate, const std::string& data_t
                                   " (channel=...)");
   }
   if (replicas < 0) throw std::invalid_argument("replicas must be >= 0");
-  if (max_effects < 1 || max_effects > 32)
-    throw std::invalid_argument("max_effects must be in 1..32, as diagnose --max-effects");
   kernels::DiagnoseOptions opt;
   opt.mc_replicas = replicas;
   opt.mc_seed = seed;

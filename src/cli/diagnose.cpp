@@ -280,7 +280,7 @@ Command add_diagnose_command(CLI::App& app) {
       ->check(CLI::Range(0, 100000))
       ->capture_default_str();
   sub->add_option("--max-effects", opt->max_effects, "At most this many effects are named")
-      ->check(CLI::Range(1, 32))
+      ->check(CLI::Range(1, kernels::kMaxEffects))
       ->capture_default_str();
   sub->add_option("--seed", opt->seed, "Seed of the Monte Carlo replicas")
       ->check(seed_number())

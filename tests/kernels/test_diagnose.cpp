@@ -253,6 +253,12 @@ TEST(Diagnose, DumbInputs) {
   kernels::DiagnoseOptions opt;
   opt.band_alpha = 2.0;
   EXPECT_THROW(kernels::diagnose(y, 100.0, test::base_model(), opt), std::invalid_argument);
+  for (const int max_effects : {0, kernels::kMaxEffects + 1}) {
+    kernels::DiagnoseOptions capped;
+    capped.max_effects = max_effects;
+    EXPECT_THROW(kernels::diagnose(y, 100.0, test::base_model(), capped), std::invalid_argument)
+        << max_effects;
+  }
   EXPECT_EQ(kernels::parse_effect("random_walk"), Effect::RandomWalk);
   EXPECT_FALSE(kernels::parse_effect("drift").has_value());
 }
