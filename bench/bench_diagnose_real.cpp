@@ -138,8 +138,9 @@ void inject_rows(const std::string& unit, const std::string& channel,
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 2) {
+  if (argc < 2 || !std::filesystem::is_directory(argv[1])) {
     std::fprintf(stderr, "usage: %s FOLDER [REPLICAS] [CHANNEL_SUBSTRING]\n", argv[0]);
+    if (argc >= 2) std::fprintf(stderr, "%s: %s is not a folder\n", argv[0], argv[1]);
     return 2;
   }
   const int replicas = argc > 2 ? std::atoi(argv[2]) : 20;

@@ -19,21 +19,38 @@
 namespace allanlot::kernels::diagnose_detail {
 namespace {
 
+// The Allan variance of a Gauss-Markov effect at the curve's taus under the filter `lp`, as
+// model_avar_sampled has it; unfiltered, model_avar's continuous form (the same values).
+std::vector<double> markov_curve(double sigma, double tau_c_s, const Curve& cv, const Lowpass& lp,
+                                 double rate_hz) {
+  std::vector<double> g(cv.size());
+  if (!lp.active()) {
+    ChannelSpec s;
+    s.rate_hz = rate_hz;
+    s.markovs.push_back({sigma, tau_c_s});
+    for (std::size_t i = 0; i < cv.size(); ++i)
+      g[i] = model_avar(s, cv.tau[i]);
+    return g;
+  }
+  const std::vector<double> rho = lowpass_autocorrelation(lp, rate_hz);
+  for (std::size_t i = 0; i < cv.size(); ++i)
+    g[i] = lowpass_markov_avar(sigma, tau_c_s, rate_hz, cv.m[i], rho);
+  return g;
+}
+
 std::vector<double> basis_of(const Component& c, const Curve& cv, const Bases& b) {
   if (c.kind == Kind::Term) return b.term[static_cast<std::size_t>(c.term)];
   // A step is removed from the record instead (diagnose.cpp, Search::curve_without): no
   // variance on the curves compared.
   if (c.kind == Kind::Lowpass || c.kind == Kind::Step) return std::vector<double>(cv.size(), 0.0);
+  if (c.kind == Kind::Markov) return markov_curve(1.0, c.nl, cv, b.lowpass, b.rate_hz);
   ChannelSpec s;
   s.rate_hz = b.rate_hz;
-  if (c.kind == Kind::Sinusoid)
-    s.sinusoids.push_back({1.0, c.nl, 0.0});
-  else
-    s.markovs.push_back({1.0, c.nl});
-  // model_avar, not model_avar_sampled: both are exact for these components at every m, and
-  // the sampled form would evaluate flicker's quadrature factor for nothing.
+  s.sinusoids.push_back({1.0, c.nl, 0.0});
+  // model_avar, not model_avar_sampled: both are exact for a line at every m, and the sampled
+  // form would evaluate flicker's quadrature factor for nothing.
   std::vector<double> g(cv.size());
-  const double gain = c.kind == Kind::Sinusoid ? lowpass_gain2(b.lowpass, b.rate_hz, c.nl) : 1.0;
+  const double gain = lowpass_gain2(b.lowpass, b.rate_hz, c.nl);
   for (std::size_t i = 0; i < cv.size(); ++i)
     g[i] = gain * model_avar(s, cv.tau[i]);
   return g;
@@ -395,10 +412,16 @@ std::vector<double> model_curve(const ChannelSpec& s, const Curve& cv, const Bas
   std::vector<double> v(cv.size());
   ChannelSpec effects = s;
   effects.terms = {};
+  effects.markovs.clear();
   for (Sinusoid& q : effects.sinusoids)
     q.amplitude *= std::sqrt(lowpass_gain2(s.lowpass, s.rate_hz, q.frequency_hz));
+  std::vector<std::vector<double>> markovs;
+  for (const GaussMarkov& g : s.markovs)
+    markovs.push_back(markov_curve(g.sigma, g.tau_c_s, cv, s.lowpass, s.rate_hz));
   for (std::size_t i = 0; i < cv.size(); ++i) {
     v[i] = model_avar(effects, cv.tau[i]);
+    for (const std::vector<double>& g : markovs)
+      v[i] += g[i];
     for (const Term t : all_terms()) {
       const double c = coefficient(s.terms, t);
       v[i] += c * c * b.term[static_cast<std::size_t>(t)][i];

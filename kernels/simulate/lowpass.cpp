@@ -159,6 +159,50 @@ double lowpass_white_pm_factor(const Lowpass& lp, double rate_hz, std::int64_t m
   return s / 6.0;
 }
 
+std::vector<double> lowpass_autocorrelation(const Lowpass& lp, double rate_hz) {
+  const std::vector<double> h = lowpass_impulse(lp, rate_hz);
+  std::vector<double> rho(h.size(), 0.0);
+  for (std::size_t j = 0; j < h.size(); ++j)
+    for (std::size_t i = 0; i + j < h.size(); ++i)
+      rho[j] += h[i] * h[i + j];
+  return rho;
+}
+
+namespace {
+
+// v(a) = 2 (a - 1 + e^-a) = 2 sum_{k >= 2} (-a)^k / k!: the series below a = 0.5, where the
+// closed form loses the leading a^2 to cancellation (terms fall by a / k, 1e-16 by k = 25).
+double ou_sum_var(double a) {
+  if (a >= 0.5) return 2.0 * (a + std::expm1(-a));
+  double sum = 0.0, term = a * a / 2.0;
+  for (int k = 2; k <= 25; ++k) {
+    sum += (k % 2 == 0 ? term : -term);
+    term *= a / (k + 1);
+  }
+  return 2.0 * sum;
+}
+
+}  // namespace
+
+double lowpass_markov_avar(double sigma, double tau_c_s, double rate_hz, std::int64_t m,
+                           const std::vector<double>& rho) {
+  if (m < 1) throw std::invalid_argument("lowpass_markov_avar: m must be >= 1");
+  const double h = 1.0 / rate_hz;
+  const double scale = sigma * sigma * tau_c_s * tau_c_s / (h * h);
+  const auto d = [&](std::int64_t k) {
+    return ou_sum_var(static_cast<double>(k < 0 ? -k : k) * h / tau_c_s);
+  };
+  const auto j_len = static_cast<std::int64_t>(rho.size());
+  const auto f = [&](std::int64_t o) {
+    double s = rho[0] * d(o);
+    for (std::int64_t j = 1; j < j_len; ++j)
+      s += rho[static_cast<std::size_t>(j)] * (d(o - j) + d(o + j));
+    return s;
+  };
+  const double md = static_cast<double>(m);
+  return scale * (8.0 * f(m) - 2.0 * f(2 * m) - 6.0 * f(0)) / (4.0 * md * md);
+}
+
 std::int64_t lowpass_first_m(const Lowpass& lp, double rate_hz, std::int64_t n_samples) {
   if (!lp.active()) return 1;
   const std::int64_t j_len = static_cast<std::int64_t>(lowpass_impulse(lp, rate_hz).size());

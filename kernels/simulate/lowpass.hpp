@@ -49,6 +49,29 @@ double lowpass_gain2(const Lowpass& lp, double rate_hz, double f_hz);
 double lowpass_white_fm_factor(const Lowpass& lp, double rate_hz, std::int64_t m);
 double lowpass_white_pm_factor(const Lowpass& lp, double rate_hz, std::int64_t m);
 
+/// The filter's autocorrelation rho_j = sum_i h_i h_{i+j}, j = 0 .. J-1 (h = lowpass_impulse,
+/// J its length); {1} when inactive. What a filter does to any stationary noise's Allan variance
+/// depends on h through rho alone.
+std::vector<double> lowpass_autocorrelation(const Lowpass& lp, double rate_hz);
+
+/// Overlapping Allan variance at averaging factor m (>= 1) of a Gauss-Markov effect of stationary
+/// sd sigma and correlation time tau_c_s as simulate draws it (each sample the mean of the
+/// Ornstein-Uhlenbeck process over its interval h = 1 / rate_hz), after the filter whose
+/// autocorrelation is rho (lowpass_autocorrelation), exact. With D(k) the variance of the sum of
+/// k consecutive samples, sigma^2 tau_c^2 v(k h / tau_c) / h^2, v(a) = 2 (a - 1 + e^-a), and
+/// F(o) = sum_{|j| < J} rho_|j| D(|o - j|):
+///
+///   avar(m) = (8 F(m) - 2 F(2m) - 6 F(0)) / (4 m^2),
+///
+/// the variance of the filtered second difference of the phase at lag m written through the
+/// phase's structure function D (for increments of a stationary process,
+/// E[(x_a - x_b)(x_c - x_d)] = (D(a-d) + D(b-c) - D(a-c) - D(b-d)) / 2). Unfiltered (rho = {1})
+/// it is model_avar's sigma^2 tau_c^2 u(a) / tau^2. A tau_c near or below one sample makes the
+/// effect white noise that the filter shapes like the white FM term: leaving the filter out of
+/// its model would give it a shape of its own at the shortest taus that no simulation of it has.
+double lowpass_markov_avar(double sigma, double tau_c_s, double rate_hz, std::int64_t m,
+                           const std::vector<double>& rho);
+
 /// The first averaging factor an eq. (3) fit of a filtered record may use: the smallest m from
 /// which the filter changes white FM's overlapping Allan variance by less than half the
 /// standard deviation of its estimate over n_samples (sqrt(2 / edf), Greenhall & Riley's white

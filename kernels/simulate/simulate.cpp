@@ -611,6 +611,11 @@ double model_avar_sampled(const ChannelSpec& spec, std::int64_t m, std::int64_t 
     v += s.amplitude * s.amplitude * sx * sx * sx * sx / (x * x) *
          (lowpass_gain2(lp, spec.rate_hz, s.frequency_hz) - 1.0);
   }
+  if (spec.markovs.empty()) return v;
+  const std::vector<double> rho = lowpass_autocorrelation(lp, spec.rate_hz);
+  for (const auto& g : spec.markovs)
+    v += lowpass_markov_avar(g.sigma, g.tau_c_s, spec.rate_hz, m, rho) -
+         g.sigma * g.sigma * g.tau_c_s * g.tau_c_s * ou_u(tau / g.tau_c_s) / (tau * tau);
   return v;
 }
 

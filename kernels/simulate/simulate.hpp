@@ -149,12 +149,13 @@ double model_avar(const ChannelSpec& spec, double tau_s);
 /// Expected overlapping Allan variance of simulate_channel's output at tau = m / rate_hz
 /// (m >= 1): model_avar with the flicker term multiplied by flicker_avar_factor(m) and, under a
 /// low-pass filter, the white FM and white PM terms by lowpass_white_fm_factor and
-/// lowpass_white_pm_factor (exact) and each sinusoid's by lowpass_gain2 at its frequency
-/// (exact); the filter's effect on flicker, random walk, Gauss-Markov and ramp is left out:
-/// their power lies far below any cutoff at the taus where they matter (at tau0 a flicker
-/// floor loses a fraction of itself to a cutoff near Nyquist, which the model leaves out). Exact
-/// for all components at every m, apart from the finite record's effect on flicker (the filter
-/// starts at the first sample, so the earliest terms miss the pre-record past: a deficit of
+/// lowpass_white_pm_factor (exact), each sinusoid's by lowpass_gain2 at its frequency (exact)
+/// and each Gauss-Markov effect's as lowpass_markov_avar (exact: a tau_c near one sample makes it
+/// white noise, which the filter shapes); the filter's effect on flicker, random walk and ramp
+/// is left out: their power lies far below any cutoff at the taus where they matter (at tau0 a
+/// flicker floor loses a fraction of itself to a cutoff near Nyquist, which the model leaves
+/// out). Exact for all components at every m, apart from the finite record's effect on flicker (the
+/// filter starts at the first sample, so the earliest terms miss the pre-record past: a deficit of
 /// relative order m / n, negligible for m << n). With n_samples > 0 (the record's length, at
 /// least 2 m) each step adds step_avar_sampled, exactly (the filter's smoothing of the jump is
 /// left out, as the ramp's); with n_samples = 0 (an unbounded record) the steps add nothing.
