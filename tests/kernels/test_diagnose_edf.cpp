@@ -54,6 +54,13 @@ std::vector<Case> cases() {
   auto g = base;
   g.markovs.push_back({0.05, 0.5});  // its hump 0.38 sigma^2 is 9 x the base at 0.95 s
   out.push_back({"markov", g});
+  // The sensor's filter over white noise and a hump of one sample (interval variance 0.74
+  // N^2 rate): the model must filter the hump as the simulation does, or the shortest taus,
+  // whose edf is largest, disagree with every replica.
+  auto f = base;
+  f.lowpass.taps = 1.4;
+  f.markovs.push_back({0.1, 1.0 / kRate});
+  out.push_back({"lowpass+markov", f});
   return out;
 }
 
