@@ -537,6 +537,16 @@ double flicker_avar_factor(std::int64_t m) {
   return sum / (md * md) / std::numbers::ln2;
 }
 
+namespace {
+
+// A Gauss-Markov effect's Allan variance at tau, sigma^2 tau_c^2 u(tau / tau_c) / tau^2 (IEEE
+// Std 952-1997, annex C; see model_avar), unfiltered.
+double markov_avar(const GaussMarkov& g, double tau) {
+  return g.sigma * g.sigma * g.tau_c_s * g.tau_c_s * ou_u(tau / g.tau_c_s) / (tau * tau);
+}
+
+}  // namespace
+
 double model_avar(const ChannelSpec& spec, double tau_s) {
   if (!(tau_s > 0) || !std::isfinite(tau_s))
     throw std::invalid_argument("model_avar: tau_s must be finite and > 0, got " +
@@ -551,7 +561,7 @@ double model_avar(const ChannelSpec& spec, double tau_s) {
     v += s.amplitude * s.amplitude * sx * sx * sx * sx / (x * x);
   }
   for (const auto& g : spec.markovs)
-    v += g.sigma * g.sigma * g.tau_c_s * g.tau_c_s * ou_u(tau / g.tau_c_s) / (tau * tau);
+    v += markov_avar(g, tau);
   return v;
 }
 
@@ -614,8 +624,7 @@ double model_avar_sampled(const ChannelSpec& spec, std::int64_t m, std::int64_t 
   if (spec.markovs.empty()) return v;
   const std::vector<double> rho = lowpass_autocorrelation(lp, spec.rate_hz);
   for (const auto& g : spec.markovs)
-    v += lowpass_markov_avar(g.sigma, g.tau_c_s, spec.rate_hz, m, rho) -
-         g.sigma * g.sigma * g.tau_c_s * g.tau_c_s * ou_u(tau / g.tau_c_s) / (tau * tau);
+    v += lowpass_markov_avar(g.sigma, g.tau_c_s, spec.rate_hz, m, rho) - markov_avar(g, tau);
   return v;
 }
 
