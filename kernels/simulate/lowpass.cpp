@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -184,23 +185,27 @@ double ou_sum_var(double a) {
 
 }  // namespace
 
+double lowpass_structure_avar(const std::function<double(double)>& d, double m,
+                              const std::vector<double>& rho) {
+  const auto j_len = static_cast<std::int64_t>(rho.size());
+  const auto f = [&](double o) {
+    double s = rho[0] * d(std::abs(o));
+    for (std::int64_t j = 1; j < j_len; ++j) {
+      const auto jd = static_cast<double>(j);
+      s += rho[static_cast<std::size_t>(j)] * (d(std::abs(o - jd)) + d(std::abs(o + jd)));
+    }
+    return s;
+  };
+  return (8.0 * f(m) - 2.0 * f(2.0 * m) - 6.0 * f(0.0)) / (4.0 * m * m);
+}
+
 double lowpass_markov_avar(double sigma, double tau_c_s, double rate_hz, std::int64_t m,
                            const std::vector<double>& rho) {
   if (m < 1) throw std::invalid_argument("lowpass_markov_avar: m must be >= 1");
   const double h = 1.0 / rate_hz;
   const double scale = sigma * sigma * tau_c_s * tau_c_s / (h * h);
-  const auto d = [&](std::int64_t k) {
-    return ou_sum_var(static_cast<double>(k < 0 ? -k : k) * h / tau_c_s);
-  };
-  const auto j_len = static_cast<std::int64_t>(rho.size());
-  const auto f = [&](std::int64_t o) {
-    double s = rho[0] * d(o);
-    for (std::int64_t j = 1; j < j_len; ++j)
-      s += rho[static_cast<std::size_t>(j)] * (d(o - j) + d(o + j));
-    return s;
-  };
-  const double md = static_cast<double>(m);
-  return scale * (8.0 * f(m) - 2.0 * f(2 * m) - 6.0 * f(0)) / (4.0 * md * md);
+  return scale * lowpass_structure_avar([&](double k) { return ou_sum_var(k * h / tau_c_s); },
+                                        static_cast<double>(m), rho);
 }
 
 std::int64_t lowpass_first_m(const Lowpass& lp, double rate_hz, std::int64_t n_samples) {

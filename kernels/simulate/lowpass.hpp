@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -54,18 +55,25 @@ double lowpass_white_pm_factor(const Lowpass& lp, double rate_hz, std::int64_t m
 /// depends on h through rho alone.
 std::vector<double> lowpass_autocorrelation(const Lowpass& lp, double rate_hz);
 
-/// Overlapping Allan variance at averaging factor m (>= 1) of a Gauss-Markov effect of stationary
-/// sd sigma and correlation time tau_c_s as simulate draws it (each sample the mean of the
-/// Ornstein-Uhlenbeck process over its interval h = 1 / rate_hz), after the filter whose
-/// autocorrelation is rho (lowpass_autocorrelation), exact. With D(k) the variance of the sum of
-/// k consecutive samples, sigma^2 tau_c^2 v(k h / tau_c) / h^2, v(a) = 2 (a - 1 + e^-a), and
-/// F(o) = sum_{|j| < J} rho_|j| D(|o - j|):
+/// The overlapping Allan variance at averaging factor m (> 0) of a stationary noise whose sums
+/// of k consecutive samples have variance d(k) (d(0) = 0), after the filter whose
+/// autocorrelation is rho: with F(o) = sum_{|j| < J} rho_|j| d(|o - j|),
 ///
 ///   avar(m) = (8 F(m) - 2 F(2m) - 6 F(0)) / (4 m^2),
 ///
 /// the variance of the filtered second difference of the phase at lag m written through the
-/// phase's structure function D (for increments of a stationary process,
-/// E[(x_a - x_b)(x_c - x_d)] = (D(a-d) + D(b-c) - D(a-c) - D(b-d)) / 2). Unfiltered (rho = {1})
+/// phase's structure function d (for increments of a stationary process,
+/// E[(x_a - x_b)(x_c - x_d)] = (d(a-d) + d(b-c) - d(a-c) - d(b-d)) / 2). Exact for integer m; a
+/// non-integer m interpolates when d does.
+double lowpass_structure_avar(const std::function<double(double)>& d, double m,
+                              const std::vector<double>& rho);
+
+/// Overlapping Allan variance at averaging factor m (>= 1) of a Gauss-Markov effect of stationary
+/// sd sigma and correlation time tau_c_s as simulate draws it (each sample the mean of the
+/// Ornstein-Uhlenbeck process over its interval h = 1 / rate_hz), after the filter whose
+/// autocorrelation is rho (lowpass_autocorrelation), exact: lowpass_structure_avar of the
+/// variance of the sum of k consecutive samples, sigma^2 tau_c^2 v(k h / tau_c) / h^2 with
+/// v(a) = 2 (a - 1 + e^-a). Unfiltered (rho = {1})
 /// it is model_avar's sigma^2 tau_c^2 u(a) / tau^2. A tau_c near or below one sample makes the
 /// effect white noise that the filter shapes like the white FM term: leaving the filter out of
 /// its model would give it a shape of its own at the shortest taus that no simulation of it has.

@@ -49,9 +49,11 @@ enum class Component : std::uint32_t {
   RandomWalk = 3,    // rate random walk (K): endpoint increments and bridge integrals
   Quantization = 4,  // white phase noise differenced (Q)
   LotSpread = 5,     // draw_unit's per-unit coefficient factors
-  MarkovFirst = 16   // Gauss-Markov effect i uses MarkovFirst + i (i < kMaxMarkov)
+  MarkovFirst = 16,     // Gauss-Markov effect i uses MarkovFirst + i (i < kMaxMarkov)
+  ResonanceFirst = 216  // resonance i uses ResonanceFirst + i (i < kMaxResonance)
 };
 inline constexpr std::uint32_t kMaxMarkov = 200;
+inline constexpr std::uint32_t kMaxResonance = 32;
 
 /// The random bits for one index of one component's sequence. The counter layout is
 /// injective: index (< 2^56) in the first 56 bits, the component in the next 8, the stream

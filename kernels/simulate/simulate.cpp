@@ -163,6 +163,12 @@ void validate(const ChannelSpec& spec) {
       throw std::invalid_argument("simulate: " + at + "tau_c_s must be finite and > 0, got " +
                                   std::to_string(g.tau_c_s));
   }
+  if (spec.resonances.size() > rng::kMaxResonance)
+    throw std::invalid_argument("simulate: at most " + std::to_string(rng::kMaxResonance) +
+                                " resonances, got " + std::to_string(spec.resonances.size()));
+  for (std::size_t i = 0; i < spec.resonances.size(); ++i)
+    validate_resonance(spec.resonances[i], spec.rate_hz,
+                       "simulate: resonances[" + std::to_string(i) + "].");
   for (std::size_t i = 0; i < spec.steps.size(); ++i) {
     const auto& st = spec.steps[i];
     const std::string at = "steps[" + std::to_string(i) + "].";
@@ -466,6 +472,11 @@ void SimulationPlan::run(const ChannelSpec& spec, std::uint64_t seed, std::uint6
   ec.rethrow();
   if (t.K > 0 || n_markov > 0)
     add_block_starts(t, steps, markov_comp, walk_end, markov_end, seed, stream, out, nt);
+  for (std::size_t i = 0; i < spec.resonances.size(); ++i)
+    add_resonance(spec.resonances[i], spec.rate_hz, seed, stream,
+                  static_cast<std::uint32_t>(rng::Component::ResonanceFirst) +
+                      static_cast<std::uint32_t>(i),
+                  out);
   apply_lowpass(spec.lowpass, spec.rate_hz, out);
 }
 
@@ -562,6 +573,8 @@ double model_avar(const ChannelSpec& spec, double tau_s) {
   }
   for (const auto& g : spec.markovs)
     v += markov_avar(g, tau);
+  for (const auto& r : spec.resonances)
+    v += resonance_avar(r, spec.rate_hz, tau * spec.rate_hz);
   return v;
 }
 
@@ -621,10 +634,13 @@ double model_avar_sampled(const ChannelSpec& spec, std::int64_t m, std::int64_t 
     v += s.amplitude * s.amplitude * sx * sx * sx * sx / (x * x) *
          (lowpass_gain2(lp, spec.rate_hz, s.frequency_hz) - 1.0);
   }
-  if (spec.markovs.empty()) return v;
+  if (spec.markovs.empty() && spec.resonances.empty()) return v;
   const std::vector<double> rho = lowpass_autocorrelation(lp, spec.rate_hz);
   for (const auto& g : spec.markovs)
     v += lowpass_markov_avar(g.sigma, g.tau_c_s, spec.rate_hz, m, rho) - markov_avar(g, tau);
+  const auto md = static_cast<double>(m);
+  for (const auto& r : spec.resonances)
+    v += resonance_avar(r, spec.rate_hz, md, rho) - resonance_avar(r, spec.rate_hz, md);
   return v;
 }
 
@@ -640,6 +656,8 @@ double model_psd_one_sided(const ChannelSpec& spec, double f_hz) {
     const double wt = w * g.tau_c_s;
     s += 4 * g.sigma * g.sigma * g.tau_c_s / (1 + wt * wt);
   }
+  for (const auto& r : spec.resonances)
+    s += resonance_psd_one_sided(r, spec.rate_hz, f_hz);
   return s;
 }
 

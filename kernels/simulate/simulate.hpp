@@ -3,7 +3,8 @@
 // A simulated channel is the sum of independent components plus a constant offset:
 //
 //   y_k = offset + flicker(B) + white(N) + random_walk(K) + ramp(R) + quantization(Q)
-//         + sum of sinusoids + sum of first-order Gauss-Markov processes + sum of steps,
+//         + sum of sinusoids + sum of first-order Gauss-Markov processes + sum of resonances
+//         + sum of steps,
 //
 // all of it then passed through the sensor's low-pass filter when the spec has one
 // (kernels/simulate/lowpass.hpp),
@@ -17,7 +18,9 @@
 // [k tau0, (k+1) tau0], as an integrating sensor delivers it; the phase x_k = tau0 sum_{j<k} y_j
 // is then exactly the continuous angle (velocity, time error) at t_k, and the Allan variance of
 // the samples at tau = m tau0 equals the continuous-time value at every m. White noise, random
-// walk, ramp, quantization, sinusoids and Gauss-Markov are synthesized exactly in this sense.
+// walk, ramp, quantization, sinusoids and Gauss-Markov are synthesized exactly in this sense. A
+// resonance (kernels/simulate/resonance.hpp) is a process on the samples themselves, as the
+// sensor's output shows it; its Allan variance is exact at every m too.
 // Flicker is the exception: Kasdin's discrete 1/f sequence (Kasdin 1995) has no continuous
 // parent, and its Allan variance exceeds the eq. (3) floor at small m by flicker_avar_factor(m)
 // (1.44 at m = 1, 1.15 at m = 2, 1.0013 at m = 32); model_avar_sampled() includes that factor.
@@ -32,6 +35,7 @@
 
 #include "kernels/model/terms.hpp"
 #include "kernels/simulate/lowpass.hpp"
+#include "kernels/simulate/resonance.hpp"
 
 #include <cstddef>
 #include <cstdint>
@@ -79,6 +83,7 @@ struct ChannelSpec {
   NoiseTerms terms;                  // eq. (3) coefficients
   std::vector<Sinusoid> sinusoids;   // effects outside eq. (3)
   std::vector<GaussMarkov> markovs;  // at most rng::kMaxMarkov
+  std::vector<Resonance> resonances; // narrowband noises, at most rng::kMaxResonance
   std::vector<Step> steps;           // bias jumps, in any order
   double offset = 0;                 // constant added to every sample [u] (e.g. 1 g)
   Lowpass lowpass;                   // the sensor's filter, applied to the sum (none by default)
@@ -88,7 +93,8 @@ struct ChannelSpec {
 /// Checks a spec; throws std::invalid_argument naming the field and its value: rate_hz finite
 /// and > 0; the lowpass as validate_lowpass; every coefficient, amplitude and sigma finite and >=
 /// 0; 0 < frequency_hz <= rate_hz / 2; tau_c_s finite and > 0; phase and offset finite; at most
-/// rng::kMaxMarkov Gauss-Markov effects; every step's size finite and its time_s finite and > 0.
+/// rng::kMaxMarkov Gauss-Markov effects; at most rng::kMaxResonance resonances, each as
+/// validate_resonance; every step's size finite and its time_s finite and > 0.
 void validate(const ChannelSpec& spec);
 
 /// Owns the workspaces and FFTW plans for simulating channels of one length, so that a unit's
@@ -144,6 +150,8 @@ std::vector<double> kasdin_flicker_filter(std::size_t n);
 /// tau >> tau_c (IEEE Std 952-1997, annex C). The offset does not contribute, and neither do
 /// the steps: a single jump's share of an Allan variance falls as 1 / (record length) (see
 /// step_avar_sampled), so over the unbounded record this continuous form describes it is zero.
+/// A resonance adds resonance_avar at m = tau_s rate_hz (exact at whole samples, interpolated
+/// between them).
 double model_avar(const ChannelSpec& spec, double tau_s);
 
 /// Expected overlapping Allan variance of simulate_channel's output at tau = m / rate_hz
@@ -151,7 +159,8 @@ double model_avar(const ChannelSpec& spec, double tau_s);
 /// low-pass filter, the white FM and white PM terms by lowpass_white_fm_factor and
 /// lowpass_white_pm_factor (exact), each sinusoid's by lowpass_gain2 at its frequency (exact)
 /// and each Gauss-Markov effect's as lowpass_markov_avar (exact: a tau_c near one sample makes it
-/// white noise, which the filter shapes); the filter's effect on flicker, random walk and ramp
+/// white noise, which the filter shapes), each resonance's as resonance_avar under the filter's
+/// autocorrelation (exact); the filter's effect on flicker, random walk and ramp
 /// is left out: their power lies far below any cutoff at the taus where they matter (at tau0 a
 /// flicker floor loses a fraction of itself to a cutoff near Nyquist, which the model leaves
 /// out). Exact for all components at every m, apart from the finite record's effect on flicker (the
@@ -189,7 +198,8 @@ double flicker_avar_factor(std::int64_t m);
 /// One-sided PSD of the spec's stochastic components at f_hz (> 0), in u^2/Hz: the paper's
 /// forms under eq. (3), which are two-sided S(f) in the convention of its eq. (2), doubled
 /// (docs/formats.md): K^2 / (2 pi^2 f^2) + B^2 / (pi f) + 2 N^2 + 2 (2 pi f)^2 Q^2 tau0, plus
-/// 4 sigma^2 tau_c / (1 + (2 pi f tau_c)^2) per Gauss-Markov effect. These are the
+/// 4 sigma^2 tau_c / (1 + (2 pi f tau_c)^2) per Gauss-Markov effect, and each resonance's
+/// resonance_psd_one_sided (the samples' own spectrum, exact up to Nyquist). These are the
 /// continuous-time forms, valid for f << rate_hz / 2 (the sampled flicker and quantization
 /// spectra are 1/(2 sin(pi f tau0)) and sin^2(pi f tau0) shaped near Nyquist). The ramp and the
 /// sinusoids are deterministic (no density; a sinusoid is a line of power A^2/2 at its

@@ -1,0 +1,130 @@
+// A resonance's process, Allan variance and PSD: see resonance.hpp.
+#include "kernels/simulate/resonance.hpp"
+
+#include "kernels/simulate/lowpass.hpp"
+#include "kernels/simulate/rng.hpp"
+
+#include <cmath>
+#include <complex>
+#include <numbers>
+#include <stdexcept>
+
+namespace allanlot::kernels {
+
+namespace {
+
+using cplx = std::complex<double>;
+
+// The AR(2) of resonance.hpp: its pole z, the autocovariance's constant c, the recursion's
+// coefficients and the innovation's sd.
+struct Ar2 {
+  cplx z, log_z, c;
+  double a1 = 0, a2 = 0, rho1 = 0, sd_e = 0, sigma = 0;
+};
+
+Ar2 ar2_of(const Resonance& r, double rate_hz) {
+  const double theta = 2.0 * std::numbers::pi * r.frequency_hz / rate_hz;
+  const double ln_r = -0.5 * theta / r.q;  // r = exp(-pi f0 h / q)
+  Ar2 p;
+  p.sigma = r.sigma;
+  p.log_z = {ln_r, theta};
+  p.z = std::exp(p.log_z);
+  const double rr = std::exp(ln_r);
+  p.a1 = 2.0 * rr * std::cos(theta);
+  p.a2 = -rr * rr;
+  p.rho1 = p.a1 / (1.0 - p.a2);
+  const double b = (p.rho1 / rr - std::cos(theta)) / std::sin(theta);
+  p.c = r.sigma * r.sigma * cplx(1.0, -b);
+  const double rho2 = p.a1 * p.rho1 + p.a2;
+  p.sd_e = r.sigma * std::sqrt(std::max(0.0, 1.0 - p.a1 * p.rho1 - p.a2 * rho2));
+  return p;
+}
+
+// g(x) = e^x - 1 - x, by its series where the closed form would cancel (terms fall by |x| / n:
+// below 1e-17 relative by n = 22 for |x| < 0.5).
+cplx g_of(cplx x) {
+  if (std::abs(x) >= 0.5) return std::exp(x) - 1.0 - x;
+  cplx term = x * x / 2.0, sum = 0.0;
+  for (int n = 2; n <= 24; ++n) {
+    sum += term;
+    term *= x / static_cast<double>(n + 1);
+  }
+  return sum;
+}
+
+// D(k), the variance of a sum of k consecutive samples (resonance.hpp): with L = ln z,
+// z^(k+1) - (k+1) z + k = g((k+1) L) - (k+1) g(L) and (1 - z)^2 = (e^L - 1)^2.
+double sum_var(const Ar2& p, double k) {
+  if (k <= 0.0) return 0.0;
+  const cplx e1 = std::exp(p.log_z) - 1.0;
+  const cplx num = g_of((k + 1.0) * p.log_z) - (k + 1.0) * g_of(p.log_z);
+  return std::real(p.c * (2.0 * num / (e1 * e1) - k));
+}
+
+}  // namespace
+
+void validate_resonance(const Resonance& r, double rate_hz, const std::string& at) {
+  if (!std::isfinite(r.sigma) || r.sigma < 0)
+    throw std::invalid_argument(at + "sigma must be finite and >= 0, got " +
+                                std::to_string(r.sigma));
+  if (!std::isfinite(r.frequency_hz) || r.frequency_hz <= 0 || r.frequency_hz >= rate_hz / 2)
+    throw std::invalid_argument(at + "frequency_hz must be in (0, rate_hz/2 = " +
+                                std::to_string(rate_hz / 2) + "), got " +
+                                std::to_string(r.frequency_hz));
+  if (!std::isfinite(r.q) || r.q < kResonanceMinQ || r.q > kResonanceMaxQ)
+    throw std::invalid_argument(at + "q must be in [" + std::to_string(kResonanceMinQ) + ", " +
+                                std::to_string(kResonanceMaxQ) + "], got " + std::to_string(r.q));
+}
+
+std::vector<double> resonance_autocovariance(const Resonance& r, double rate_hz,
+                                             std::size_t n_lags) {
+  const Ar2 p = ar2_of(r, rate_hz);
+  std::vector<double> c(n_lags);
+  for (std::size_t k = 0; k < n_lags; ++k)
+    c[k] = std::real(p.c * std::exp(static_cast<double>(k) * p.log_z));
+  return c;
+}
+
+double resonance_avar(const Resonance& r, double rate_hz, double m,
+                      const std::vector<double>& rho) {
+  if (!(m > 0.0)) throw std::invalid_argument("resonance_avar: m must be > 0");
+  const Ar2 p = ar2_of(r, rate_hz);
+  return lowpass_structure_avar([&](double k) { return sum_var(p, k); }, m, rho);
+}
+
+double resonance_psd_one_sided(const Resonance& r, double rate_hz, double f_hz) {
+  const Ar2 p = ar2_of(r, rate_hz);
+  const double w = 2.0 * std::numbers::pi * f_hz / rate_hz;
+  const cplx den = 1.0 - p.a1 * std::polar(1.0, -w) - p.a2 * std::polar(1.0, -2.0 * w);
+  return 2.0 * p.sd_e * p.sd_e / (rate_hz * std::norm(den));
+}
+
+void add_resonance(const Resonance& r, double rate_hz, std::uint64_t seed, std::uint64_t stream,
+                   std::uint32_t component, std::span<double> y) {
+  if (y.empty() || !(r.sigma > 0.0)) return;
+  const Ar2 p = ar2_of(r, rate_hz);
+  const auto normal = [&](std::size_t k) {
+    const auto pair = rng::normal_pair(seed, stream, component, k / 2);
+    return k % 2 == 0 ? pair.first : pair.second;
+  };
+  // x_0, x_1 from the stationary law: unit variances, correlation rho1.
+  double x2 = p.sigma * normal(0);
+  y[0] += x2;
+  if (y.size() == 1) return;
+  double x1 = p.rho1 * x2 + p.sigma * std::sqrt(1.0 - p.rho1 * p.rho1) * normal(1);
+  y[1] += x1;
+  for (std::size_t k = 2; k < y.size(); k += 2) {
+    const auto [g0, g1] = rng::normal_pair(seed, stream, component, k / 2);
+    const double x0 = p.a1 * x1 + p.a2 * x2 + p.sd_e * g0;
+    y[k] += x0;
+    x2 = x1;
+    x1 = x0;
+    if (k + 1 == y.size()) break;
+    const double xn = p.a1 * x1 + p.a2 * x2 + p.sd_e * g1;
+    y[k + 1] += xn;
+    x2 = x1;
+    x1 = xn;
+  }
+}
+
+}  // namespace allanlot::kernels

@@ -1,0 +1,74 @@
+// Narrowband noise: a resonance, the second-order Gauss-Markov process (issue #23). Every
+// ADIS16405 z gyroscope shows it (docs/diagnose.md "Real sensors"): a PSD peak at 17-21 Hz,
+// about 0.2 Hz wide, holding about 0.06 (deg/s)^2, which no line (`sinusoid`: the periodogram
+// resolves no single frequency) and no low-pass hump (`markov`) describes.
+//
+// The process is defined on the samples, as a sensor outputs it: the stationary AR(2)
+//
+//   x_k = a1 x_{k-1} + a2 x_{k-2} + e_k,   a1 = 2 r cos(theta),  a2 = -r^2,
+//
+// whose poles r e^(+-i theta) are the images at one sample interval h of a damped oscillator's,
+// theta = 2 pi f0 h, r = exp(-pi f0 h / q): the PSD peaks near f0 and its half-power width is
+// about f0 / q for q >> 1; the autocovariance's envelope decays with time constant q / (pi f0)
+// (the coherence time). Its autocovariance (Yule-Walker: C(1) = a1 C(0) / (1 - a2), and C obeys
+// the recursion for k >= 1) is, with z = r e^(i theta),
+//
+//   C(k) = Re[c z^k],  c = sigma^2 (1 - i b),  b = (rho1 / r - cos theta) / sin theta,
+//   rho1 = a1 / (1 - a2),
+//
+// and the variance of a sum of k consecutive samples, from sum_{j<k} (k - j) z^j,
+//
+//   D(k) = Re[c (2 (z^(k+1) - (k+1) z + k) / (1 - z)^2 - k)],
+//
+// which lowpass_structure_avar turns into the overlapping Allan variance under the sensor's
+// filter. D is evaluated through g(x) = e^x - 1 - x of x = ln z, (k+1) ln z, so that a
+// resonance far below the sample rate (z near 1) keeps its digits.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace allanlot::kernels {
+
+/// A resonance: narrowband noise of stationary standard deviation `sigma` [u] at `frequency_hz`
+/// with quality factor `q` (about frequency_hz over its PSD's half-power width).
+struct Resonance {
+  double sigma = 0;         // stationary standard deviation [u], >= 0
+  double frequency_hz = 0;  // f0, 0 < f0 < rate_hz / 2
+  double q = 0;             // quality factor, kResonanceMinQ <= q <= kResonanceMaxQ
+  friend bool operator==(const Resonance&, const Resonance&) = default;
+};
+
+/// The range of q: at 0.5 the envelope decays within the oscillation's period (a hump, which
+/// `markov` describes); above 1e5 the coherence time exceeds any record at any rate the
+/// project meets, and the process is a line of random phase (`sinusoid`).
+inline constexpr double kResonanceMinQ = 0.5;
+inline constexpr double kResonanceMaxQ = 1e5;
+
+/// Throws std::invalid_argument naming `at` + the field: sigma finite and >= 0, frequency_hz in
+/// (0, rate_hz / 2), q finite in [kResonanceMinQ, kResonanceMaxQ].
+void validate_resonance(const Resonance& r, double rate_hz, const std::string& at);
+
+/// The autocovariance C(k) of the samples at lags k = 0 .. n_lags - 1 (the closed form above).
+std::vector<double> resonance_autocovariance(const Resonance& r, double rate_hz,
+                                             std::size_t n_lags);
+
+/// Overlapping Allan variance at averaging factor m (>= 1) after the filter of autocorrelation
+/// rho (lowpass_autocorrelation; {1} unfiltered), exact for integer m. A non-integer m
+/// interpolates smoothly (model_avar's tau between samples).
+double resonance_avar(const Resonance& r, double rate_hz, double m,
+                      const std::vector<double>& rho = {1.0});
+
+/// One-sided PSD of the samples at f_hz, 2 h s_e^2 / |1 - a1 e^(-iw) - a2 e^(-2iw)|^2 with
+/// w = 2 pi f h and s_e the innovation's sd: integrates to sigma^2 over (0, rate_hz / 2).
+double resonance_psd_one_sided(const Resonance& r, double rate_hz, double f_hz);
+
+/// Adds the process to y: x_0 and x_1 from the stationary joint law, then the recursion, its
+/// innovations standard normals of `component`'s sequence of (seed, stream), index k for sample
+/// k. Sequential, so the same bytes for any thread count; about 5 ns a sample.
+void add_resonance(const Resonance& r, double rate_hz, std::uint64_t seed, std::uint64_t stream,
+                   std::uint32_t component, std::span<double> y);
+
+}  // namespace allanlot::kernels
