@@ -10,6 +10,7 @@
 #include <Eigen/QR>
 
 #include <algorithm>
+#include <functional>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -44,6 +45,8 @@ std::vector<double> basis_of(const Component& c, const Curve& cv, const Bases& b
   // variance on the curves compared.
   if (c.kind == Kind::Lowpass || c.kind == Kind::Step) return std::vector<double>(cv.size(), 0.0);
   if (c.kind == Kind::Markov) return markov_curve(1.0, c.nl, cv, b.lowpass, b.rate_hz);
+  if (c.kind == Kind::Resonance)
+    return resonance_curve({1.0, c.nl, c.q}, cv, b.lowpass, b.rate_hz);
   ChannelSpec s;
   s.rate_hz = b.rate_hz;
   s.sinusoids.push_back({1.0, c.nl, 0.0});
@@ -142,6 +145,38 @@ CandidateFit markov_candidate(std::vector<Component> base, const Curve& cv, cons
   return out;
 }
 
+// Resonance candidate: a new component, its frequency and q searched over their whole range
+// with the others' coefficients as `base` has them. A second resonance is a distinct instance
+// only at a frequency a factor 1.5 or more from every other (a resonance's peak is f0 / q wide:
+// closer, two are one peak re-split); else the candidate comes back with a note and no fit.
+CandidateFit resonance_candidate(std::vector<Component> base, const Curve& cv, const Bases& b) {
+  CandidateFit out;
+  out.info.effect = Effect::Resonance;
+  const auto n_res = std::count_if(base.begin(), base.end(),
+                                   [](const auto& c) { return c.kind == Kind::Resonance; });
+  if (static_cast<std::uint32_t>(n_res) >= rng::kMaxResonance) {
+    out.info.note = "too many resonances";
+    return out;
+  }
+  Component c;
+  c.kind = Kind::Resonance;
+  c.free = true;
+  c.nl_free = true;
+  base.push_back(c);
+  const std::size_t idx = base.size() - 1;
+  out.fit = search_resonance(std::move(base), idx, cv, b, true);
+  const double f0 = out.fit.comps[idx].nl;
+  for (std::size_t i = 0; i < idx; ++i)
+    if (out.fit.comps[i].kind == Kind::Resonance &&
+        std::abs(std::log(f0 / out.fit.comps[i].nl)) < std::log(1.5)) {
+      out.info.note = "its frequency " + std::to_string(f0) + " Hz is within a factor 1.5 of " +
+                      component_label(out.fit.comps, i) + "'s";
+      out.fit = {};
+      return out;
+    }
+  return out;
+}
+
 // A jump as a component: |size| and its sign, at time_s, pinned (never refitted on the curve).
 Component step_component(const Step& st) {
   Component c;
@@ -220,6 +255,15 @@ std::vector<Component> components_of(const ChannelSpec& s) {
     c.given = true;
     out.push_back(c);
   }
+  for (const Resonance& r : s.resonances) {
+    Component c;
+    c.kind = Kind::Resonance;
+    c.nl = r.frequency_hz;
+    c.q = r.q;
+    c.coef = r.sigma;
+    c.given = true;
+    out.push_back(c);
+  }
   for (const Step& st : s.steps) {
     // A given jump is kept as given: the Allan curve can neither place it nor size it apart
     // from a random walk.
@@ -252,6 +296,8 @@ ChannelSpec spec_of(const std::vector<Component>& comps, const ChannelSpec& like
       s.lowpass = c.lp;
     } else if (c.kind == Kind::Step) {
       s.steps.push_back({c.sign * c.coef, c.nl});
+    } else if (c.kind == Kind::Resonance) {
+      s.resonances.push_back({c.coef, c.nl, c.q});
     } else {
       s.markovs.push_back({c.coef, c.nl});
     }
@@ -326,17 +372,33 @@ Fit fit_components(std::vector<Component> comps, const Curve& cv, const Bases& r
 
 // Uncertainties of the free parameters of a fit, from the log-space Fisher information
 // F = J^T diag(1 / var_ln) J with J_ij = d ln avar_model_i / d p_j (p: the coefficients
-// themselves, and tau_c where it was searched), inflated by P / n_eff because the P estimates
-// carry only about n_eff independent pieces of information (see the header). Parameters held
-// at zero get NaN (their uncertainty is not a Gaussian one).
-void fill_sigmas(Fit& f, const Curve& cv, const Bases& raw, double n_eff,
-                 std::vector<double>& coef_sigma, std::vector<double>& nl_sigma) {
+// themselves, and tau_c, a resonance's frequency and q where they were searched), inflated by
+// P / n_eff because the P estimates carry only about n_eff independent pieces of information
+// (see the header). Parameters held at zero get NaN (their uncertainty is not a Gaussian one).
+Sigmas fill_sigmas(const Fit& f, const Curve& cv, const Bases& raw, double n_eff) {
   const Bases b = bases_for(f.comps, cv, raw);
   const std::size_t p = cv.size();
-  coef_sigma.assign(f.comps.size(), kNaN);
-  nl_sigma.assign(f.comps.size(), kNaN);
-  std::vector<std::pair<std::size_t, bool>> params;  // (component, is nl)
+  Sigmas out;
+  out.coef.assign(f.comps.size(), kNaN);
+  out.nl.assign(f.comps.size(), kNaN);
+  out.q.assign(f.comps.size(), kNaN);
+  std::vector<std::pair<std::size_t, std::vector<double>*>> params;  // (component, where)
   std::vector<std::vector<double>> cols;
+  // d ln avar / d x of a nonlinear parameter x (a member of the component), by central
+  // differences of relative step 1e-4.
+  const auto nonlinear = [&](std::size_t c, double Component::* x, std::vector<double>* where) {
+    const Component& comp = f.comps[c];
+    const double h = 1e-4;
+    Component lo = comp, hi = comp;
+    lo.*x *= 1.0 - h;
+    hi.*x *= 1.0 + h;
+    const std::vector<double> gl = basis_of(lo, cv, b), gh = basis_of(hi, cv, b);
+    std::vector<double> dn(p);
+    for (std::size_t i = 0; i < p; ++i)
+      dn[i] = comp.coef * comp.coef * (gh[i] - gl[i]) / (2.0 * h * (comp.*x)) / f.model[i];
+    params.emplace_back(c, where);
+    cols.push_back(std::move(dn));
+  };
   for (std::size_t c = 0; c < f.comps.size(); ++c) {
     const Component& comp = f.comps[c];
     if (!comp.free || !(comp.coef > 0.0)) continue;
@@ -344,22 +406,12 @@ void fill_sigmas(Fit& f, const Curve& cv, const Bases& raw, double n_eff,
     std::vector<double> d(p);
     for (std::size_t i = 0; i < p; ++i)
       d[i] = 2.0 * comp.coef * g[i] / f.model[i];
-    params.emplace_back(c, false);
+    params.emplace_back(c, &out.coef);
     cols.push_back(std::move(d));
-    if (comp.nl_free) {
-      const double h = 1e-4;
-      Component lo = comp, hi = comp;
-      lo.nl *= 1.0 - h;
-      hi.nl *= 1.0 + h;
-      const std::vector<double> gl = basis_of(lo, cv, b), gh = basis_of(hi, cv, b);
-      std::vector<double> dn(p);
-      for (std::size_t i = 0; i < p; ++i)
-        dn[i] = comp.coef * comp.coef * (gh[i] - gl[i]) / (2.0 * h * comp.nl) / f.model[i];
-      params.emplace_back(c, true);
-      cols.push_back(std::move(dn));
-    }
+    if (comp.nl_free) nonlinear(c, &Component::nl, &out.nl);
+    if (comp.nl_free && comp.kind == Kind::Resonance) nonlinear(c, &Component::q, &out.q);
   }
-  if (params.empty()) return;
+  if (params.empty()) return out;
   const auto k = static_cast<Eigen::Index>(params.size());
   Eigen::MatrixXd j(static_cast<Eigen::Index>(p), k);
   for (std::size_t i = 0; i < p; ++i)
@@ -370,14 +422,15 @@ void fill_sigmas(Fit& f, const Curve& cv, const Bases& raw, double n_eff,
   const Eigen::MatrixXd cov =
       fisher.completeOrthogonalDecomposition().pseudoInverse() * (static_cast<double>(p) / n_eff);
   for (Eigen::Index q = 0; q < k; ++q) {
-    const auto [c, is_nl] = params[static_cast<std::size_t>(q)];
-    const double s = std::sqrt(std::max(cov(q, q), 0.0));
-    (is_nl ? nl_sigma : coef_sigma)[c] = s;
+    const auto [c, where] = params[static_cast<std::size_t>(q)];
+    (*where)[c] = std::sqrt(std::max(cov(q, q), 0.0));
   }
+  return out;
 }
 
 // The parameters of one component under the model file's keys.
-std::vector<Parameter> parameters_of(const Component& c, double coef_sigma, double nl_sigma) {
+std::vector<Parameter> parameters_of(const Component& c, const Sigmas& sigmas, std::size_t idx) {
+  const double coef_sigma = sigmas.coef[idx], nl_sigma = sigmas.nl[idx], q_sigma = sigmas.q[idx];
   if (c.kind == Kind::Term) return {{term_key(c.term), c.coef, coef_sigma}};
   if (c.kind == Kind::Lowpass)
     return c.lp.taps > 0 ? std::vector<Parameter>{{"taps", c.lp.taps, kNaN, c.nl_bound}}
@@ -387,6 +440,10 @@ std::vector<Parameter> parameters_of(const Component& c, double coef_sigma, doub
             {"frequency_hz", c.nl, std::isnan(c.nl_sigma) ? nl_sigma : c.nl_sigma}};
   if (c.kind == Kind::Step)
     return {{"size", c.sign * c.coef, c.coef_sigma}, {"time_s", c.nl, c.nl_sigma}};
+  if (c.kind == Kind::Resonance)
+    return {{"sigma", c.coef, coef_sigma},
+            {"frequency_hz", c.nl, c.nl_bound != 0 ? kNaN : nl_sigma, c.nl_bound},
+            {"q", c.q, c.q_bound != 0 ? kNaN : q_sigma, c.q_bound}};
   // A tau_c at the end of its search range is a limit, not an estimate: its curvature-based
   // sigma would describe the edge of the grid, not the data.
   if (c.nl_bound != 0) return {{"sigma", c.coef, coef_sigma}, {"tau_c_s", c.nl, kNaN, c.nl_bound}};
@@ -400,9 +457,10 @@ std::string component_label(const std::vector<Component>& comps, std::size_t idx
   int ordinal = 0;
   for (std::size_t i = 0; i < idx; ++i)
     ordinal += comps[i].kind == c.kind ? 1 : 0;
-  const char* kind = c.kind == Kind::Sinusoid ? "sinusoid["
-                     : c.kind == Kind::Step   ? "step["
-                                              : "markov[";
+  const char* kind = c.kind == Kind::Sinusoid    ? "sinusoid["
+                     : c.kind == Kind::Step      ? "step["
+                     : c.kind == Kind::Resonance ? "resonance["
+                                                 : "markov[";
   return std::string(kind) + std::to_string(ordinal) + "]";
 }
 
@@ -413,11 +471,14 @@ std::vector<double> model_curve(const ChannelSpec& s, const Curve& cv, const Bas
   ChannelSpec effects = s;
   effects.terms = {};
   effects.markovs.clear();
+  effects.resonances.clear();
   for (Sinusoid& q : effects.sinusoids)
     q.amplitude *= std::sqrt(lowpass_gain2(s.lowpass, s.rate_hz, q.frequency_hz));
   std::vector<std::vector<double>> markovs;
   for (const GaussMarkov& g : s.markovs)
     markovs.push_back(markov_curve(g.sigma, g.tau_c_s, cv, s.lowpass, s.rate_hz));
+  for (const Resonance& r : s.resonances)
+    markovs.push_back(resonance_curve(r, cv, s.lowpass, s.rate_hz));
   for (std::size_t i = 0; i < cv.size(); ++i) {
     v[i] = model_avar(effects, cv.tau[i]);
     for (const std::vector<double>& g : markovs)
@@ -432,6 +493,28 @@ std::vector<double> model_curve(const ChannelSpec& s, const Curve& cv, const Bas
                                   " s; a model must predict some noise at every tau");
   }
   return v;
+}
+
+double golden_min(const std::function<double(double)>& f, double a, double c) {
+  const double gr = (std::sqrt(5.0) - 1.0) / 2.0;
+  double x1 = c - gr * (c - a), x2 = a + gr * (c - a);
+  double f1 = f(x1), f2 = f(x2);
+  for (int it = 0; it < 25; ++it) {
+    if (f1 < f2) {
+      c = x2;
+      x2 = x1;
+      f2 = f1;
+      x1 = c - gr * (c - a);
+      f1 = f(x1);
+    } else {
+      a = x1;
+      x1 = x2;
+      f1 = f2;
+      x2 = a + gr * (c - a);
+      f2 = f(x2);
+    }
+  }
+  return f1 < f2 ? x1 : x2;
 }
 
 // tau_c of the Markov component comps[idx] by a log grid of 8 per octave from one sample to
@@ -456,26 +539,9 @@ Fit search_tau_c(std::vector<Component> comps, std::size_t idx, const Curve& cv,
       best = g;
     }
   }
-  double a = lo + step * std::max(best - 1, 0), c = lo + step * std::min(best + 1, n_grid - 1);
-  const double gr = (std::sqrt(5.0) - 1.0) / 2.0;
-  double x1 = c - gr * (c - a), x2 = a + gr * (c - a);
-  double f1 = eval(std::exp(x1)).chi2, f2 = eval(std::exp(x2)).chi2;
-  for (int it = 0; it < 25; ++it) {
-    if (f1 < f2) {
-      c = x2;
-      x2 = x1;
-      f2 = f1;
-      x1 = c - gr * (c - a);
-      f1 = eval(std::exp(x1)).chi2;
-    } else {
-      a = x1;
-      x1 = x2;
-      f1 = f2;
-      x2 = a + gr * (c - a);
-      f2 = eval(std::exp(x2)).chi2;
-    }
-  }
-  const double x = f1 < f2 ? x1 : x2;
+  const double x = golden_min([&](double v) { return eval(std::exp(v)).chi2; },
+                              lo + step * std::max(best - 1, 0),
+                              lo + step * std::min(best + 1, n_grid - 1));
   Fit grid_best = eval(std::exp(lo + step * best));
   Fit refined = eval(std::exp(x));
   Fit& out = refined.chi2 <= grid_best.chi2 ? refined : grid_best;
@@ -589,13 +655,16 @@ CandidateFit evaluate_candidate(Effect e, std::vector<Component> comps, const Wi
         return none;
       }
     k += 2;
+  } else if (e == Effect::Resonance) {
+    cf = resonance_candidate(std::move(comps), cv, b);
+    if (!cf.info.note.empty()) return cf;
+    k += 3;
   }
   cf.added = cf.fit.comps.size() - 1;
   cf.info.evaluated = true;
   cf.info.delta_ic = (chi2_ref - cf.fit.chi2) * crit.scale - threshold(k, crit.alpha_candidate);
-  std::vector<double> cs, ns;
-  fill_sigmas(cf.fit, *fit_cv, b, crit.n_eff, cs, ns);
-  cf.info.parameters = parameters_of(cf.fit.comps[cf.added], cs[cf.added], ns[cf.added]);
+  cf.info.parameters =
+      parameters_of(cf.fit.comps[cf.added], fill_sigmas(cf.fit, *fit_cv, b, crit.n_eff), cf.added);
   return cf;
 }
 

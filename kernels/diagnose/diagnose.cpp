@@ -39,6 +39,8 @@ std::string_view effect_name(Effect e) {
     return "lowpass";
   case Effect::Step:
     return "step";
+  case Effect::Resonance:
+    return "resonance";
   }
   return "?";
 }
@@ -392,11 +394,10 @@ bool Search::round(int& iter) {
   it.gap_after = cmp_after.gap;
   it.bands_before = iter == 0 ? d.before.bands : cmp_before.bands;
   it.bands_after = cmp_after.bands;
-  std::vector<double> cs, ns;
-  fill_sigmas(w.fit, cv, bases, d.n_eff, cs, ns);
+  const Sigmas sig = fill_sigmas(w.fit, cv, bases, d.n_eff);
   for (std::size_t c = 0; c < w.fit.comps.size(); ++c) {
     const std::string label = component_label(w.fit.comps, c);
-    for (Parameter p : parameters_of(w.fit.comps[c], cs[c], ns[c])) {
+    for (Parameter p : parameters_of(w.fit.comps[c], sig, c)) {
       if (w.fit.comps[c].kind != Kind::Term) p.name = label + "." + p.name;
       it.coefficients.push_back(p);
     }
@@ -426,8 +427,11 @@ Fit Search::refit_final() {
   for (Component& c : all_free)
     c.free = !c.pinned;
   Fit base = fit_components(all_free, cv, bases);
-  for (const std::size_t idx : added_idx)
+  for (const std::size_t idx : added_idx) {
     if (base.comps[idx].kind == Kind::Markov) base = search_tau_c(base.comps, idx, cv, bases);
+    if (base.comps[idx].kind == Kind::Resonance)
+      base = search_resonance(base.comps, idx, cv, bases, false);
+  }
   return base;
 }
 
@@ -445,7 +449,9 @@ bool Search::prune(Fit& base) {
     std::vector<Component> without = base.comps;
     without.erase(without.begin() + static_cast<std::ptrdiff_t>(added_idx[k]));
     const Fit f = fit_components(without, cv, bases);
-    const int k_c = c.kind == Kind::Term || c.kind == Kind::Lowpass ? 1 : 2;
+    const int k_c = c.kind == Kind::Term || c.kind == Kind::Lowpass ? 1
+                    : c.kind == Kind::Resonance                     ? 3
+                                                                    : 2;
     const double delta = (f.chi2 - base.chi2) * crit.scale - threshold(k_c, crit.alpha_candidate);
     if (!(c.coef > 0.0) || delta <= worst) {
       worst = !(c.coef > 0.0) ? -std::numeric_limits<double>::infinity() : delta;
@@ -489,8 +495,7 @@ void Search::finish() {
       n_given > 0 ? (fixed_fit.chi2 - base.chi2) * crit.scale - threshold(n_given, opt.select_alpha)
                   : 0.0;
   d.coefficients_wrong = n_given > 0 && d.revision_delta_ic > 0.0;
-  std::vector<double> cs, ns;
-  fill_sigmas(base, cv, bases, d.n_eff, cs, ns);
+  const std::vector<double> cs = fill_sigmas(base, cv, bases, d.n_eff).coef;
   for (std::size_t c = 0; c < given.size(); ++c) {
     if (given[c].kind == Kind::Lowpass) continue;  // given filters are kept as they are
     const std::string label = component_label(given, c);
@@ -507,10 +512,9 @@ void Search::finish() {
   } else {
     d.model_after = spec_of(final_fit.comps, spec);
   }
-  std::vector<double> fcs, fns;
-  fill_sigmas(final_fit, cv, bases, d.n_eff, fcs, fns);
+  const Sigmas final_sig = fill_sigmas(final_fit, cv, bases, d.n_eff);
   for (const std::size_t idx : added_idx)
-    d.effect_parameters.push_back(parameters_of(final_fit.comps[idx], fcs[idx], fns[idx]));
+    d.effect_parameters.push_back(parameters_of(final_fit.comps[idx], final_sig, idx));
   d.edf_after = model_edf(d.model_after, cv, bases);
   d.after = compare(cv, model_curve(d.model_after, cv, bases), d.edf_after, alpha_tau);
 }

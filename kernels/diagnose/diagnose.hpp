@@ -37,7 +37,10 @@
 //   lowpass   (cutoff_hz or taps): the sensor's filter, a deficit of the white noises at the
 //             shortest taus (kernels/simulate/lowpass.hpp), 1 parameter;
 //   step      (size, time_s): a bias jump, a random-walk-like rise of the Allan variance that
-//             falls with the record's length (step_avar_sampled), 2 parameters.
+//             falls with the record's length (step_avar_sampled), 2 parameters;
+//   resonance (sigma, frequency_hz, q): narrowband noise (kernels/simulate/resonance.hpp), a
+//             sinusoid-like bump with ripples near tau ~ 0.37 / f0 whose ripples fade beyond the
+//             coherence time q / (pi f0), 3 parameters.
 // A candidate is fitted together with the model's coefficients (non-negative least squares
 // on the variances, reweighted, as kernels/model/fit.hpp), its nonlinear parameter by a grid plus
 // golden-section search (markov tau_c) or from the PSD (sinusoid frequency). The fit quality
@@ -47,12 +50,12 @@
 // the criterion is
 //
 //   delta_ic = (chi2_reference - chi2_candidate) n_eff / P - c_k,
-//   c_k = chi-square quantile at 1 - select_alpha / 9 with k degrees of freedom
+//   c_k = chi-square quantile at 1 - select_alpha / 10 with k degrees of freedom
 //         (k counts the parameters fitted on the curve: none for a witnessed effect below),
 //
 // a penalized criterion like AIC (c_k = 2k) and BIC (c_k = k ln n) but with the penalty set by
 // the level of the test it implies: with n_eff ~ 8, BIC's ln(8) per parameter would let a
-// complete model pick up one of the nine candidates in about a fifth of records. A candidate
+// complete model pick up one of the ten candidates in about a fifth of records. A candidate
 // is added only when delta_ic > 0, so a model that already fits gets nothing. Each candidate
 // is tried with the model's coefficients fixed (reference: the model as it stands) and
 // re-estimated (reference: the model re-estimated with nothing added, so that the effect pays
@@ -109,12 +112,13 @@ enum class Effect {
   Sinusoid,
   Markov,
   Lowpass,
-  Step
+  Step,
+  Resonance
 };
-inline constexpr int kNumEffects = 9;
+inline constexpr int kNumEffects = 10;
 
 /// "quantization", "white", "flicker", "random_walk", "ramp", "sinusoid", "markov", "lowpass",
-/// "step".
+/// "step", "resonance".
 std::string_view effect_name(Effect e);
 /// Inverse of effect_name; nullopt for anything else.
 std::optional<Effect> parse_effect(std::string_view name);

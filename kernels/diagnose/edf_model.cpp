@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <stdexcept>
 #include <string>
 
@@ -60,6 +61,18 @@ double markov_alpha(double tau_c, double tau) {
   return std::clamp(-mu - 1.0, -2.0, 0.0);
 }
 
+// A resonance's edf at tau: its Allan variance is a variance of narrowband noise, which a
+// record of T seconds holds about 2 B T independent pieces of, B = pi f0 / q its equivalent
+// noise bandwidth (a Lorentzian's, pi times its half-power width f0 / q; Bendat & Piersol,
+// Random Data, 4th ed., sec. 8.2.2: a mean square's normalized random error is 1 / sqrt(B T)).
+// Beyond the coherence time the averages decorrelate the process into white FM, whose edf is
+// the smaller one there; the smaller of the two is taken at every tau.
+double resonance_edf(const Resonance& r, const Curve& cv, std::size_t i) {
+  const double t_record = static_cast<double>(cv.n_samples) * cv.tau0;
+  const double narrowband = 2.0 * std::numbers::pi * r.frequency_hz / r.q * t_record;
+  return std::min(narrowband, cv.edf_pl[2][i]);
+}
+
 }  // namespace
 
 void prepare_edf(Curve& cv) {
@@ -81,7 +94,7 @@ void prepare_edf(Curve& cv) {
 
 // Combination, per tau, of the model's components with Allan variances a_k:
 //  - stochastic components (the four noise terms, Gauss-Markov) each have the Greenhall-Riley
-//    edf e_k of their power law, i.e. sd(avar_hat_k) = a_k sqrt(2 / e_k). The estimate of
+//    edf e_k of their power law (a resonance its narrowband edf, resonance_edf), i.e. sd(avar_hat_k) = a_k sqrt(2 / e_k). The estimate of
 //    their sum is a quadratic form in the sum of their phases; its variance is
 //    2 sum_kl tr(A R_k A R_l) with every cross term between 0 and the geometric mean of the
 //    diagonal ones (Cauchy-Schwarz for positive semidefinite R_k), so the standard deviations
@@ -120,6 +133,12 @@ std::vector<double> model_edf(const ChannelSpec& s, const Curve& cv, const Bases
       const double a = model_avar(one, cv.tau[i]);
       a_n += a;
       sd_n += a * std::sqrt(2.0 / edf_at_alpha(cv, i, markov_alpha(g.tau_c_s, cv.tau[i])));
+    }
+    for (const Resonance& r : s.resonances) {
+      if (!(r.sigma > 0.0)) continue;
+      const double a = resonance_avar(r, s.rate_hz, static_cast<double>(cv.m[i]));
+      a_n += a;
+      sd_n += a * std::sqrt(2.0 / resonance_edf(r, cv, i));
     }
     const double a_d = model_avar(det, cv.tau[i]);
     double edf = cv.edf_cap[i];

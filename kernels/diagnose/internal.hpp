@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <span>
 #include <string>
@@ -19,7 +20,7 @@ inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 inline constexpr std::array<Effect, kNumEffects> kAllEffects = {
     Effect::Quantization, Effect::White,  Effect::Flicker, Effect::RandomWalk, Effect::Ramp,
-    Effect::Sinusoid,     Effect::Markov, Effect::Lowpass, Effect::Step};
+    Effect::Sinusoid,     Effect::Markov, Effect::Lowpass, Effect::Step,       Effect::Resonance};
 
 // The measured curve on the comparison grid with the exact moments of its logarithm:
 // for edf * avar_hat / avar ~ chi2_nu, E ln(avar_hat / avar) = psi(nu/2) - ln(nu/2) (about
@@ -43,11 +44,12 @@ struct Curve {
 // basis curve.
 // A lowpass component (Kind::Lowpass) has no variance of its own: it reshapes the white FM,
 // white PM and sinusoid bases of the others (bases_for), and its coefficient is unused.
-enum class Kind { Term, Sinusoid, Markov, Lowpass, Step };
+enum class Kind { Term, Sinusoid, Markov, Lowpass, Step, Resonance };
 struct Component {
   Kind kind = Kind::Term;
   Term term = Term::N;
-  double nl = 0.0;     // frequency_hz (sinusoid), tau_c_s (markov) or time_s (step)
+  double nl = 0.0;     // frequency_hz (sinusoid, resonance), tau_c_s (markov) or time_s (step)
+  double q = 0.0;      // a resonance's quality factor
   double phase = 0.0;  // sinusoid phase (no effect on avar; kept for the model file)
   double sign = 1.0;   // a step's direction: size = sign coef (no effect on avar)
   double coef = 0.0;
@@ -56,6 +58,7 @@ struct Component {
   bool given = false;      // part of the given model
   double nl_sigma = kNaN;  // uncertainty of nl when it comes from elsewhere (the PSD)
   int nl_bound = 0;        // tau_c at the lower (-1) or upper (+1) end of its search range
+  int q_bound = 0;         // a resonance's q at an end of its search range
   // An added sinusoid's amplitude comes from the PSD line and is never refitted on the Allan
   // curve: there its bump overlaps any hump nearby (a Gauss-Markov effect at a similar tau),
   // which the amplitude would absorb, whereas the line's power above the local background is
@@ -121,12 +124,29 @@ Lowpass lowpass_of(const std::vector<Component>& comps);
 std::vector<Component> components_of(const ChannelSpec& s);
 ChannelSpec spec_of(const std::vector<Component>& comps, const ChannelSpec& like);
 Fit fit_components(std::vector<Component> comps, const Curve& cv, const Bases& b);
-void fill_sigmas(Fit& f, const Curve& cv, const Bases& b, double n_eff,
-                 std::vector<double>& coef_sigma, std::vector<double>& nl_sigma);
-std::vector<Parameter> parameters_of(const Component& c, double coef_sigma, double nl_sigma);
+/// The 1-sigma uncertainties of each component's coefficient, nonlinear parameter and q (NaN
+/// where not estimated).
+struct Sigmas {
+  std::vector<double> coef, nl, q;
+};
+Sigmas fill_sigmas(const Fit& f, const Curve& cv, const Bases& b, double n_eff);
+/// The parameters of component idx of a fit under the model file's keys, with their sigmas.
+std::vector<Parameter> parameters_of(const Component& c, const Sigmas& sigmas, std::size_t idx);
 std::string component_label(const std::vector<Component>& comps, std::size_t idx);
 std::vector<double> model_curve(const ChannelSpec& s, const Curve& cv, const Bases& b);
+/// The minimum of f on [a, c] by 25 golden-section steps (the interval shrinks to 6e-6 of
+/// itself): the better of the last two points.
+double golden_min(const std::function<double(double)>& f, double a, double c);
 Fit search_tau_c(std::vector<Component> comps, std::size_t idx, const Curve& cv, const Bases& b);
+
+// resonance.cpp: the resonance's curve and its search.
+/// The Allan variance of a resonance at the curve's taus under the filter lp.
+std::vector<double> resonance_curve(const Resonance& r, const Curve& cv, const Lowpass& lp,
+                                    double rate_hz);
+/// frequency_hz and q of the resonance comps[idx] searched on the curve, the free coefficients
+/// fitted at each; `grid` searches the whole range first, else only near the present values.
+Fit search_resonance(std::vector<Component> comps, std::size_t idx, const Curve& cv,
+                     const Bases& b, bool grid);
 /// Candidate e added to `comps` (their coefficients fixed or free as they are), fitted and
 /// judged against chi2_ref; n_refit counts the parameters the reference's refit already frees.
 CandidateFit evaluate_candidate(Effect e, std::vector<Component> comps, const Witnesses& seen,

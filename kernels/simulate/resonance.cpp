@@ -1,9 +1,9 @@
 // A resonance's process, Allan variance and PSD: see resonance.hpp.
 #include "kernels/simulate/resonance.hpp"
 
-#include "kernels/simulate/lowpass.hpp"
 #include "kernels/simulate/rng.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <numbers>
@@ -85,11 +85,76 @@ std::vector<double> resonance_autocovariance(const Resonance& r, double rate_hz,
   return c;
 }
 
+namespace {
+
+// The Allan variance of one resonance under one filter at many m. For k >= 0,
+// D(k) = Re[alpha z^k] + beta k + gamma with alpha = 2 c z / (1 - z)^2,
+// beta = Re[c (2 / (1 - z) - 1)], gamma = -Re[alpha] (the closed form of resonance.hpp split into
+// its geometric and linear parts), so where every |o - j| of F(o) = sum_j rho_|j| D(|o - j|) is
+// o - j >= 0,
+//   F(o) = Re[alpha z^o R] + (beta o + gamma) S,  R = sum_j rho_|j| z^-j,  S = sum_j rho_|j|,
+// one complex exponential instead of 2 J + 1 structure functions. Below o |ln z| = 0.5 the two
+// parts cancel (each of order 1 / |1 - z|^2 where D is of order k^2) and F is summed directly.
+class AvarUnderFilter {
+public:
+  AvarUnderFilter(const Resonance& r, double rate_hz, const std::vector<double>& rho)
+      : p_(ar2_of(r, rate_hz)), rho_(rho) {
+    const cplx one_m_z = 1.0 - p_.z;
+    alpha_ = 2.0 * p_.c * p_.z / (one_m_z * one_m_z);
+    beta_ = std::real(p_.c * (2.0 / one_m_z - 1.0));
+    gamma_ = -std::real(alpha_);
+    for (std::size_t j = 0; j < rho.size(); ++j) {
+      const double w = j == 0 ? 1.0 : 2.0;
+      s_ += w * rho[j];
+      const auto jd = static_cast<double>(j);
+      r_ += rho[j] * (j == 0 ? cplx(1.0) : std::exp(-jd * p_.log_z) + std::exp(jd * p_.log_z));
+    }
+    o_closed_ = std::max(static_cast<double>(rho.size()) - 1.0, 0.5 / std::abs(p_.log_z));
+    f0_ = direct(0.0);
+  }
+
+  double at(double m) const {
+    return (8.0 * f(m) - 2.0 * f(2.0 * m) - 6.0 * f0_) / (4.0 * m * m);
+  }
+
+private:
+  double direct(double o) const {
+    double s = rho_[0] * sum_var(p_, std::abs(o));
+    for (std::size_t j = 1; j < rho_.size(); ++j) {
+      const auto jd = static_cast<double>(j);
+      s += rho_[j] * (sum_var(p_, std::abs(o - jd)) + sum_var(p_, std::abs(o + jd)));
+    }
+    return s;
+  }
+  double f(double o) const {
+    if (o < o_closed_) return direct(o);
+    return std::real(alpha_ * std::exp(o * p_.log_z) * r_) + (beta_ * o + gamma_) * s_;
+  }
+
+  Ar2 p_;
+  const std::vector<double>& rho_;
+  cplx alpha_, r_ = 0.0;
+  double beta_ = 0, gamma_ = 0, s_ = 0, o_closed_ = 0, f0_ = 0;
+};
+
+}  // namespace
+
 double resonance_avar(const Resonance& r, double rate_hz, double m,
                       const std::vector<double>& rho) {
   if (!(m > 0.0)) throw std::invalid_argument("resonance_avar: m must be > 0");
-  const Ar2 p = ar2_of(r, rate_hz);
-  return lowpass_structure_avar([&](double k) { return sum_var(p, k); }, m, rho);
+  return AvarUnderFilter(r, rate_hz, rho).at(m);
+}
+
+std::vector<double> resonance_avar(const Resonance& r, double rate_hz,
+                                   std::span<const std::int64_t> m,
+                                   const std::vector<double>& rho) {
+  const AvarUnderFilter a(r, rate_hz, rho);
+  std::vector<double> out(m.size());
+  for (std::size_t i = 0; i < m.size(); ++i) {
+    if (m[i] < 1) throw std::invalid_argument("resonance_avar: m must be >= 1");
+    out[i] = a.at(static_cast<double>(m[i]));
+  }
+  return out;
 }
 
 double resonance_psd_one_sided(const Resonance& r, double rate_hz, double f_hz) {

@@ -20,8 +20,8 @@
 //
 //   D(k) = Re[c (2 (z^(k+1) - (k+1) z + k) / (1 - z)^2 - k)],
 //
-// which lowpass_structure_avar turns into the overlapping Allan variance under the sensor's
-// filter. D is evaluated through g(x) = e^x - 1 - x of x = ln z, (k+1) ln z, so that a
+// which the structure-function form of lowpass_structure_avar turns into the overlapping Allan
+// variance under the sensor's filter. D is evaluated through g(x) = e^x - 1 - x of x = ln z, (k+1) ln z, so that a
 // resonance far below the sample rate (z near 1) keeps its digits.
 #pragma once
 
@@ -60,6 +60,12 @@ std::vector<double> resonance_autocovariance(const Resonance& r, double rate_hz,
 /// interpolates smoothly (model_avar's tau between samples).
 double resonance_avar(const Resonance& r, double rate_hz, double m,
                       const std::vector<double>& rho = {1.0});
+
+/// resonance_avar at each averaging factor of m (each >= 1), the filter's constants computed
+/// once: for m beyond the filter's length and the coherence's onset, a closed form of one
+/// complex exponential (resonance.cpp).
+std::vector<double> resonance_avar(const Resonance& r, double rate_hz,
+                                   std::span<const std::int64_t> m, const std::vector<double>& rho);
 
 /// One-sided PSD of the samples at f_hz, 2 h s_e^2 / |1 - a1 e^(-iw) - a2 e^(-2iw)|^2 with
 /// w = 2 pi f h and s_e the innovation's sd: integrates to sigma^2 over (0, rate_hz / 2).

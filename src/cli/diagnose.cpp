@@ -228,6 +228,7 @@ int run_diagnose(const DiagnoseOptions& opt, std::ostream& out, std::ostream& er
     cc.terms = d.model_after.terms;
     cc.sinusoids = d.model_after.sinusoids;
     cc.markovs = d.model_after.markovs;
+    cc.resonances = d.model_after.resonances;
     cc.steps = d.model_after.steps;
     cc.lowpass = d.model_after.lowpass;
     const std::string before_json = model::to_json(model), after_json = model::to_json(corrected);

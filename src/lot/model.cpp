@@ -145,6 +145,28 @@ void parse_lowpass(const Json& e, double rate_hz, Channel& ch, const std::string
   }
 }
 
+void parse_resonance(const Json& e, double rate_hz, Channel& ch, const std::string& source,
+                     const std::string& at) {
+  only_keys(e, {"type", "sigma", "frequency_hz", "q"}, source, at);
+  kernels::Resonance r;
+  r.sigma = nonneg(required(e, "sigma", source, at), source, join(at, "sigma"));
+  r.frequency_hz =
+      positive(required(e, "frequency_hz", source, at), source, join(at, "frequency_hz"));
+  if (r.frequency_hz >= rate_hz / 2)
+    fail(source, join(at, "frequency_hz"),
+         "must be below the Nyquist frequency " + Json(rate_hz / 2).dump() + " Hz, got " +
+             Json(r.frequency_hz).dump());
+  r.q = number(required(e, "q", source, at), source, join(at, "q"));
+  if (!(r.q >= kernels::kResonanceMinQ && r.q <= kernels::kResonanceMaxQ))
+    fail(source, join(at, "q"),
+         "must be in [" + Json(kernels::kResonanceMinQ).dump() + ", " +
+             Json(kernels::kResonanceMaxQ).dump() + "], got " + Json(r.q).dump());
+  if (ch.resonances.size() >= kernels::rng::kMaxResonance)
+    fail(source, at,
+         "at most " + std::to_string(kernels::rng::kMaxResonance) + " resonance effects");
+  ch.resonances.push_back(r);
+}
+
 void parse_effects(const Json& j, double rate_hz, Channel& ch, const std::string& source,
                    const std::string& path) {
   if (!j.is_array()) fail(source, path, "must be an array, not " + type_name(j));
@@ -175,6 +197,8 @@ void parse_effects(const Json& j, double rate_hz, Channel& ch, const std::string
       if (ch.markovs.size() >= kernels::rng::kMaxMarkov)
         fail(source, at, "at most " + std::to_string(kernels::rng::kMaxMarkov) + " markov effects");
       ch.markovs.push_back(g);
+    } else if (kind == "resonance") {
+      parse_resonance(e, rate_hz, ch, source, at);
     } else if (kind == "lowpass") {
       parse_lowpass(e, rate_hz, ch, source, at);
     } else if (kind == "step") {
@@ -185,7 +209,8 @@ void parse_effects(const Json& j, double rate_hz, Channel& ch, const std::string
       ch.steps.push_back(st);
     } else {
       fail(source, join(at, "type"),
-           "unknown effect type '" + kind + "' (expected sinusoid, markov, lowpass or step)");
+           "unknown effect type '" + kind +
+               "' (expected sinusoid, markov, resonance, lowpass or step)");
     }
   }
 }
@@ -226,6 +251,9 @@ Json channel_body_json(const Channel& ch) {
                        {"phase_rad", s.phase_rad}});
   for (const auto& g : ch.markovs)
     effects.push_back({{"type", "markov"}, {"sigma", g.sigma}, {"tau_c_s", g.tau_c_s}});
+  for (const auto& r : ch.resonances)
+    effects.push_back(
+        {{"type", "resonance"}, {"sigma", r.sigma}, {"frequency_hz", r.frequency_hz}, {"q", r.q}});
   for (const auto& st : ch.steps)
     effects.push_back({{"type", "step"}, {"size", st.size}, {"time_s", st.time_s}});
   if (ch.lowpass.cutoff_hz > 0)
@@ -412,6 +440,7 @@ kernels::ChannelSpec to_spec(const UnitModel& m, std::size_t channel) {
   s.terms = ch.terms;
   s.sinusoids = ch.sinusoids;
   s.markovs = ch.markovs;
+  s.resonances = ch.resonances;
   s.steps = ch.steps;
   s.offset = ch.offset;
   s.lowpass = ch.lowpass;

@@ -8,7 +8,8 @@
 //                    "offset"}, ...}, "lot_spread"}
 // `units` and `sample_rate_hz` are required; `terms` (any of R, K, B, N, Q; missing = 0),
 // `effects` (array of {"type": "sinusoid", "amplitude", "frequency_hz", "phase_rad"?},
-// {"type": "markov", "sigma", "tau_c_s"}, {"type": "lowpass", "cutoff_hz" | "taps"} and
+// {"type": "markov", "sigma", "tau_c_s"}, {"type": "resonance", "sigma", "frequency_hz", "q"},
+// {"type": "lowpass", "cutoff_hz" | "taps"} and
 // {"type": "step", "size", "time_s"}), `offset` (constant added to the channel, e.g.
 // 9.80665 on a vertical accelerometer) and `lot_spread` ({term: relative sd}) are optional.
 // Any other key, a wrong JSON type, a duplicate key, or an impossible value is an error whose
@@ -39,6 +40,7 @@ struct Channel {
   kernels::NoiseTerms terms;    // channel units and seconds
   std::vector<kernels::Sinusoid> sinusoids;   // effects of type "sinusoid", in file order
   std::vector<kernels::GaussMarkov> markovs;  // effects of type "markov", in file order
+  std::vector<kernels::Resonance> resonances; // effects of type "resonance", in file order
   std::vector<kernels::Step> steps;           // effects of type "step", in file order
   double offset = 0;                          // constant [units]
   kernels::Lowpass lowpass;                   // the effect of type "lowpass" (at most one)
@@ -65,7 +67,7 @@ UnitModel load_model(const std::string& path, const std::string& single_channel_
 
 /// The model as JSON (2-space indented) in the form it was read in; parse_model(to_json(m))
 /// == m, doubles included (shortest round-trip representation). Effects are written
-/// sinusoids first, then markovs, steps and the lowpass.
+/// sinusoids first, then markovs, resonances, steps and the lowpass.
 std::string to_json(const UnitModel& m);
 
 /// Throws model::Error if the model breaks a rule parse_model enforces (for models built in

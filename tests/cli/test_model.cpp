@@ -21,7 +21,8 @@ constexpr const char* kContractExample = R"({
   "terms":   {"R": 0, "K": 4.6e-7, "B": 0.00125, "N": 0.005, "Q": 0},
   "effects": [
     {"type": "sinusoid", "amplitude": 0.002, "frequency_hz": 0.5},
-    {"type": "markov",   "sigma": 0.001, "tau_c_s": 20}
+    {"type": "markov",   "sigma": 0.001, "tau_c_s": 20},
+    {"type": "resonance", "sigma": 0.2, "frequency_hz": 19.5, "q": 80}
   ]
 })";
 
@@ -52,6 +53,8 @@ TEST(Model, ParsesTheContractExample) {
   EXPECT_EQ(ch.sinusoids[0].phase_rad, 0.0);
   ASSERT_EQ(ch.markovs.size(), 1u);
   EXPECT_EQ(ch.markovs[0].tau_c_s, 20);
+  ASSERT_EQ(ch.resonances.size(), 1u);
+  EXPECT_EQ(ch.resonances[0], (kernels::Resonance{0.2, 19.5, 80}));
   EXPECT_EQ(model::parse_model(kContractExample, "m.json", "gyro_z").channels[0].name, "gyro_z");
 }
 
@@ -161,6 +164,18 @@ TEST(Model, BadFilesNameTheKey) {
       {R"({"sample_rate_hz": 100, "units": "deg/s", "effects": [{"type": "lowpass",
            "taps": 2}, {"type": "lowpass", "taps": 3}]})",
        "effects[1]: at most one lowpass effect"},
+      {R"({"sample_rate_hz": 100, "units": "deg/s", "effects": [{"type": "resonance",
+           "sigma": 1, "frequency_hz": 50, "q": 10}]})",
+       "effects[0].frequency_hz: must be below the Nyquist frequency 50"},
+      {R"({"sample_rate_hz": 100, "units": "deg/s", "effects": [{"type": "resonance",
+           "sigma": 1, "frequency_hz": 20, "q": 0.3}]})",
+       "effects[0].q: must be in [0.5, 100000"},
+      {R"({"sample_rate_hz": 100, "units": "deg/s", "effects": [{"type": "resonance",
+           "sigma": 1, "frequency_hz": 20}]})",
+       "effects[0].q: missing"},
+      {R"({"sample_rate_hz": 100, "units": "deg/s", "effects": [{"type": "resonance",
+           "sigma": 1, "frequency_hz": 20, "q": 3, "tau_c_s": 1}]})",
+       "effects[0].tau_c_s: unknown key"},
       {R"({"sample_rate_hz": 1000, "units": "deg/s", "effects": [{"type": "markov",
            "sigma": 1, "tau_c_s": 0}]})",
        "effects[0].tau_c_s: must be > 0"},

@@ -53,10 +53,7 @@ Fit search(const Curve& cv, const Bases& b) {
 }
 
 std::vector<kernels::Parameter> markov_parameters(const Fit& f, const Curve& cv, const Bases& b) {
-  Fit copy = f;
-  std::vector<double> cs, ns;
-  fill_sigmas(copy, cv, b, 8.0, cs, ns);
-  return parameters_of(f.comps.back(), cs.back(), ns.back());
+  return parameters_of(f.comps.back(), fill_sigmas(f, cv, b, 8.0), f.comps.size() - 1);
 }
 
 TEST(DiagnoseSearch, TauCInsideTheRangeIsAnEstimate) {
@@ -102,6 +99,39 @@ TEST(DiagnoseSearch, TauCBelowOneSampleIsAnUpperLimit) {
   const auto ps = markov_parameters(f, cv, b);
   EXPECT_EQ(ps[1].bound, -1);
   EXPECT_TRUE(std::isnan(ps[1].sigma));
+}
+
+// A resonance like the ADIS16405 z gyroscopes' (docs/diagnose.md "Real sensors"), under their
+// filter, beside white noise: the search finds its frequency and size from the exact curve, and
+// a q that the curve resolves (about 20 coherence times inside the taus) is an estimate.
+TEST(DiagnoseSearch, ResonanceFrequencyAndSizeAreFound) {
+  for (const double q : {8.0, 40.0}) {
+    auto truth = white();
+    truth.terms.N = 0.04;
+    truth.lowpass.cutoff_hz = 28.0;
+    truth.resonances.push_back({0.24, 20.0, q});
+    Bases b;
+    const Curve cv = exact_curve(truth, b);
+    auto given = truth;
+    given.resonances.clear();
+    std::vector<Component> comps = components_of(given);
+    Component r;
+    r.kind = Kind::Resonance;
+    r.free = true;
+    r.nl_free = true;
+    comps.push_back(r);
+    const Fit f = search_resonance(comps, comps.size() - 1, cv, b, true);
+    const Component& got = f.comps.back();
+    EXPECT_NEAR(got.nl / 20.0, 1.0, 2e-3) << "q " << q;
+    EXPECT_NEAR(got.coef / 0.24, 1.0, 0.05) << "q " << q;
+    EXPECT_NEAR(std::log(got.q / q), 0.0, std::log(1.3)) << "q " << q;
+    EXPECT_EQ(got.nl_bound, 0);
+    EXPECT_EQ(got.q_bound, 0);
+    const auto p = parameters_of(got, fill_sigmas(f, cv, b, 8.0), comps.size() - 1);
+    ASSERT_EQ(p.size(), 3u);
+    EXPECT_EQ(p[2].name, "q");
+    EXPECT_TRUE(std::isfinite(p[1].sigma) && std::isfinite(p[2].sigma));
+  }
 }
 
 }  // namespace
