@@ -45,13 +45,16 @@ std::string names(const kernels::Diagnosis& d) {
   std::string s;
   for (std::size_t i = 0; i < d.effects_named.size(); ++i) {
     s += (s.empty() ? "" : ",") + std::string(kernels::effect_name(d.effects_named[i]));
+    std::string args;
     for (const auto& p : d.effect_parameters[i])
-      if (p.name == "cutoff_hz" || p.name == "taps" || p.name == "tau_c_s")
-        s += "(" + p.name +
-             (p.bound < 0   ? "<"
-              : p.bound > 0 ? ">"
-                            : "=") +
-             std::to_string(p.value).substr(0, 6) + ")";
+      if (p.name == "cutoff_hz" || p.name == "taps" || p.name == "tau_c_s" || p.name == "q" ||
+          (p.name == "frequency_hz" && d.effects_named[i] == kernels::Effect::Resonance))
+        args += (args.empty() ? "" : " ") + p.name +
+                (p.bound < 0   ? "<"
+                 : p.bound > 0 ? ">"
+                               : "=") +
+                std::to_string(p.value).substr(0, 6);
+    if (!args.empty()) s += "(" + args + ")";
   }
   return s.empty() ? "-" : s;
 }
@@ -159,7 +162,9 @@ int main(int argc, char** argv) {
         "(replica p95) | first m | chi2/dof from first m | fixed model re-diagnosed | "
         "largest jump (rms, p) |\n"
         "|---|---|---|---|---|---|---|---|---|\n");
+  const char* only_unit = std::getenv("BENCH_UNIT");
   for (const auto& file : files) {
+    if (only_unit != nullptr && file.stem().string().find(only_unit) == std::string::npos) continue;
     const io::RecordingReader reader(file.string());
     for (const auto& ch : reader.info().channels) {
       if (!only.empty() && ch.path.find(only) == std::string::npos) continue;
@@ -196,6 +201,26 @@ int main(int argc, char** argv) {
       if (std::getenv("BENCH_VERBOSE"))
         for (const auto& note : d.notes)
           std::printf("    note: %s\n", note.c_str());
+      if (std::getenv("BENCH_VERBOSE")) {
+        const auto& t = d.model_after.terms;
+        std::printf("    model after: R %.3g K %.3g B %.3g N %.3g Q %.3g", t.R, t.K, t.B, t.N, t.Q);
+        for (const auto& g : d.model_after.markovs)
+          std::printf("; markov %.3g %.4g s", g.sigma, g.tau_c_s);
+        for (const auto& r : d.model_after.resonances)
+          std::printf("; resonance %.3g %.4g Hz q %.4g", r.sigma, r.frequency_hz, r.q);
+        std::printf("\n");
+      }
+      if (std::getenv("BENCH_VERBOSE"))
+        for (const auto& it : d.iterations) {
+          std::printf("    round: %s, gap %.3g ->%.3g; criteria:",
+                      std::string(kernels::effect_name(it.effect)).c_str(), it.gap_before,
+                      it.gap_after);
+          for (const auto& c : it.candidates)
+            if (c.evaluated)
+              std::printf(" %s %+.1f", std::string(kernels::effect_name(c.effect)).c_str(),
+                          c.delta_ic);
+          std::printf("\n");
+        }
       if (std::getenv("BENCH_VERBOSE"))
         for (std::size_t i = 0; i < d.tau_s.size(); ++i)
           std::printf("    tau %.4g  meas/before %.4f  meas/after %.4f  z_after %.2f  edf %.4g\n",

@@ -10,11 +10,12 @@
 namespace allanlot::kernels::diagnose_detail {
 namespace {
 
-// The quality factors searched. Below 2 the process is a hump rather than a resonance (its
-// envelope decays within a period), which `markov` names with one parameter fewer; beyond
-// 2048 the ripples last longer than any tau where they stand above white noise on the records
-// met so far, and q is a lower limit.
-constexpr double kQLo = 2.0, kQHi = 2048.0;
+// The quality factors searched. Below 2 the peak is a broad band-pass bump, no narrowband noise:
+// a low-frequency one is a Gauss-Markov hump in all but name (`markov`, one parameter fewer),
+// and a pair of them named a hump and white PM on 1 of 10 records of the study's markov +
+// quantization at q down to 0.5. At the top the coherence time exceeds any record the
+// project meets and the process is a line of random phase: q is then a lower limit.
+constexpr double kQLo = 2.0, kQHi = kResonanceMaxQ;
 
 }  // namespace
 
@@ -24,7 +25,9 @@ std::vector<double> resonance_curve(const Resonance& r, const Curve& cv, const L
 }
 
 // The frequency on a log grid of 8 per octave from 1 / (longest tau) (a slower resonance shows
-// no ripple inside the taus) to 0.49 rate, times q on a grid of factors of 4, the free
+// no ripple inside the taus) to 0.4 rate (above, inside a sensor's filter transition, a peak
+// acts on the shortest tau alone, where it stood in for the filter's shape on a real z
+// gyroscope: frequency_hz > 48 Hz with q > 2048 at 100 Hz), times q on a grid of factors of 4, the free
 // coefficients fitted at each point; then, from the best point (or the present values when
 // `grid` is false: the final refit), golden-section searches on ln f0 and ln q in turn, each
 // within one grid step of the best, three times. The Allan curve oscillates in f0 (its ripples
@@ -37,17 +40,18 @@ Fit search_resonance(std::vector<Component> comps, std::size_t idx, const Curve&
     comps[idx].q = std::exp(ln_q);
     return fit_components(comps, cv, b);
   };
-  const double f_lo = std::log(1.0 / cv.tau.back()), f_hi = std::log(0.49 * b.rate_hz);
+  const double f_lo = std::log(1.0 / cv.tau.back()), f_hi = std::log(0.4 * b.rate_hz);
   const double q_lo = std::log(kQLo), q_hi = std::log(kQHi);
   const double f_step = std::numbers::ln2 / 8.0, q_step = 2.0 * std::numbers::ln2;
   double best_f = std::log(comps[idx].nl), best_q = std::log(comps[idx].q);
   double best_chi2 = std::numeric_limits<double>::infinity();
   if (grid) {
     const int n_f = static_cast<int>(std::ceil((f_hi - f_lo) / f_step)) + 1;
-    const int n_q = static_cast<int>(std::lround((q_hi - q_lo) / q_step)) + 1;
+    const int n_q = static_cast<int>(std::ceil((q_hi - q_lo) / q_step)) + 1;
     for (int i = 0; i < n_f; ++i)
       for (int j = 0; j < n_q; ++j) {
-        const double lf = std::min(f_lo + f_step * i, f_hi), lq = q_lo + q_step * j;
+        const double lf = std::min(f_lo + f_step * i, f_hi);
+        const double lq = std::min(q_lo + q_step * j, q_hi);
         const double c = eval(lf, lq).chi2;
         if (c < best_chi2) {
           best_chi2 = c;

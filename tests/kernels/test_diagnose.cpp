@@ -57,6 +57,12 @@ void check_scenario(const test::Scenario& s, std::uint64_t seed) {
     EXPECT_NEAR(t->value, s.truth.markovs[0].tau_c_s, 0.35 * s.truth.markovs[0].tau_c_s);
     EXPECT_NEAR(t->value, s.truth.markovs[0].tau_c_s, 4.0 * t->sigma);
   }
+  if (!s.truth.resonances.empty()) {
+    const auto* f = find_param(d, Effect::Resonance, "frequency_hz");
+    ASSERT_NE(f, nullptr);
+    EXPECT_NEAR(f->value, s.truth.resonances[0].frequency_hz,
+                0.05 * s.truth.resonances[0].frequency_hz);
+  }
   if (!s.truth.steps.empty()) {
     // The witness's time within its stated scale, the size within 3 sigma, the sign kept.
     const auto* t = find_param(d, Effect::Step, "time_s");
@@ -167,6 +173,27 @@ TEST(Diagnose, SensorFilterIsNamedAsALowpass) {
   // The grid's step is 9 % (8 per octave); the fit's scatter is well below it here.
   EXPECT_NEAR(d.effect_parameters[0][0].value, 15.0, 0.15 * 15.0);
   EXPECT_EQ(d.model_after.lowpass.cutoff_hz, d.effect_parameters[0][0].value);
+  EXPECT_LT(d.after.gap, gap_bound(d));
+}
+
+TEST(Diagnose, SensorResonanceIsNamed) {
+  // The ADIS16405 z gyroscopes' narrowband noise (docs/diagnose.md "Real sensors") scaled to the
+  // base sensor behind its known filter: 20 Hz, q = 40, sigma 0.05, whose ripples at 1-4 samples
+  // are 40-70 % of the filtered white noise's Allan variance there.
+  auto given = test::base_model();
+  given.lowpass.cutoff_hz = 28.0;
+  auto truth = given;
+  truth.resonances.push_back({0.05, 20.0, 40.0});
+  const auto d = test::run_scenario(truth, given, 1001, 0, 2);
+  ASSERT_EQ(d.effects_named, std::vector<Effect>{Effect::Resonance});
+  ASSERT_EQ(d.effect_parameters[0].size(), 3u);
+  const auto& f = d.effect_parameters[0][1];
+  EXPECT_EQ(f.name, "frequency_hz");
+  EXPECT_EQ(f.bound, 0);
+  EXPECT_NEAR(f.value, 20.0, 0.02 * 20.0);
+  EXPECT_NEAR(f.value, 20.0, 4.0 * f.sigma);
+  EXPECT_NEAR(d.effect_parameters[0][0].value, 0.05, 0.2 * 0.05);
+  EXPECT_EQ(d.model_after.resonances.size(), 1u);
   EXPECT_LT(d.after.gap, gap_bound(d));
 }
 
