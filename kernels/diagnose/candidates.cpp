@@ -67,38 +67,32 @@ Bases bases_for(const std::vector<Component>& comps, const Curve& cv, const Base
   return filtered_bases(b, cv, lp);
 }
 
-// Lowpass candidate: first-order filters with cutoffs on a log grid of 8 per octave from
-// rate / 200 to 0.45 rate (above, the filter changes no tau of the grid measurably) and moving
-// averages over 1.05 to 16 samples on the same kind of grid (a non-integer length is the
-// boxcar of a sensor that averages a faster internal rate before decimating: the ADIS16405's
-// deficit is steeper than a one-pole filter's), each fitted with the other components as
-// `base` has them; the best is kept and refined between its neighbours (below). A value at
+}  // namespace
+
+// The filter of the lowpass component comps[idx]: first-order filters with cutoffs on a log grid of
+// 8 per octave from rate / 200 to 0.45 rate (above, the filter changes no tau of the grid
+// measurably) and moving averages over 1.05 to 16 samples on the same kind of grid (a non-integer
+// length is the boxcar of a sensor that averages a faster internal rate before decimating: the
+// ADIS16405's deficit is steeper than a one-pole filter's), each fitted with the other components
+// as `base` has them; the best is kept and refined between its neighbours (below). A value at
 // either end of its grid is a limit.
-CandidateFit lowpass_candidate(std::vector<Component> base, const Curve& cv, const Bases& b) {
-  Component c;
-  c.kind = Kind::Lowpass;
-  c.pinned = true;
-  c.coef = 1.0;
-  base.push_back(c);
+Fit search_lowpass(std::vector<Component> comps, std::size_t idx, const Curve& cv, const Bases& b) {
   const double lo = std::log(b.rate_hz / 200.0), hi = std::log(0.45 * b.rate_hz);
   const int n_grid = static_cast<int>(std::ceil((hi - lo) / (std::numbers::ln2 / 8.0))) + 1;
   const double t_lo = std::log(1.05), t_hi = std::log(16.0);
   const int n_taps = static_cast<int>(std::ceil((t_hi - t_lo) / (std::numbers::ln2 / 8.0))) + 1;
   // Grid point x (0 .. n_grid - 1: cutoffs; n_grid .. n_grid + n_taps - 1: taps; a fraction
   // between points of one form interpolates on the log scale).
-  const auto filter_at = [&](double x) {
+  const auto fit_at = [&](double x) {
     Lowpass lp;
     if (x < n_grid)
       lp.cutoff_hz = std::exp(lo + (hi - lo) * x / (n_grid - 1));
     else
       lp.taps = std::exp(t_lo + (t_hi - t_lo) * (x - n_grid) / (n_taps - 1));
-    return lp;
+    comps[idx].lp = lp;
+    return fit_components(comps, cv, filtered_bases(b, cv, lp));
   };
-  const auto fit_at = [&](double x) {
-    base.back().lp = filter_at(x);
-    return fit_components(base, cv, filtered_bases(b, cv, base.back().lp));
-  };
-  CandidateFit out;
+  Fit out;
   double best = std::numeric_limits<double>::infinity();
   int best_g = -1;
   for (int g = 0; g < n_grid + n_taps; ++g) {
@@ -106,7 +100,7 @@ CandidateFit lowpass_candidate(std::vector<Component> base, const Curve& cv, con
     if (f.chi2 < best) {
       best = f.chi2;
       best_g = g;
-      out.fit = std::move(f);
+      out = std::move(f);
     }
   }
   // The grid's step (9 %) is coarse against what a long record resolves (the ADIS16405's
@@ -116,8 +110,27 @@ CandidateFit lowpass_candidate(std::vector<Component> base, const Curve& cv, con
             last_g = best_g < n_grid ? n_grid - 1 : n_grid + n_taps - 1;
   const double x = golden_min([&](double v) { return fit_at(v).chi2; }, std::max(best_g - 1, first),
                               std::min(best_g + 1, last_g));
-  if (Fit f = fit_at(x); f.chi2 < best) out.fit = std::move(f);
-  out.added = out.fit.comps.size() - 1;
+  if (Fit f = fit_at(x); f.chi2 < best) out = std::move(f);
+  // At the bottom of either grid the value is an upper limit, at the top a lower one.
+  const int last = n_grid + n_taps - 1;
+  out.comps[idx].nl_bound = best_g == 0 || best_g == n_grid          ? -1
+                            : best_g == n_grid - 1 || best_g == last ? 1
+                                                                     : 0;
+  return out;
+}
+
+namespace {
+
+// Lowpass candidate: a new component, its filter searched with the others as `base` has them.
+CandidateFit lowpass_candidate(std::vector<Component> base, const Curve& cv, const Bases& b) {
+  Component c;
+  c.kind = Kind::Lowpass;
+  c.pinned = true;
+  c.coef = 1.0;
+  base.push_back(c);
+  CandidateFit out;
+  out.added = base.size() - 1;
+  out.fit = search_lowpass(std::move(base), out.added, cv, b);
   // A resonance named before the filter had its frequency and q fitted to the unfiltered
   // curve, where they took up part of the filter's deficit (the ADIS16405 z gyroscopes: a
   // Gauss-Markov hump at one sample then stood in for the filter, 1597 against 804). Under the
@@ -130,11 +143,6 @@ CandidateFit lowpass_candidate(std::vector<Component> base, const Curve& cv, con
       Fit f = search_resonance(out.fit.comps, i, cv, chosen, false);
       if (f.chi2 < out.fit.chi2) out.fit = std::move(f);
     }
-  // At the bottom of either grid the value is an upper limit, at the top a lower one.
-  const int last = n_grid + n_taps - 1;
-  out.fit.comps[out.added].nl_bound = best_g == 0 || best_g == n_grid          ? -1
-                                      : best_g == n_grid - 1 || best_g == last ? 1
-                                                                               : 0;
   return out;
 }
 
@@ -170,43 +178,6 @@ CandidateFit markov_candidate(std::vector<Component> base, const Curve& cv, cons
   CandidateFit out;
   out.fit = search_tau_c(std::move(base), idx, cv, b);
   out.added = out.fit.comps.size() - 1;
-  return out;
-}
-
-// Resonance candidate: a new component, its frequency and q searched over their whole range
-// with the others' coefficients as `base` has them. A second resonance is a distinct instance
-// only where the two peaks are resolved: their frequencies further apart than the sum of their
-// half-widths at half power, f0 / (2 q) each (closer, two are one peak re-split); else the
-// candidate comes back with a note and no fit. A real narrowband noise need not be one
-// Lorentzian: the ADIS16405 z gyroscopes' peak at 17-21 Hz has a broad shoulder 3-5 Hz above it
-// (q 4-6 against 15-25; a fit of their Welch spectra), a resolved second peak.
-CandidateFit resonance_candidate(std::vector<Component> base, const Curve& cv, const Bases& b) {
-  CandidateFit out;
-  out.info.effect = Effect::Resonance;
-  const auto n_res = std::count_if(base.begin(), base.end(),
-                                   [](const auto& c) { return c.kind == Kind::Resonance; });
-  if (static_cast<std::uint32_t>(n_res) >= rng::kMaxResonance) {
-    out.info.note = "too many resonances";
-    return out;
-  }
-  Component c;
-  c.kind = Kind::Resonance;
-  c.free = true;
-  c.nl_free = true;
-  base.push_back(c);
-  const std::size_t idx = base.size() - 1;
-  out.fit = search_resonance(std::move(base), idx, cv, b, true);
-  const Component& r = out.fit.comps[idx];
-  for (std::size_t i = 0; i < idx; ++i) {
-    const Component& o = out.fit.comps[i];
-    if (o.kind == Kind::Resonance &&
-        std::abs(r.nl - o.nl) <= r.nl / (2.0 * r.q) + o.nl / (2.0 * o.q)) {
-      out.info.note = "its peak at " + std::to_string(r.nl) + " Hz (q " + std::to_string(r.q) +
-                      ") overlaps " + component_label(out.fit.comps, i) + "'s";
-      out.fit = {};
-      return out;
-    }
-  }
   return out;
 }
 

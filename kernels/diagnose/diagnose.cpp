@@ -420,13 +420,18 @@ bool Search::round(int& iter) {
 // The current structure with every coefficient re-estimated, under the edf of the model as it
 // stands. Each added Markov effect's tau_c was searched in the round that named it, before the
 // effects named after it were in the model (a quantization found later, say, had been partly
-// absorbed by the hump); it is searched again with the final structure.
+// absorbed by the hump); it is searched again with the final structure, and so are an added
+// filter (first: it reshapes every other component's curve; a one-pole filter named in the first
+// round, with a broad resonance beside it for the shape it lacked, gave way to the boxcar the
+// ADIS16405 x gyroscopes have, and the resonance was pruned) and each resonance's f0 and q.
 Fit Search::refit_final() {
   use_edf(cv, model_edf(spec_of(current, spec), cv, bases));
   std::vector<Component> all_free = current;
   for (Component& c : all_free)
     c.free = !c.pinned;
   Fit base = fit_components(all_free, cv, bases);
+  for (const std::size_t idx : added_idx)
+    if (base.comps[idx].kind == Kind::Lowpass) base = search_lowpass(base.comps, idx, cv, bases);
   for (const std::size_t idx : added_idx) {
     if (base.comps[idx].kind == Kind::Markov) base = search_tau_c(base.comps, idx, cv, bases);
     if (base.comps[idx].kind == Kind::Resonance)

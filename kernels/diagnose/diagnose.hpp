@@ -309,8 +309,9 @@ double diagnose_gap(std::span<const double> avar_measured, std::span<const doubl
 /// measured overlapping Allan curve alone by diagnose's own test: the five terms of eq. (3),
 /// all re-estimated, against the same with diagnose's lowpass candidate (first-order cutoffs
 /// from rate / 200 to 0.45 rate, moving averages of 1.05 to 16 samples, 8 per octave, the best
-/// refined between its neighbours; the model's edf; docs/diagnose.md "The sensor's filter"), named when its criterion delta_ic > 0,
-/// the level of one diagnose round (select_alpha / 10 per candidate).
+/// refined between its neighbours; the model's edf; docs/diagnose.md "The sensor's filter"), named
+/// when its criterion delta_ic > 0, the level of one diagnose round (select_alpha / 10 per
+/// candidate).
 struct LowpassFinding {
   Lowpass filter;  // inactive when no filter is significant
   // the candidate's criterion (> 0: named); NaN when not evaluated (too few taus)

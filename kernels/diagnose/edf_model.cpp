@@ -94,13 +94,13 @@ void prepare_edf(Curve& cv) {
 
 // Combination, per tau, of the model's components with Allan variances a_k:
 //  - stochastic components (the four noise terms, Gauss-Markov) each have the Greenhall-Riley
-//    edf e_k of their power law (a resonance its narrowband edf, resonance_edf), i.e. sd(avar_hat_k) = a_k sqrt(2 / e_k). The estimate of
-//    their sum is a quadratic form in the sum of their phases; its variance is
-//    2 sum_kl tr(A R_k A R_l) with every cross term between 0 and the geometric mean of the
-//    diagonal ones (Cauchy-Schwarz for positive semidefinite R_k), so the standard deviations
-//    add at most linearly: sd_n <= sum_k a_k sqrt(2 / e_k), equality when the spectra are
-//    alike (two white noises are one white noise, whose edf this returns exactly). The upper
-//    bound of the variance is used: the edf is never overstated.
+//    edf e_k of their power law (a resonance its narrowband edf, resonance_edf), i.e.
+//    sd(avar_hat_k) = a_k sqrt(2 / e_k). The estimate of their sum is a quadratic form in the sum
+//    of their phases; its variance is 2 sum_kl tr(A R_k A R_l) with every cross term between 0 and
+//    the geometric mean of the diagonal ones (Cauchy-Schwarz for positive semidefinite R_k), so the
+//    standard deviations add at most linearly: sd_n <= sum_k a_k sqrt(2 / e_k), equality when the
+//    spectra are alike (two white noises are one white noise, whose edf this returns exactly). The
+//    upper bound of the variance is used: the edf is never overstated.
 //  - deterministic components (ramp, sinusoids; steps are removed from the record) of total
 //    a_d add no variance of their own but a cross term with the noise: 2/M sum_j c_j e_j, of
 //    variance about 4 a_d a_n / e_n for second differences c_j that vary over the noise's

@@ -138,6 +138,9 @@ std::vector<double> model_curve(const ChannelSpec& s, const Curve& cv, const Bas
 /// itself): the better of the last two points.
 double golden_min(const std::function<double(double)>& f, double a, double c);
 Fit search_tau_c(std::vector<Component> comps, std::size_t idx, const Curve& cv, const Bases& b);
+/// The filter of the lowpass component comps[idx] searched (both forms, a grid then refined),
+/// the free coefficients fitted at each trial; `b` unfiltered.
+Fit search_lowpass(std::vector<Component> comps, std::size_t idx, const Curve& cv, const Bases& b);
 
 // resonance.cpp: the resonance's curve and its search.
 /// The Allan variance of a resonance at the curve's taus under the filter lp.
@@ -145,8 +148,11 @@ std::vector<double> resonance_curve(const Resonance& r, const Curve& cv, const L
                                     double rate_hz);
 /// frequency_hz and q of the resonance comps[idx] searched on the curve, the free coefficients
 /// fitted at each; `grid` searches the whole range first, else only near the present values.
-Fit search_resonance(std::vector<Component> comps, std::size_t idx, const Curve& cv,
-                     const Bases& b, bool grid);
+Fit search_resonance(std::vector<Component> comps, std::size_t idx, const Curve& cv, const Bases& b,
+                     bool grid);
+/// The resonance candidate: a new component searched with the others as `base` has them; with a
+/// note and no fit when it is not a distinct instance.
+CandidateFit resonance_candidate(std::vector<Component> base, const Curve& cv, const Bases& b);
 /// Candidate e added to `comps` (their coefficients fixed or free as they are), fitted and
 /// judged against chi2_ref; n_refit counts the parameters the reference's refit already frees.
 CandidateFit evaluate_candidate(Effect e, std::vector<Component> comps, const Witnesses& seen,

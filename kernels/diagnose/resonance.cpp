@@ -1,6 +1,8 @@
 // Diagnose's resonance (docs/diagnose.md "Why"): its Allan curve under the sensor's filter and
-// the search of its frequency and quality factor on the measured curve.
+// the search of its frequency and quality factor on the measured curve, and its candidate.
 #include "kernels/diagnose/internal.hpp"
+
+#include "kernels/simulate/rng.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -27,31 +29,37 @@ std::vector<double> resonance_curve(const Resonance& r, const Curve& cv, const L
 // The frequency on a log grid of 8 per octave from 1 / (longest tau) (a slower resonance shows
 // no ripple inside the taus) to 0.4 rate (above, inside a sensor's filter transition, a peak
 // acts on the shortest tau alone, where it stood in for the filter's shape on a real z
-// gyroscope: frequency_hz > 48 Hz with q > 2048 at 100 Hz), times q on a grid of factors of 4, the free
-// coefficients fitted at each point; then, from the best point (or the present values when
+// gyroscope: frequency_hz > 48 Hz with q > 2048 at 100 Hz), times q on a grid of factors of 4, the
+// free coefficients fitted at each point; then, from the best point (or the present values when
 // `grid` is false: the final refit), golden-section searches on ln f0 and ln q in turn, each
 // within one grid step of the best, three times. The Allan curve oscillates in f0 (its ripples
 // are at tau ~ k / f0), so the grid must be finer than a ripple's shift; q moves the curve
-// smoothly. A value within a grid step of either end of its range is marked as a bound.
+// smoothly. A frequency within a grid step of either end of its range, a q within 5 % of either
+// end of its, is marked as a bound.
 Fit search_resonance(std::vector<Component> comps, std::size_t idx, const Curve& cv, const Bases& b,
                      bool grid) {
   const auto eval = [&](double ln_f, double ln_q) {
     comps[idx].nl = std::exp(ln_f);
-    comps[idx].q = std::exp(ln_q);
+    comps[idx].q = std::clamp(std::exp(ln_q), kQLo, kQHi);  // exp(log(x)) may round past x
     return fit_components(comps, cv, b);
   };
   const double f_lo = std::log(1.0 / cv.tau.back()), f_hi = std::log(0.4 * b.rate_hz);
-  const double q_lo = std::log(kQLo), q_hi = std::log(kQHi);
+  // q beyond pi f0 (longest tau) keeps the ripples past every tau measured, where the curve
+  // cannot tell it from a line: the top of q's range at f0, a lower limit when reached.
+  const double q_lo = std::log(kQLo);
+  const auto q_top = [&](double ln_f) {
+    return std::log(
+        std::min(kQHi, std::max(4.0 * kQLo, std::numbers::pi * std::exp(ln_f) * cv.tau.back())));
+  };
   const double f_step = std::numbers::ln2 / 8.0, q_step = 2.0 * std::numbers::ln2;
   double best_f = std::log(comps[idx].nl), best_q = std::log(comps[idx].q);
   double best_chi2 = std::numeric_limits<double>::infinity();
   if (grid) {
     const int n_f = static_cast<int>(std::ceil((f_hi - f_lo) / f_step)) + 1;
-    const int n_q = static_cast<int>(std::ceil((q_hi - q_lo) / q_step)) + 1;
     for (int i = 0; i < n_f; ++i)
-      for (int j = 0; j < n_q; ++j) {
+      for (int j = 0; q_lo + q_step * (j - 1) < q_top(std::min(f_lo + f_step * i, f_hi)); ++j) {
         const double lf = std::min(f_lo + f_step * i, f_hi);
-        const double lq = std::min(q_lo + q_step * j, q_hi);
+        const double lq = std::min(q_lo + q_step * j, q_top(lf));
         const double c = eval(lf, lq).chi2;
         if (c < best_chi2) {
           best_chi2 = c;
@@ -69,15 +77,53 @@ Fit search_resonance(std::vector<Component> comps, std::size_t idx, const Curve&
     best_q = lq;
   };
   for (int pass = 0; pass < 3; ++pass) {
-    keep(golden_min([&](double x) { return eval(x, best_q).chi2; },
-                    std::max(best_f - f_step, f_lo), std::min(best_f + f_step, f_hi)),
+    keep(golden_min([&](double x) { return eval(x, best_q).chi2; }, std::max(best_f - f_step, f_lo),
+                    std::min(best_f + f_step, f_hi)),
          best_q);
-    keep(best_f, golden_min([&](double x) { return eval(best_f, x).chi2; },
-                            std::max(best_q - q_step, q_lo), std::min(best_q + q_step, q_hi)));
+    keep(best_f,
+         golden_min([&](double x) { return eval(best_f, x).chi2; }, std::max(best_q - q_step, q_lo),
+                    std::min(best_q + q_step, q_top(best_f))));
   }
   Fit out = eval(best_f, best_q);
   out.comps[idx].nl_bound = best_f < f_lo + f_step ? -1 : best_f > f_hi - f_step ? 1 : 0;
-  out.comps[idx].q_bound = best_q < q_lo + 0.05 ? -1 : best_q > q_hi - 0.05 ? 1 : 0;
+  out.comps[idx].q_bound = best_q < q_lo + 0.05 ? -1 : best_q > q_top(best_f) - 0.05 ? 1 : 0;
+  return out;
+}
+
+// Resonance candidate: a new component, its frequency and q searched over their whole range
+// with the others' coefficients as `base` has them. A second resonance is a distinct instance
+// only where the two peaks are resolved: their frequencies further apart than the sum of their
+// half-widths at half power, f0 / (2 q) each (closer, two are one peak re-split); else the
+// candidate comes back with a note and no fit. A real narrowband noise need not be one
+// Lorentzian: the ADIS16405 z gyroscopes' peak at 17-21 Hz has a broad shoulder 3-5 Hz above it
+// (q 4-6 against 15-25; a fit of their Welch spectra), a resolved second peak.
+CandidateFit resonance_candidate(std::vector<Component> base, const Curve& cv, const Bases& b) {
+  CandidateFit out;
+  out.info.effect = Effect::Resonance;
+  const auto n_res = std::count_if(base.begin(), base.end(),
+                                   [](const auto& c) { return c.kind == Kind::Resonance; });
+  if (static_cast<std::uint32_t>(n_res) >= rng::kMaxResonance) {
+    out.info.note = "too many resonances";
+    return out;
+  }
+  Component c;
+  c.kind = Kind::Resonance;
+  c.free = true;
+  c.nl_free = true;
+  base.push_back(c);
+  const std::size_t idx = base.size() - 1;
+  out.fit = search_resonance(std::move(base), idx, cv, b, true);
+  const Component& r = out.fit.comps[idx];
+  for (std::size_t i = 0; i < idx; ++i) {
+    const Component& o = out.fit.comps[i];
+    if (o.kind == Kind::Resonance &&
+        std::abs(r.nl - o.nl) <= r.nl / (2.0 * r.q) + o.nl / (2.0 * o.q)) {
+      out.info.note = "its peak at " + std::to_string(r.nl) + " Hz (q " + std::to_string(r.q) +
+                      ") overlaps " + component_label(out.fit.comps, i) + "'s";
+      out.fit = {};
+      return out;
+    }
+  }
   return out;
 }
 

@@ -68,9 +68,9 @@ void validate_resonance(const Resonance& r, double rate_hz, const std::string& a
     throw std::invalid_argument(at + "sigma must be finite and >= 0, got " +
                                 std::to_string(r.sigma));
   if (!std::isfinite(r.frequency_hz) || r.frequency_hz <= 0 || r.frequency_hz >= rate_hz / 2)
-    throw std::invalid_argument(at + "frequency_hz must be in (0, rate_hz/2 = " +
-                                std::to_string(rate_hz / 2) + "), got " +
-                                std::to_string(r.frequency_hz));
+    throw std::invalid_argument(
+        at + "frequency_hz must be in (0, rate_hz/2 = " + std::to_string(rate_hz / 2) + "), got " +
+        std::to_string(r.frequency_hz));
   if (!std::isfinite(r.q) || r.q < kResonanceMinQ || r.q > kResonanceMaxQ)
     throw std::invalid_argument(at + "q must be in [" + std::to_string(kResonanceMinQ) + ", " +
                                 std::to_string(kResonanceMaxQ) + "], got " + std::to_string(r.q));
@@ -113,9 +113,7 @@ public:
     f0_ = direct(0.0);
   }
 
-  double at(double m) const {
-    return (8.0 * f(m) - 2.0 * f(2.0 * m) - 6.0 * f0_) / (4.0 * m * m);
-  }
+  double at(double m) const { return (8.0 * f(m) - 2.0 * f(2.0 * m) - 6.0 * f0_) / (4.0 * m * m); }
 
 private:
   double direct(double o) const {

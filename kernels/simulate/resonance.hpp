@@ -21,8 +21,8 @@
 //   D(k) = Re[c (2 (z^(k+1) - (k+1) z + k) / (1 - z)^2 - k)],
 //
 // which the structure-function form of lowpass_structure_avar turns into the overlapping Allan
-// variance under the sensor's filter. D is evaluated through g(x) = e^x - 1 - x of x = ln z, (k+1) ln z, so that a
-// resonance far below the sample rate (z near 1) keeps its digits.
+// variance under the sensor's filter. D is evaluated through g(x) = e^x - 1 - x of x = ln z, (k+1)
+// ln z, so that a resonance far below the sample rate (z near 1) keeps its digits.
 #pragma once
 
 #include <cstdint>

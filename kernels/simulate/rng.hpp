@@ -44,11 +44,11 @@ inline Counter philox4x32_10(Counter c, Key k) {
 /// has its own sequence so that adding or removing one term does not change the others.
 /// Values must stay below 256 (they occupy the top byte of the counter's second word).
 enum class Component : std::uint32_t {
-  White = 1,         // white rate noise (N)
-  Flicker = 2,       // Kasdin's driving noise of the flicker term (B)
-  RandomWalk = 3,    // rate random walk (K): endpoint increments and bridge integrals
-  Quantization = 4,  // white phase noise differenced (Q)
-  LotSpread = 5,     // draw_unit's per-unit coefficient factors
+  White = 1,            // white rate noise (N)
+  Flicker = 2,          // Kasdin's driving noise of the flicker term (B)
+  RandomWalk = 3,       // rate random walk (K): endpoint increments and bridge integrals
+  Quantization = 4,     // white phase noise differenced (Q)
+  LotSpread = 5,        // draw_unit's per-unit coefficient factors
   MarkovFirst = 16,     // Gauss-Markov effect i uses MarkovFirst + i (i < kMaxMarkov)
   ResonanceFirst = 216  // resonance i uses ResonanceFirst + i (i < kMaxResonance)
 };

@@ -79,14 +79,14 @@ void add_steps(std::span<double> y, std::span<const Step> steps, double rate_hz,
 
 /// Everything that defines one simulated channel.
 struct ChannelSpec {
-  double rate_hz = 1;                // sample rate; tau0 = 1 / rate_hz
-  NoiseTerms terms;                  // eq. (3) coefficients
-  std::vector<Sinusoid> sinusoids;   // effects outside eq. (3)
-  std::vector<GaussMarkov> markovs;  // at most rng::kMaxMarkov
-  std::vector<Resonance> resonances; // narrowband noises, at most rng::kMaxResonance
-  std::vector<Step> steps;           // bias jumps, in any order
-  double offset = 0;                 // constant added to every sample [u] (e.g. 1 g)
-  Lowpass lowpass;                   // the sensor's filter, applied to the sum (none by default)
+  double rate_hz = 1;                 // sample rate; tau0 = 1 / rate_hz
+  NoiseTerms terms;                   // eq. (3) coefficients
+  std::vector<Sinusoid> sinusoids;    // effects outside eq. (3)
+  std::vector<GaussMarkov> markovs;   // at most rng::kMaxMarkov
+  std::vector<Resonance> resonances;  // narrowband noises, at most rng::kMaxResonance
+  std::vector<Step> steps;            // bias jumps, in any order
+  double offset = 0;                  // constant added to every sample [u] (e.g. 1 g)
+  Lowpass lowpass;                    // the sensor's filter, applied to the sum (none by default)
   friend bool operator==(const ChannelSpec&, const ChannelSpec&) = default;
 };
 

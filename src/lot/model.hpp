@@ -38,12 +38,12 @@ struct Channel {
   std::string name;             // [A-Za-z0-9_]+, the dataset name
   std::string units = "deg/s";  // units string (docs/formats.md, kernels/model/units.hpp)
   kernels::NoiseTerms terms;    // channel units and seconds
-  std::vector<kernels::Sinusoid> sinusoids;   // effects of type "sinusoid", in file order
-  std::vector<kernels::GaussMarkov> markovs;  // effects of type "markov", in file order
-  std::vector<kernels::Resonance> resonances; // effects of type "resonance", in file order
-  std::vector<kernels::Step> steps;           // effects of type "step", in file order
-  double offset = 0;                          // constant [units]
-  kernels::Lowpass lowpass;                   // the effect of type "lowpass" (at most one)
+  std::vector<kernels::Sinusoid> sinusoids;    // effects of type "sinusoid", in file order
+  std::vector<kernels::GaussMarkov> markovs;   // effects of type "markov", in file order
+  std::vector<kernels::Resonance> resonances;  // effects of type "resonance", in file order
+  std::vector<kernels::Step> steps;            // effects of type "step", in file order
+  double offset = 0;                           // constant [units]
+  kernels::Lowpass lowpass;                    // the effect of type "lowpass" (at most one)
   friend bool operator==(const Channel&, const Channel&) = default;
 };
 

@@ -66,9 +66,9 @@ struct FilterUsed {
 // fit explains every tau within its noise, so no filter biases it beyond what the fit allows;
 // the test's 84 trial fits and 27 refining ones, about 0.3 s a channel, are spared). n_eff is
 // the all-taus fit's when it converged (no second covariance model); the filter's deficit can
-// keep it from converging, and then find_lowpass computes its own. A filter given by the option is taken as
-// it is. The first m is where the filter biases white FM's Allan variance by less than half a
-// sigma (kernels::lowpass_first_m), so no tau the fit uses is biased by more.
+// keep it from converging, and then find_lowpass computes its own. A filter given by the option is
+// taken as it is. The first m is where the filter biases white FM's Allan variance by less than
+// half a sigma (kernels::lowpass_first_m), so no tau the fit uses is biased by more.
 FilterUsed filter_of(const LowpassChoice& choice, const kernels::StatResult& sub,
                      const kernels::FitResult& all, const Eigen::MatrixXd& all_covariance,
                      double rate_hz, std::int64_t n_samples) {

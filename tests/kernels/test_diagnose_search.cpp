@@ -134,5 +134,28 @@ TEST(DiagnoseSearch, ResonanceFrequencyAndSizeAreFound) {
   }
 }
 
+// A resonance whose ripples outlast every tau is a line to the curve: its q ends at the top of
+// the range, reported as a lower limit with no sigma, and the model stays a valid spec (the
+// range's end, exp(log(1e5)), must not round past what simulate accepts).
+TEST(DiagnoseSearch, ResonanceAsNarrowAsALineIsALowerLimitOfQ) {
+  auto truth = white();
+  truth.resonances.push_back({0.02, 5.0, kernels::kResonanceMaxQ});
+  Bases b;
+  const Curve cv = exact_curve(truth, b);
+  std::vector<Component> comps = components_of(white());
+  Component r;
+  r.kind = Kind::Resonance;
+  r.free = true;
+  r.nl_free = true;
+  comps.push_back(r);
+  const Fit f = search_resonance(comps, comps.size() - 1, cv, b, true);
+  EXPECT_NEAR(f.comps.back().nl / 5.0, 1.0, 2e-3);
+  EXPECT_EQ(f.comps.back().q_bound, 1);
+  const auto p = parameters_of(f.comps.back(), fill_sigmas(f, cv, b, 8.0), comps.size() - 1);
+  EXPECT_EQ(p[2].bound, 1);
+  EXPECT_TRUE(std::isnan(p[2].sigma));
+  EXPECT_NO_THROW(kernels::validate(spec_of(f.comps, white())));
+}
+
 }  // namespace
 }  // namespace allanlot

@@ -159,11 +159,11 @@ inline std::vector<Scenario> hidden_scenarios() {
 
 /// The levels of the detection study (issue #23 item 5). The scenarios above are `medium`; a
 /// level scales every hidden effect's amplitude (the eq. (3) coefficients the given model
-/// lacks, a sinusoid's amplitude, a Gauss-Markov or resonance sigma, a step's size) so that its variance is
-/// half (`weak`: amplitude / sqrt 2) or four times (`strong`: amplitude x 2) the medium one's.
-/// Weak effects thus contribute 15 to 50 % of the base curve's variance over about a decade of
-/// tau, the step 6.4 rms of its witness's differences (its detection level is about 6), the
-/// ramp R = 1.06e-4 crosses the flicker floor at 27 s.
+/// lacks, a sinusoid's amplitude, a Gauss-Markov or resonance sigma, a step's size) so that its
+/// variance is half (`weak`: amplitude / sqrt 2) or four times (`strong`: amplitude x 2) the medium
+/// one's. Weak effects thus contribute 15 to 50 % of the base curve's variance over about a decade
+/// of tau, the step 6.4 rms of its witness's differences (its detection level is about 6), the ramp
+/// R = 1.06e-4 crosses the flicker floor at 27 s.
 struct Level {
   const char* name;
   double amplitude;

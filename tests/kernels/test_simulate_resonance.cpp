@@ -112,7 +112,8 @@ TEST(SimulateResonance, PsdIsTheAutocovariancesFourierSeries) {
     long double s = c[0];
     for (std::size_t k = 1; k < c.size(); ++k)
       s += 2.0L * c[k] * std::cos(w * static_cast<long double>(k));
-    EXPECT_NEAR(kernels::resonance_psd_one_sided(r, kRate, f) / static_cast<double>(2.0L * s / kRate),
+    EXPECT_NEAR(kernels::resonance_psd_one_sided(r, kRate, f) /
+                    static_cast<double>(2.0L * s / kRate),
                 1.0, 1e-9)
         << "f " << f;
   }
@@ -153,7 +154,8 @@ TEST(SimulateResonance, SimulationHasTheModelsMoments) {
   // sqrt(2 max(2 m, 128) / n); 5 of them.
   kernels::simulate_channel(spec, 11, 3, y, 2);
   const std::vector<std::int64_t> m{1, 2, 3, 4, 5, 8, 30, 100};
-  const auto s = kernels::compute(kernels::Stat::Oadev, kernels::phase_from_rate(y, kRate, 1), m, 1);
+  const auto s =
+      kernels::compute(kernels::Stat::Oadev, kernels::phase_from_rate(y, kRate, 1), m, 1);
   for (std::size_t i = 0; i < m.size(); ++i) {
     const double want = kernels::model_avar_sampled(spec, m[i]);
     const double md = static_cast<double>(m[i]);
@@ -172,11 +174,10 @@ TEST(SimulateResonance, SameBytesForAnyThreadCountAndBadSpecsRejected) {
   kernels::simulate_channel(spec, 5, 1, a, 1);
   kernels::simulate_channel(spec, 5, 1, b, 2);
   EXPECT_EQ(a, b);
-  for (const kernels::Resonance bad : {kernels::Resonance{-1.0, 20.0, 40.0},
-                                       kernels::Resonance{0.2, 50.0, 40.0},
-                                       kernels::Resonance{0.2, 0.0, 40.0},
-                                       kernels::Resonance{0.2, 20.0, 0.4},
-                                       kernels::Resonance{0.2, 20.0, NAN}}) {
+  for (const kernels::Resonance bad :
+       {kernels::Resonance{-1.0, 20.0, 40.0}, kernels::Resonance{0.2, 50.0, 40.0},
+        kernels::Resonance{0.2, 0.0, 40.0}, kernels::Resonance{0.2, 20.0, 0.4},
+        kernels::Resonance{0.2, 20.0, NAN}}) {
     spec.resonances = {bad};
     EXPECT_THROW(kernels::validate(spec), std::invalid_argument);
   }
