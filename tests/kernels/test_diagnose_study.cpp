@@ -100,6 +100,11 @@ TEST(DiagnoseStudy, DISABLED_DetectionAndFalseAlarmRates) {
         if (std::isfinite(f))
           f_err = std::max(f_err, std::abs(f / s.truth.sinusoids[0].frequency_hz - 1.0));
       }
+      if (!s.truth.resonances.empty()) {
+        const double f = param(d, Effect::Resonance, "frequency_hz");
+        if (std::isfinite(f))
+          f_err = std::max(f_err, std::abs(f / s.truth.resonances[0].frequency_hz - 1.0));
+      }
       if (!s.truth.markovs.empty()) {
         const double t = param(d, Effect::Markov, "tau_c_s");
         if (std::isfinite(t))
