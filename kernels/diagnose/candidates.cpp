@@ -169,11 +169,7 @@ std::string term_key(Term t) {
 // Markov candidate: a new component, its tau_c searched with the others' coefficients as
 // `base` has them (fixed or free).
 CandidateFit markov_candidate(std::vector<Component> base, const Curve& cv, const Bases& b) {
-  Component c;
-  c.kind = Kind::Markov;
-  c.free = true;
-  c.nl_free = true;
-  base.push_back(c);
+  base.push_back(searched_component(Kind::Markov));
   const std::size_t idx = base.size() - 1;
   CandidateFit out;
   out.fit = search_tau_c(std::move(base), idx, cv, b);
@@ -193,6 +189,14 @@ Component step_component(const Step& st) {
 }
 
 }  // namespace
+
+Component searched_component(Kind kind) {
+  Component c;
+  c.kind = kind;
+  c.free = true;
+  c.nl_free = true;
+  return c;
+}
 
 double threshold(int k, double alpha) {
   if (k == 0) return 0.0;
@@ -242,31 +246,23 @@ std::vector<Component> components_of(const ChannelSpec& s) {
       c.given = true;
       out.push_back(c);
     }
+  const auto given = [](Kind kind, double nl, double coef) {
+    Component c;
+    c.kind = kind;
+    c.nl = nl;
+    c.coef = coef;
+    c.given = true;
+    return c;
+  };
   for (const Sinusoid& q : s.sinusoids) {
-    Component c;
-    c.kind = Kind::Sinusoid;
-    c.nl = q.frequency_hz;
-    c.phase = q.phase_rad;
-    c.coef = q.amplitude;
-    c.given = true;
-    out.push_back(c);
+    out.push_back(given(Kind::Sinusoid, q.frequency_hz, q.amplitude));
+    out.back().phase = q.phase_rad;
   }
-  for (const GaussMarkov& g : s.markovs) {
-    Component c;
-    c.kind = Kind::Markov;
-    c.nl = g.tau_c_s;
-    c.coef = g.sigma;
-    c.given = true;
-    out.push_back(c);
-  }
+  for (const GaussMarkov& g : s.markovs)
+    out.push_back(given(Kind::Markov, g.tau_c_s, g.sigma));
   for (const Resonance& r : s.resonances) {
-    Component c;
-    c.kind = Kind::Resonance;
-    c.nl = r.frequency_hz;
-    c.q = r.q;
-    c.coef = r.sigma;
-    c.given = true;
-    out.push_back(c);
+    out.push_back(given(Kind::Resonance, r.frequency_hz, r.sigma));
+    out.back().q = r.q;
   }
   for (const Step& st : s.steps) {
     // A given jump is kept as given: the Allan curve can neither place it nor size it apart

@@ -111,6 +111,9 @@ struct Criterion {
   double rate_hz = 1.0;
 };
 
+/// A new component of `kind` whose coefficient is fitted and nonlinear parameter searched.
+Component searched_component(Kind kind);
+
 /// The chi-square quantile at 1 - alpha with k degrees of freedom; 0 for k = 0 (a witnessed
 /// effect, whose parameters are not fitted on the curve).
 double threshold(int k, double alpha);

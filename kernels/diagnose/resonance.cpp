@@ -111,11 +111,7 @@ CandidateFit resonance_candidate(std::vector<Component> base, const Curve& cv, c
     out.info.note = "too many resonances";
     return out;
   }
-  Component c;
-  c.kind = Kind::Resonance;
-  c.free = true;
-  c.nl_free = true;
-  base.push_back(c);
+  base.push_back(searched_component(Kind::Resonance));
   const std::size_t idx = base.size() - 1;
   out.fit = search_resonance(std::move(base), idx, cv, b, true);
   const Component& r = out.fit.comps[idx];

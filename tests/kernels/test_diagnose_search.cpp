@@ -44,11 +44,7 @@ kernels::ChannelSpec white() {
 // The white noise given and fixed, a Gauss-Markov effect searched.
 Fit search(const Curve& cv, const Bases& b) {
   std::vector<Component> comps = components_of(white());
-  Component g;
-  g.kind = Kind::Markov;
-  g.free = true;
-  g.nl_free = true;
-  comps.push_back(g);
+  comps.push_back(searched_component(Kind::Markov));
   return search_tau_c(comps, comps.size() - 1, cv, b);
 }
 
@@ -115,11 +111,7 @@ TEST(DiagnoseSearch, ResonanceFrequencyAndSizeAreFound) {
     auto given = truth;
     given.resonances.clear();
     std::vector<Component> comps = components_of(given);
-    Component r;
-    r.kind = Kind::Resonance;
-    r.free = true;
-    r.nl_free = true;
-    comps.push_back(r);
+    comps.push_back(searched_component(Kind::Resonance));
     const Fit f = search_resonance(comps, comps.size() - 1, cv, b, true);
     const Component& got = f.comps.back();
     EXPECT_NEAR(got.nl / 20.0, 1.0, 2e-3) << "q " << q;
@@ -143,11 +135,7 @@ TEST(DiagnoseSearch, ResonanceAsNarrowAsALineIsALowerLimitOfQ) {
   Bases b;
   const Curve cv = exact_curve(truth, b);
   std::vector<Component> comps = components_of(white());
-  Component r;
-  r.kind = Kind::Resonance;
-  r.free = true;
-  r.nl_free = true;
-  comps.push_back(r);
+  comps.push_back(searched_component(Kind::Resonance));
   const Fit f = search_resonance(comps, comps.size() - 1, cv, b, true);
   EXPECT_NEAR(f.comps.back().nl / 5.0, 1.0, 2e-3);
   EXPECT_EQ(f.comps.back().q_bound, 1);
