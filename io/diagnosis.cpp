@@ -80,6 +80,12 @@ void write_diagnosis(const std::filesystem::path& out, const std::filesystem::pa
   if (const auto in = replaced_input(out, inputs))
     throw Error(file, "", replaced_input_message(out, *in));
   std::error_code ec;
+  // analyze -o writes a folder of results files: naming the folder is a usage slip, which must
+  // not surface as a stream error attributed to the input.
+  if (std::filesystem::is_directory(out, ec))
+    throw Error(file, "",
+                "is a folder; -o takes an HDF5 file, new or a results file (analyze -o DIR writes "
+                "DIR/<recording>.allan.h5)");
   const bool existing = std::filesystem::exists(out, ec);
   AtomicFile atomic(out);
   {

@@ -110,6 +110,23 @@ std::vector<std::string> diagnose_notes(const io::DiagnosisView& d) {
   return out;
 }
 
+// An iteration's parameters ({"parameters": {name: value}, "sigmas": {name: sigma or null}},
+// src/cli/diagnosis_json.hpp) as "name = value ± sigma" lines; the text as it is otherwise.
+std::string parameters_html(const std::string& text) {
+  const nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
+  if (!j.is_object() || !j.contains("parameters") || !j["parameters"].is_object())
+    return escape(text);
+  const nlohmann::json sigmas = j.value("sigmas", nlohmann::json::object());
+  std::string out;
+  for (const auto& [name, value] : j["parameters"].items()) {
+    if (!value.is_number()) continue;
+    out += (out.empty() ? "" : "<br>") + escape(name) + " = " + number(value.get<double>(), 4);
+    if (sigmas.contains(name) && sigmas[name].is_number())
+      out += " &plusmn; " + number(sigmas[name].get<double>(), 2);
+  }
+  return out;
+}
+
 std::string diagnosis_section(const std::string& id, const io::DiagnosisView& d,
                               const std::string& units) {
   std::ostringstream h;
@@ -132,7 +149,7 @@ std::string diagnosis_section(const std::string& id, const io::DiagnosisView& d,
       std::max({d.effects_named.size(), d.iteration_gap_before.size(), d.iteration_gap_after.size(),
                 d.iteration_delta_ic.size(), d.iteration_parameters.size()});
   if (iterations > 0) {
-    h << "<table><tr><th>iteration</th><th class=\"l\">effect added</th><th>gap before</th>"
+    h << "<table><tr><th>round</th><th class=\"l\">effect</th><th>gap before</th>"
          "<th>gap after</th><th>&Delta;IC</th><th class=\"l\">parameters</th></tr>\n";
     const auto num = [](const std::vector<double>& v, std::size_t i) {
       return i < v.size() ? number(v[i], 3) : std::string("&ndash;");
@@ -142,7 +159,8 @@ std::string diagnosis_section(const std::string& id, const io::DiagnosisView& d,
         << (i < d.effects_named.size() ? escape(d.effects_named[i]) : std::string()) << "</td><td>"
         << num(d.iteration_gap_before, i) << "</td><td>" << num(d.iteration_gap_after, i)
         << "</td><td>" << num(d.iteration_delta_ic, i) << "</td><td class=\"l wrap\">"
-        << (i < d.iteration_parameters.size() ? escape(d.iteration_parameters[i]) : std::string())
+        << (i < d.iteration_parameters.size() ? parameters_html(d.iteration_parameters[i])
+                                              : std::string())
         << "</td></tr>\n";
     h << "</table>\n";
   }

@@ -101,6 +101,11 @@ TEST(DiagnoseCommand, NamesTheHiddenSinusoidAndWritesEverything) {
   std::filesystem::copy_file(in, dir / "copy.h5");
   EXPECT_EQ(run_command(cmd + " -o " + (dir / "copy.h5").string(), &out), 1) << out;
   EXPECT_NE(out.find("not a group"), std::string::npos) << out;
+  // analyze's output folder is not a results file either: the folder is named, not the input.
+  std::filesystem::create_directory(dir / "results");
+  EXPECT_EQ(run_command(cmd + " -o " + (dir / "results").string(), &out), 1) << out;
+  EXPECT_NE(out.find((dir / "results").string() + ": is a folder"), std::string::npos) << out;
+  EXPECT_TRUE(std::filesystem::is_empty(dir / "results"));
   EXPECT_EQ(test::file_bytes(in), bytes);
   EXPECT_EQ(run_command(binary() + " diagnose " + (dir / "missing.h5").string() + " --model " +
                             (dir / "given.json").string(),

@@ -274,8 +274,8 @@ TEST_F(Report, ShowsADiagnosisWhenThereIsOne) {
   EXPECT_NE(s.find("<b>sinusoid</b> &rarr; <b>markov</b>"), std::string::npos);
   EXPECT_NE(s.find("Gap before: 4.2, after: 1.05"), std::string::npos);
   EXPECT_NE(s.find("Monte Carlo band"), std::string::npos);
-  EXPECT_NE(s.find("&quot;amplitude&quot;: 0.006"), std::string::npos);  // escaped JSON
-  EXPECT_NE(s.find("<td>-120</td>"), std::string::npos);                 // delta IC
+  EXPECT_NE(s.find("<td class=\"l wrap\">amplitude = 0.006</td>"), std::string::npos);
+  EXPECT_NE(s.find("<td>-120</td>"), std::string::npos);  // delta IC
   // diagnose's notes, from its JSON report: why each round chose what it did.
   EXPECT_NE(s.find("<p class=\"small\">round 2: the record without its least-squares line "
                    "still shows the random walk</p>"),
