@@ -185,17 +185,19 @@ double ou_sum_var(double a) {
 
 }  // namespace
 
+double lowpass_structure_sum(const std::function<double(double)>& d, double o,
+                             const std::vector<double>& rho) {
+  double s = rho[0] * d(std::abs(o));
+  for (std::size_t j = 1; j < rho.size(); ++j) {
+    const auto jd = static_cast<double>(j);
+    s += rho[j] * (d(std::abs(o - jd)) + d(std::abs(o + jd)));
+  }
+  return s;
+}
+
 double lowpass_structure_avar(const std::function<double(double)>& d, double m,
                               const std::vector<double>& rho) {
-  const auto j_len = static_cast<std::int64_t>(rho.size());
-  const auto f = [&](double o) {
-    double s = rho[0] * d(std::abs(o));
-    for (std::int64_t j = 1; j < j_len; ++j) {
-      const auto jd = static_cast<double>(j);
-      s += rho[static_cast<std::size_t>(j)] * (d(std::abs(o - jd)) + d(std::abs(o + jd)));
-    }
-    return s;
-  };
+  const auto f = [&](double o) { return lowpass_structure_sum(d, o, rho); };
   return (8.0 * f(m) - 2.0 * f(2.0 * m) - 6.0 * f(0.0)) / (4.0 * m * m);
 }
 

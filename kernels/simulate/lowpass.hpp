@@ -67,6 +67,9 @@ std::vector<double> lowpass_autocorrelation(const Lowpass& lp, double rate_hz);
 /// non-integer m interpolates when d does.
 double lowpass_structure_avar(const std::function<double(double)>& d, double m,
                               const std::vector<double>& rho);
+/// F(o) of lowpass_structure_avar: the filtered structure function at lag o.
+double lowpass_structure_sum(const std::function<double(double)>& d, double o,
+                             const std::vector<double>& rho);
 
 /// Overlapping Allan variance at averaging factor m (>= 1) of a Gauss-Markov effect of stationary
 /// sd sigma and correlation time tau_c_s as simulate draws it (each sample the mean of the

@@ -1,6 +1,7 @@
 // A resonance's process, Allan variance and PSD: see resonance.hpp.
 #include "kernels/simulate/resonance.hpp"
 
+#include "kernels/simulate/lowpass.hpp"
 #include "kernels/simulate/rng.hpp"
 
 #include <algorithm>
@@ -16,11 +17,13 @@ namespace {
 using cplx = std::complex<double>;
 
 // The AR(2) of resonance.hpp: its pole z, the autocovariance's constant c, the recursion's
-// coefficients and the innovation's sd.
+// coefficients and the innovation's sd; and e^L - 1 and g(L) of L = ln z, which every D(k) uses.
 struct Ar2 {
-  cplx z, log_z, c;
+  cplx z, log_z, c, z_minus_1, g_log_z;
   double a1 = 0, a2 = 0, rho1 = 0, sd_e = 0, sigma = 0;
 };
+
+cplx g_of(cplx x);
 
 Ar2 ar2_of(const Resonance& r, double rate_hz) {
   const double theta = 2.0 * std::numbers::pi * r.frequency_hz / rate_hz;
@@ -37,6 +40,8 @@ Ar2 ar2_of(const Resonance& r, double rate_hz) {
   p.c = r.sigma * r.sigma * cplx(1.0, -b);
   const double rho2 = p.a1 * p.rho1 + p.a2;
   p.sd_e = r.sigma * std::sqrt(std::max(0.0, 1.0 - p.a1 * p.rho1 - p.a2 * rho2));
+  p.z_minus_1 = std::exp(p.log_z) - 1.0;
+  p.g_log_z = g_of(p.log_z);
   return p;
 }
 
@@ -56,9 +61,8 @@ cplx g_of(cplx x) {
 // z^(k+1) - (k+1) z + k = g((k+1) L) - (k+1) g(L) and (1 - z)^2 = (e^L - 1)^2.
 double sum_var(const Ar2& p, double k) {
   if (k <= 0.0) return 0.0;
-  const cplx e1 = std::exp(p.log_z) - 1.0;
-  const cplx num = g_of((k + 1.0) * p.log_z) - (k + 1.0) * g_of(p.log_z);
-  return std::real(p.c * (2.0 * num / (e1 * e1) - k));
+  const cplx num = g_of((k + 1.0) * p.log_z) - (k + 1.0) * p.g_log_z;
+  return std::real(p.c * (2.0 * num / (p.z_minus_1 * p.z_minus_1) - k));
 }
 
 }  // namespace
@@ -117,12 +121,7 @@ public:
 
 private:
   double direct(double o) const {
-    double s = rho_[0] * sum_var(p_, std::abs(o));
-    for (std::size_t j = 1; j < rho_.size(); ++j) {
-      const auto jd = static_cast<double>(j);
-      s += rho_[j] * (sum_var(p_, std::abs(o - jd)) + sum_var(p_, std::abs(o + jd)));
-    }
-    return s;
+    return lowpass_structure_sum([this](double k) { return sum_var(p_, k); }, o, rho_);
   }
   double f(double o) const {
     if (o < o_closed_) return direct(o);
