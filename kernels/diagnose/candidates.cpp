@@ -431,7 +431,8 @@ Sigmas fill_sigmas(const Fit& f, const Curve& cv, const Bases& raw, double n_eff
 // The parameters of one component under the model file's keys.
 std::vector<Parameter> parameters_of(const Component& c, const Sigmas& sigmas, std::size_t idx) {
   const double coef_sigma = sigmas.coef[idx], nl_sigma = sigmas.nl[idx], q_sigma = sigmas.q[idx];
-  if (c.kind == Kind::Term) return {{term_key(c.term), c.coef, coef_sigma}};
+  if (c.kind == Kind::Term)
+    return {{term_key(c.term), c.coef, c.pinned ? c.coef_sigma : coef_sigma}};
   if (c.kind == Kind::Lowpass)
     return c.lp.taps > 0 ? std::vector<Parameter>{{"taps", c.lp.taps, kNaN, c.nl_bound}}
                          : std::vector<Parameter>{{"cutoff_hz", c.lp.cutoff_hz, kNaN, c.nl_bound}};

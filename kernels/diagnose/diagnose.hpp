@@ -134,8 +134,9 @@ struct DiagnoseOptions {
   std::uint64_t mc_seed = 7;   // seed of the replicas; replica r is Philox stream r
   double band_alpha = 0.05;    // probability that a complete model shows any band
   double select_alpha = 0.05;  // probability that a round adds an effect to a complete model
-  double line_false_alarm = 1e-4;  // probability of a spurious PSD line in the whole record
-  double step_false_alarm = 1e-3;  // probability of a spurious jump in the whole record
+  double line_false_alarm = 1e-4;   // probability of a spurious PSD line in the whole record
+  double step_false_alarm = 1e-3;   // probability of a spurious jump in the whole record
+  double trend_false_alarm = 1e-3;  // probability of a spurious trend per witnessed test
   // At most this many effects are added, 1 .. kMaxEffects. A real accelerometer shows several
   // lines, its filter, a bias jump and a hump (docs/diagnose.md "Real sensors"); four left some
   // unnamed.
@@ -230,6 +231,32 @@ struct StepWitness {
 /// or false_alarm.
 StepWitness find_step(std::span<const double> rate, double rate_hz, std::span<const Step> known,
                       double false_alarm = 1e-3);
+
+/// The ramp's witness: the record's least-squares slope against its standard deviation under
+/// the model being tested (kernels/diagnose/find_trend.cpp).
+struct TrendWitness {
+  bool searched = false;  // false when the record has gaps or fewer than 3 samples
+  bool found = false;     // p_value < false_alarm
+  double slope = 0;       // least-squares slope of the record [u/s]
+  double sigma = 0;       // its standard deviation under the model [u/s]
+  double z = 0;           // slope / sigma
+  double p_value = 1;     // two-sided, of a normal z
+  double false_alarm = 0;
+};
+
+/// Variance of the least-squares slope of a record of duration_s under the model's noise (its
+/// one-sided PSD, model_psd_one_sided; ramp and lines left out) [(u/s)^2]. Throws
+/// std::invalid_argument for a duration that is not finite and > 0.
+double trend_slope_variance(const ChannelSpec& model, double duration_s);
+
+/// The least-squares slope of samples at rate_hz against time [u/s] (at least 2 samples).
+double least_squares_slope(std::span<const double> y, double rate_hz);
+
+/// Tests `rate` (its known steps removed) for a trend the model does not explain: a ramp's
+/// witness at `false_alarm` per test. Not searched for a record with NaN or under 3 samples.
+/// Throws std::invalid_argument for a bad rate_hz or false_alarm.
+TrendWitness find_trend(std::span<const double> rate, double rate_hz, const ChannelSpec& model,
+                        double false_alarm = 1e-3);
 
 /// One candidate effect as evaluated in one iteration.
 struct Candidate {

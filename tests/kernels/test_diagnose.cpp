@@ -124,6 +124,37 @@ TEST(Diagnose, ARandomWalksTrendIsNotARamp) {
   }
 }
 
+TEST(Diagnose, ARampTooSmallForTheCurveIsSeenInTheSlope) {
+  // Over white FM the slope's spread is 12 N^2 / T^3 while a ramp's Allan variance R^2 tau^2 / 2
+  // exceeds N^2 / tau by 6 z^2 (tau / T)^3 only, 0.1 z^2 at the longest tau (T / 4, two or three
+  // edf): a ramp of 6 slope sigma is a few tens of percent there and within the estimate's
+  // spread, but its witness stands at z = 6. With the witness switched off (a false alarm of
+  // 1e-300) the curve alone misses it on these seeds.
+  kernels::ChannelSpec given;
+  given.rate_hz = test::kRateHz;
+  given.terms.N = 0.01;
+  kernels::ChannelSpec truth = given;
+  truth.terms.R = 6.0 * std::sqrt(kernels::trend_slope_variance(given, test::kDurationS));
+  kernels::DiagnoseOptions off;
+  off.trend_false_alarm = 1e-300;
+  for (const std::uint64_t seed : {1001u, 1002u}) {
+    SCOPED_TRACE(seed);
+    const auto d = test::run_scenario(truth, given, seed, 0, 2);
+    ASSERT_EQ(d.effects_named, std::vector<Effect>{Effect::Ramp});
+    const auto* r = find_param(d, Effect::Ramp, "R");
+    ASSERT_NE(r, nullptr);
+    EXPECT_NEAR(r->value, truth.terms.R, 4.0 * r->sigma);
+    const auto& cands = d.iterations[0].candidates;
+    EXPECT_TRUE(std::any_of(cands.begin(), cands.end(), [](const kernels::Candidate& c) {
+      return c.effect == Effect::Ramp && c.note.find("slope") != std::string::npos;
+    }));
+    EXPECT_TRUE(test::run_scenario(truth, given, seed, 0, 2, off).effects_named.empty());
+  }
+  // A complete model's record has no trend to find (and the study's null case: 0 of 10).
+  const auto none = test::run_scenario(given, given, 1001, 0, 2);
+  EXPECT_TRUE(none.effects_named.empty());
+}
+
 TEST(Diagnose, AHumpMustShowItsTurnover) {
   // Seed 1001's strong random walk falls low at its longest taus, which a Gauss-Markov hump
   // fitted better by more than its extra parameter costs in a free choice; but its peak (about

@@ -194,10 +194,10 @@ inline Scenario at_level(Scenario s, const Level& level) {
 /// The measurement of scenario `s` for `seed`, diagnosed with `replicas` Monte Carlo replicas.
 inline kernels::Diagnosis run_scenario(const kernels::ChannelSpec& truth,
                                        const kernels::ChannelSpec& given, std::uint64_t seed,
-                                       int replicas, int nthreads = 0) {
+                                       int replicas, int nthreads = 0,
+                                       kernels::DiagnoseOptions opt = {}) {
   std::vector<double> y(static_cast<std::size_t>(kRateHz * kDurationS));
   kernels::simulate_channel(truth, seed, 0, y, nthreads);
-  kernels::DiagnoseOptions opt;
   opt.mc_replicas = replicas;
   opt.nthreads = nthreads;
   return kernels::diagnose(y, kRateHz, given, opt);
