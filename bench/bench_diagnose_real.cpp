@@ -128,11 +128,15 @@ void inject_rows(const std::string& unit, const std::string& channel,
       const bool named = std::find(g.effects_named.begin(), g.effects_named.end(), inj.effect) !=
                          g.effects_named.end();
       const bool exact = named && g.effects_named.size() == 1;
+      // A model that has a ramp already can only find its R wrong, not name a second ramp.
+      const bool has_ramp = inj.effect == kernels::Effect::Ramp && d.model_after.terms.R > 0.0;
       std::printf("| %s | %s | %s | %.0f sigma (%.3g) | %s | %s | %.3g (%.3g) |\n", unit.c_str(),
                   channel.c_str(), inj.name, sigmas, a, names(g).c_str(),
                   exact   ? "exact"
                   : named ? "named, with others"
-                          : "missed",
+                  : has_ramp
+                      ? (g.coefficients_wrong ? "model's ramp found wrong" : "model has a ramp")
+                      : "missed",
                   g.after.gap, g.mc_after.gap_p95);
       std::fflush(stdout);
     }

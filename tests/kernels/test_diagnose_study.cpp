@@ -114,9 +114,16 @@ TEST(DiagnoseStudy, DISABLED_DetectionAndFalseAlarmRates) {
         std::printf("  %s seed %d: named %s gap %.3f -> %.3f (p95 %.3f) neff %.1f wrong %d\n",
                     s.name.c_str(), seed, named(d).c_str(), d.before.gap, d.after.gap,
                     d.mc_after.gap_p95, d.n_eff, d.coefficients_wrong ? 1 : 0);
-      if (verbose)
+      if (verbose) {
         for (const auto& note : d.notes)
           std::printf("    %s\n", note.c_str());
+        for (const auto& it : d.iterations)
+          for (const auto& c : it.candidates)
+            if (c.effect == it.effect)
+              std::printf("    round %s: %+.1f %s\n",
+                          std::string(kernels::effect_name(it.effect)).c_str(), c.delta_ic,
+                          c.note.c_str());
+      }
     }
     std::sort(gaps.begin(), gaps.end());
     std::printf("%-30s %3d/%-3d %5.2f  %8.3f           %3d/%-3d      %7.4f    %7.4f   "
