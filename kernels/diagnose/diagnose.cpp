@@ -376,6 +376,8 @@ bool Search::round(int& iter) {
   if (iter == 0 && !refit_taken) {
     d.line = line;
     d.step = jump;
+    if (const ChannelSpec now = spec_of(current, spec); !(now.terms.R > 0.0))
+      d.trend = trend_under(now);
   }
   std::optional<Curve> without_jump = curve_without_jump(jump);
   const Witnesses seen{line, jump, without_jump ? &*without_jump : nullptr};

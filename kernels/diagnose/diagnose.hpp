@@ -302,8 +302,9 @@ struct Diagnosis {
   ChannelSpec model_before, model_after;
   Comparison before, after;
   McBand mc_before, mc_after;
-  SpectralLine line;  // the first iteration's PSD witness
-  StepWitness step;   // the first iteration's time-domain witness
+  SpectralLine line;   // the first iteration's PSD witness
+  StepWitness step;    // the first iteration's time-domain witness
+  TrendWitness trend;  // the ramp's witness under the given model (not searched if it has a ramp)
   std::vector<Iteration> iterations;
   std::vector<Effect> effects_named;
   // Effects' final parameters with uncertainties, in effects_named order.

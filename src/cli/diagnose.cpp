@@ -73,6 +73,10 @@ void print_report(std::ostream& out, const std::string& file, const std::string&
     out << "  time-domain witness: jump of " << num(d.step.size) << " at " << num(d.step.time_s)
         << " s (" << num(d.step.statistic) << " rms at " << d.step.scale_m << " samples, p "
         << num(d.step.p_value) << " < " << num(d.step.false_alarm) << ")\n";
+  if (d.trend.found)
+    out << "  trend witness: slope " << num(d.trend.slope) << " +- " << num(d.trend.sigma)
+        << " per s (z " << num(d.trend.z) << ", p " << num(d.trend.p_value) << " < "
+        << num(d.trend.false_alarm) << ")\n";
   for (std::size_t i = 0; i < d.iterations.size(); ++i) {
     const auto& it = d.iterations[i];
     out << "iteration " << i + 1 << ": add " << kernels::effect_name(it.effect) << " (criterion +"

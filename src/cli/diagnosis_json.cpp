@@ -111,6 +111,13 @@ Json diagnosis_json(const std::string& channel, const kernels::Diagnosis& d) {
                        {"time_s", d.step.time_s},       {"size", d.step.size},
                        {"statistic", d.step.statistic}, {"scale_m", d.step.scale_m},
                        {"p_value", d.step.p_value},     {"false_alarm", d.step.false_alarm}};
+  j["trend_witness"] = {{"searched", d.trend.searched},
+                        {"found", d.trend.found},
+                        {"slope", d.trend.slope},
+                        {"sigma", d.trend.sigma},
+                        {"z", d.trend.z},
+                        {"p_value", d.trend.p_value},
+                        {"false_alarm", d.trend.false_alarm}};
   j["notes"] = d.notes;
   return j;
 }

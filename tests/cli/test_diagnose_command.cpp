@@ -134,6 +134,11 @@ TEST(DiagnoseCommand, AJumpIsNamedAsAStepAndTheCorrectedModelCarriesIt) {
   EXPECT_NEAR(j["parameters"]["step"]["time_s"].get<double>(), 250.3, 1.0);
   EXPECT_NEAR(j["parameters"]["step"]["size"].get<double>(), 0.05, 0.015);
   EXPECT_TRUE(j["step_witness"]["found"].get<bool>());
+  const auto& trend = j["trend_witness"];
+  ASSERT_TRUE(trend["searched"].get<bool>()) << out;
+  EXPECT_GT(trend["sigma"].get<double>(), 0.0);
+  EXPECT_NEAR(trend["z"].get<double>(), trend["slope"].get<double>() / trend["sigma"].get<double>(),
+              1e-9);
   std::ifstream f(fixed);
   const auto model = nlohmann::json::parse(f);
   ASSERT_EQ(model["effects"].size(), 1u);
