@@ -661,12 +661,17 @@ CandidateFit evaluate_candidate(Effect e, std::vector<Component> comps, const Wi
     if (!cf.info.note.empty()) return cf;
     k += 3;
   }
+  score_candidate(cf, k, chi2_ref, *fit_cv, b, crit);
+  return cf;
+}
+
+void score_candidate(CandidateFit& cf, int k, double chi2_ref, const Curve& fit_cv, const Bases& b,
+                     const Criterion& crit) {
   cf.added = cf.fit.comps.size() - 1;
   cf.info.evaluated = true;
   cf.info.delta_ic = (chi2_ref - cf.fit.chi2) * crit.scale - threshold(k, crit.alpha_candidate);
   cf.info.parameters =
-      parameters_of(cf.fit.comps[cf.added], fill_sigmas(cf.fit, *fit_cv, b, crit.n_eff), cf.added);
-  return cf;
+      parameters_of(cf.fit.comps[cf.added], fill_sigmas(cf.fit, fit_cv, b, crit.n_eff), cf.added);
 }
 
 }  // namespace allanlot::kernels::diagnose_detail

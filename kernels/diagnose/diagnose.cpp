@@ -326,16 +326,12 @@ std::size_t Search::witnessed_ramp(std::vector<CandidateFit>& cands,
   comps.push_back(c);
   CandidateFit cf;
   cf.fit = fit_components(std::move(comps), cv, bases);
-  cf.added = cf.fit.comps.size() - 1;
   cf.info.effect = Effect::Ramp;
-  cf.info.evaluated = true;
-  cf.info.delta_ic = (chi2_ref - cf.fit.chi2) * crit.scale;
+  score_candidate(cf, 0, chi2_ref, cv, bases, crit);
   if (!(cf.info.delta_ic > 0.0)) return cands.size();
   cf.info.note = "the record's slope " + std::to_string(tr.slope) + " +- " +
                  std::to_string(tr.sigma) + " (z = " + std::to_string(tr.z) +
                  ", p = " + std::to_string(tr.p_value) + ") is a trend the model does not explain";
-  cf.info.parameters =
-      parameters_of(cf.fit.comps[cf.added], fill_sigmas(cf.fit, cv, bases, crit.n_eff), cf.added);
   for (std::size_t i = 0; i < cands.size(); ++i)
     if (cands[i].info.effect == Effect::Ramp) {
       cands[i] = std::move(cf);
@@ -344,10 +340,9 @@ std::size_t Search::witnessed_ramp(std::vector<CandidateFit>& cands,
   return cands.size();
 }
 
-// The ramp's witness under `model` (its steps removed from the record); not searched for a
-// record with gaps.
+// The ramp's witness under `model` (its steps removed from the record); find_trend does not
+// search a record with gaps.
 TrendWitness Search::trend_under(const ChannelSpec& model) const {
-  if (rate.size() < 3 || has_nan(rate)) return {};
   return find_trend(record_without(model.steps), crit.rate_hz, model, opt.trend_false_alarm);
 }
 
@@ -536,12 +531,12 @@ bool Search::prune(Fit& base, bool free_given) {
     std::vector<Component> without = base.comps;
     without.erase(without.begin() + static_cast<std::ptrdiff_t>(added_idx[k]));
     // Judged as the round judged it: under the edf of the model without the effect, the
-    // hypothesis it is tested against. Under the edf of the model with it, a narrowband
-    // resonance's few degrees of freedom (2 pi f0 T / q) made its own misfit cheap: a real
-    // accelerometer's 0.56 Hz resonance was removed at criterion -9.8, the gap going from 0.99
-    // at the end of the rounds to 12.2.
-    // The model without it is first refitted, as the rounds' models are: the coefficients fitted
-    // beside it can be far from its own (the quantization a filter had traded against).
+    // hypothesis it is tested against, refitted as the rounds' models are (the coefficients
+    // fitted beside the effect can be far from its own: the quantization a filter had traded
+    // against). Under the edf of the model with it, a narrowband resonance's few degrees of
+    // freedom (2 pi f0 T / q) made its own misfit cheap: a real accelerometer's 0.56 Hz
+    // resonance was removed at criterion -9.8, the gap going from 0.99 at the end of the rounds
+    // to 12.2.
     const ChannelSpec null_model = spec_of(fit_on(without, cv).comps, spec);
     // A ramp is kept while its witness, the record's slope, still sees it beside the rest of the
     // final model (named on the curve, one of the study's ten ramp + markov records lost it at

@@ -156,6 +156,10 @@ Fit search_resonance(std::vector<Component> comps, std::size_t idx, const Curve&
 /// The resonance candidate: a new component searched with the others as `base` has them; with a
 /// note and no fit when it is not a distinct instance.
 CandidateFit resonance_candidate(std::vector<Component> base, const Curve& cv, const Bases& b);
+/// Marks a fitted candidate (its component added last) evaluated: its criterion against
+/// chi2_ref at k parameters (0 for a witnessed effect) and its parameters on `fit_cv`.
+void score_candidate(CandidateFit& cf, int k, double chi2_ref, const Curve& fit_cv, const Bases& b,
+                     const Criterion& crit);
 /// Candidate e added to `comps` (their coefficients fixed or free as they are), fitted and
 /// judged against chi2_ref; n_refit counts the parameters the reference's refit already frees.
 CandidateFit evaluate_candidate(Effect e, std::vector<Component> comps, const Witnesses& seen,

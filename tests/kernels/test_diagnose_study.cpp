@@ -110,11 +110,10 @@ TEST(DiagnoseStudy, DISABLED_DetectionAndFalseAlarmRates) {
         if (std::isfinite(t))
           tc_err = std::max(tc_err, std::abs(t / s.truth.markovs[0].tau_c_s - 1.0));
       }
-      if (verbose)
+      if (verbose) {
         std::printf("  %s seed %d: named %s gap %.3f -> %.3f (p95 %.3f) neff %.1f wrong %d\n",
                     s.name.c_str(), seed, named(d).c_str(), d.before.gap, d.after.gap,
                     d.mc_after.gap_p95, d.n_eff, d.coefficients_wrong ? 1 : 0);
-      if (verbose) {
         for (const auto& note : d.notes)
           std::printf("    %s\n", note.c_str());
         for (const auto& it : d.iterations)
