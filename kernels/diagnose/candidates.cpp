@@ -16,6 +16,7 @@
 #include <numbers>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace allanlot::kernels::diagnose_detail {
 namespace {
@@ -74,8 +75,8 @@ Bases bases_for(const std::vector<Component>& comps, const Curve& cv, const Base
 // measurably) and moving averages over 1.05 to 16 samples on the same kind of grid (a non-integer
 // length is the boxcar of a sensor that averages a faster internal rate before decimating: the
 // ADIS16405's deficit is steeper than a one-pole filter's), each fitted with the other components
-// as `base` has them; the best is kept and refined between its neighbours (below). A value at
-// either end of its grid is a limit.
+// as `base` has them; each form's best is refined between its neighbours and the better of the
+// two kept (below). A value at either end of its grid is a limit.
 Fit search_lowpass(std::vector<Component> comps, std::size_t idx, const Curve& cv, const Bases& b) {
   const double lo = std::log(b.rate_hz / 200.0), hi = std::log(0.45 * b.rate_hz);
   const int n_grid = static_cast<int>(std::ceil((hi - lo) / (std::numbers::ln2 / 8.0))) + 1;
@@ -92,25 +93,33 @@ Fit search_lowpass(std::vector<Component> comps, std::size_t idx, const Curve& c
     comps[idx].lp = lp;
     return fit_components(comps, cv, filtered_bases(b, cv, lp));
   };
+  // Each form's best grid point is refined by a golden-section search between its neighbours:
+  // the grid's step (9 %) is coarse against what a long record resolves (the ADIS16405's
+  // deficit at tau0 has an edf of 10^5), so the forms are compared refined. Compared on the
+  // grid, a one-pole point that happened to lie nearer its optimum than the boxcar's beat the
+  // 2-tap boxcar the ADIS16405 x gyroscopes have, and a broad resonance was named for the shape
+  // the one-pole lacked.
   Fit out;
   double best = std::numeric_limits<double>::infinity();
   int best_g = -1;
-  for (int g = 0; g < n_grid + n_taps; ++g) {
-    Fit f = fit_at(g);
-    if (f.chi2 < best) {
-      best = f.chi2;
-      best_g = g;
-      out = std::move(f);
+  for (const auto [first, last] :
+       {std::pair{0, n_grid - 1}, std::pair{n_grid, n_grid + n_taps - 1}}) {
+    Fit form_best;
+    int g_best = first;
+    for (int g = first; g <= last; ++g)
+      if (Fit f = fit_at(g); g == first || f.chi2 < form_best.chi2) {
+        form_best = std::move(f);
+        g_best = g;
+      }
+    const double x = golden_min([&](double v) { return fit_at(v).chi2; },
+                                std::max(g_best - 1, first), std::min(g_best + 1, last));
+    if (Fit f = fit_at(x); f.chi2 < form_best.chi2) form_best = std::move(f);
+    if (form_best.chi2 < best) {
+      best = form_best.chi2;
+      best_g = g_best;
+      out = std::move(form_best);
     }
   }
-  // The grid's step (9 %) is coarse against what a long record resolves (the ADIS16405's
-  // deficit at tau0 has an edf of 10^5): the value is refined by a golden-section search
-  // between the best point's neighbours of the same form.
-  const int first = best_g < n_grid ? 0 : n_grid,
-            last_g = best_g < n_grid ? n_grid - 1 : n_grid + n_taps - 1;
-  const double x = golden_min([&](double v) { return fit_at(v).chi2; }, std::max(best_g - 1, first),
-                              std::min(best_g + 1, last_g));
-  if (Fit f = fit_at(x); f.chi2 < best) out = std::move(f);
   // At the bottom of either grid the value is an upper limit, at the top a lower one.
   const int last = n_grid + n_taps - 1;
   out.comps[idx].nl_bound = best_g == 0 || best_g == n_grid          ? -1
@@ -441,6 +450,10 @@ std::vector<Parameter> parameters_of(const Component& c, const Sigmas& sigmas, s
             {"frequency_hz", c.nl, std::isnan(c.nl_sigma) ? nl_sigma : c.nl_sigma}};
   if (c.kind == Kind::Step)
     return {{"size", c.sign * c.coef, c.coef_sigma}, {"time_s", c.nl, c.nl_sigma}};
+  if (c.kind == Kind::Resonance && (c.pinned || c.psd_shape))
+    return {{"sigma", c.coef, c.pinned ? c.coef_sigma : coef_sigma},
+            {"frequency_hz", c.nl, c.nl_sigma},
+            {"q", c.q, c.q_sigma}};
   if (c.kind == Kind::Resonance)
     return {{"sigma", c.coef, coef_sigma},
             {"frequency_hz", c.nl, c.nl_bound != 0 ? kNaN : nl_sigma, c.nl_bound},
@@ -581,6 +594,9 @@ CandidateFit evaluate_candidate(Effect e, std::vector<Component> comps, const Wi
     if (!line.found || line.frequency_hz > 0.5 * crit.rate_hz) {
       cf.info.note = "the PSD shows no line (peak/background " + std::to_string(line.peak_ratio) +
                      " < threshold " + std::to_string(line.threshold) + ")";
+      if (line.wide_hz > 0.0)
+        cf.info.note += "; its peak at " + std::to_string(line.wide_hz) +
+                        " Hz is wider than a line (a narrowband process)";
       return cf;
     }
     Component c;
@@ -656,8 +672,13 @@ CandidateFit evaluate_candidate(Effect e, std::vector<Component> comps, const Wi
         return none;
       }
     k += 2;
+  } else if (e == Effect::Resonance && line.narrowband.found) {
+    // Its witness, a PSD peak wider than a line, measured f0, q and sigma: no penalty, as for a
+    // witnessed line.
+    cf = witnessed_resonance(std::move(comps), line.narrowband, cv, b);
+    if (cf.fit.comps.empty()) return cf;
   } else if (e == Effect::Resonance) {
-    cf = resonance_candidate(std::move(comps), cv, b);
+    cf = resonance_candidate(std::move(comps), cv, b, seen);
     if (!cf.info.note.empty()) return cf;
     k += 3;
   }

@@ -19,55 +19,6 @@ namespace allanlot::kernels {
 
 using namespace diagnose_detail;
 
-std::string_view effect_name(Effect e) {
-  switch (e) {
-  case Effect::Quantization:
-    return "quantization";
-  case Effect::White:
-    return "white";
-  case Effect::Flicker:
-    return "flicker";
-  case Effect::RandomWalk:
-    return "random_walk";
-  case Effect::Ramp:
-    return "ramp";
-  case Effect::Sinusoid:
-    return "sinusoid";
-  case Effect::Markov:
-    return "markov";
-  case Effect::Lowpass:
-    return "lowpass";
-  case Effect::Step:
-    return "step";
-  case Effect::Resonance:
-    return "resonance";
-  }
-  return "?";
-}
-
-std::optional<Effect> parse_effect(std::string_view name) {
-  for (const Effect e : kAllEffects)
-    if (effect_name(e) == name) return e;
-  return std::nullopt;
-}
-
-std::optional<Term> effect_term(Effect e) {
-  switch (e) {
-  case Effect::Quantization:
-    return Term::Q;
-  case Effect::White:
-    return Term::N;
-  case Effect::Flicker:
-    return Term::B;
-  case Effect::RandomWalk:
-    return Term::K;
-  case Effect::Ramp:
-    return Term::R;
-  default:
-    return std::nullopt;
-  }
-}
-
 namespace {
 
 void check_options(const DiagnoseOptions& opt) {
@@ -195,6 +146,7 @@ struct Search {
   int threads = 1;
 
   SpectralLine focused_line(const Fit& ref, const std::vector<double>& known_f,
+                            const std::vector<double>& known_wide,
                             const SpectralLine& global) const;
   std::vector<double> record_without(const std::vector<Step>& steps) const;
   Curve curve_without(const std::vector<Step>& steps) const;
@@ -223,14 +175,16 @@ struct Search {
 // record hides behind a hump's Lorentzian background (weak sinusoid + markov: 5 of 10 named
 // before). The global result stands when there is no such band or nothing is found.
 SpectralLine Search::focused_line(const Fit& ref, const std::vector<double>& known_f,
+                                  const std::vector<double>& known_wide,
                                   const SpectralLine& global) const {
   const Comparison cmp = compare(cv, ref.model, cv.edf, alpha_tau);
   const Band* top = nullptr;
   for (const Band& b : cmp.bands)
     if (b.sign > 0 && (top == nullptr || b.max_abs_z > top->max_abs_z)) top = &b;
   if (top == nullptr) return global;
-  const SpectralLine near = search_line(*periodogram, t_record, known_f, opt.line_false_alarm,
-                                        0.1 / top->tau_hi_s, 1.0 / top->tau_lo_s);
+  const SpectralLine near =
+      search_line(*periodogram, t_record, known_f, known_wide, opt.line_false_alarm,
+                  0.1 / top->tau_hi_s, 1.0 / top->tau_lo_s);
   return near.found ? near : global;
 }
 
@@ -360,12 +314,15 @@ bool Search::round(int& iter) {
   const Fit ref = fit_components(fixed_now, cv, bases);
   const int n_free = static_cast<int>(
       std::count_if(free_now.begin(), free_now.end(), [](const auto& c) { return c.free; }));
-  std::vector<double> known_f;
-  for (const Component& c : current)
+  std::vector<double> known_f, known_wide;
+  for (const Component& c : current) {
     if (c.kind == Kind::Sinusoid) known_f.push_back(c.nl);
+    if (c.kind == Kind::Resonance) known_wide.push_back(c.nl);
+  }
   SpectralLine line;
-  if (periodogram) line = search_line(*periodogram, t_record, known_f, opt.line_false_alarm);
-  if (periodogram && !line.found) line = focused_line(ref, known_f, line);
+  if (periodogram)
+    line = search_line(*periodogram, t_record, known_f, known_wide, opt.line_false_alarm);
+  if (periodogram && !line.found) line = focused_line(ref, known_f, known_wide, line);
   const StepWitness jump =
       find_step(rate, crit.rate_hz, spec_of(current, spec).steps, opt.step_false_alarm);
   if (iter == 0 && !refit_taken) {
@@ -375,7 +332,8 @@ bool Search::round(int& iter) {
       d.trend = trend_under(now);
   }
   std::optional<Curve> without_jump = curve_without_jump(jump);
-  const Witnesses seen{line, jump, without_jump ? &*without_jump : nullptr};
+  const Witnesses seen{line, jump, without_jump ? &*without_jump : nullptr,
+                       periodogram ? &*periodogram : nullptr, opt.line_false_alarm};
   // Variant (b) is judged against the refit, not against the model as it stands: its effect
   // must pay for itself beyond what re-estimating alone achieves, or any useless term would
   // ride on the refit's improvement.
@@ -478,7 +436,8 @@ Fit Search::refit_final() {
     if (base.comps[idx].kind == Kind::Lowpass) base = search_lowpass(base.comps, idx, cv, bases);
   for (const std::size_t idx : added_idx) {
     if (base.comps[idx].kind == Kind::Markov) base = search_tau_c(base.comps, idx, cv, bases);
-    if (base.comps[idx].kind == Kind::Resonance)
+    if (base.comps[idx].kind == Kind::Resonance && !base.comps[idx].pinned &&
+        !base.comps[idx].psd_shape)
       base = search_resonance(base.comps, idx, cv, bases, false);
   }
   return base;
@@ -515,19 +474,38 @@ bool Search::given_wrong(const Fit& base, const Fit& fixed) {
 // levels took up part of it after the rounds had named it against the model as given (a
 // Gauss-Markov hump of 5 sigma injected into a real gyroscope's record, 0 of 10). The least
 // significant one that does not pay is removed and the model refitted; true when one was.
-// Sinusoids and steps are witnessed by their PSD line or their jump instead (their size is not
-// fitted on the Allan curve), and are kept; a ramp, by the record's slope (below).
+// Sinusoids, resonances named from a PSD peak wider than a line and steps are witnessed by
+// their periodogram or their jump instead (their size is not fitted on the Allan curve), and are
+// kept; a ramp, by the record's slope (below).
 bool Search::prune(Fit& base, bool free_given) {
   const auto fit_on = [&](std::vector<Component> comps, const Curve& on) {
     return free_given ? fit_components(std::move(comps), on, bases)
                       : fit_given_fixed(std::move(comps), on);
+  };
+  // The rest refitted includes an added filter's form and value: a resonance or hump is judged
+  // against the best filter without it, not the one chosen beside it. A one-pole filter named
+  // beside a broad resonance (q at its bound) for the shape it lacked held the resonance in
+  // place, while the boxcar alone, the 2-tap filter the ADIS16405 x and y gyroscopes have (lag-1
+  // autocorrelation 0.17 to 0.29, none beyond), fits as well without it.
+  const auto refit_without = [&](std::vector<Component> comps, const Curve& on) {
+    for (std::size_t idx = given.size(); idx < comps.size(); ++idx) {
+      if (comps[idx].kind != Kind::Lowpass) continue;
+      if (!free_given)
+        for (std::size_t c = 0; c < given.size(); ++c) {
+          comps[c] = given[c];
+          comps[c].free = false;
+        }
+      return search_lowpass(std::move(comps), idx, on, bases);
+    }
+    return fit_on(std::move(comps), on);
   };
   const Fit with = fit_on(base.comps, cv);
   double worst = 0.0;
   std::size_t worst_k = added_idx.size();
   for (std::size_t k = 0; k < added_idx.size(); ++k) {
     const Component& c = with.comps[added_idx[k]];
-    if (c.kind == Kind::Sinusoid || c.kind == Kind::Step) continue;
+    if (c.kind == Kind::Sinusoid || c.kind == Kind::Step || (c.kind == Kind::Resonance && c.pinned))
+      continue;
     std::vector<Component> without = base.comps;
     without.erase(without.begin() + static_cast<std::ptrdiff_t>(added_idx[k]));
     // Judged as the round judged it: under the edf of the model without the effect, the
@@ -537,7 +515,7 @@ bool Search::prune(Fit& base, bool free_given) {
     // freedom (2 pi f0 T / q) made its own misfit cheap: a real accelerometer's 0.56 Hz
     // resonance was removed at criterion -9.8, the gap going from 0.99 at the end of the rounds
     // to 12.2.
-    const ChannelSpec null_model = spec_of(fit_on(without, cv).comps, spec);
+    const ChannelSpec null_model = spec_of(refit_without(without, cv).comps, spec);
     // A ramp is kept while its witness, the record's slope, still sees it beside the rest of the
     // final model (named on the curve, one of the study's ten ramp + markov records lost it at
     // criterion -0.85); one named by the witness alone goes when the witness no longer sees it
@@ -553,7 +531,7 @@ bool Search::prune(Fit& base, bool free_given) {
     }
     Curve null_cv = cv;
     use_edf(null_cv, model_edf(null_model, cv, bases));
-    const Fit f = fit_on(without, null_cv);
+    const Fit f = refit_without(without, null_cv);
     const Fit w = fit_on(base.comps, null_cv);
     const int k_c = c.kind == Kind::Term || c.kind == Kind::Lowpass ? 1
                     : c.kind == Kind::Resonance                     ? 3

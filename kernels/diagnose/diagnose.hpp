@@ -196,6 +196,16 @@ struct SpectralLine {
   double peak_ratio = 0;       // periodogram / local mean background at the peak bin
   double threshold = 0;        // ln(bins / line_false_alarm)
   double resolution_hz = 0;    // bin spacing 1 / T
+  // The first significant peak wider than a line (a narrowband process), 0 when none, and its
+  // fit as a resonance's PSD (Whittle's likelihood on the bins around it): found when the fit
+  // converged with q inside (2, the frequency over two bins).
+  double wide_hz = 0;
+  struct Narrowband {
+    bool found = false;
+    double frequency_hz = 0, frequency_sigma = 0;  // the resonance's f0 and its 1-sigma
+    double q = 0, q_sigma = 0;
+    double sigma = 0, sigma_sigma = 0;  // stationary sd of the peak's process [u] (as measured)
+  } narrowband;
 };
 
 /// Searches the one-segment Hann periodogram of `rate` (no NaN) for its most significant line

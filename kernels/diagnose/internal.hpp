@@ -66,7 +66,9 @@ struct Component {
   // (a random walk's or a ramp's rise would be absorbed).
   bool pinned = false;
   double coef_sigma = kNaN;  // uncertainty of coef when pinned
-  Lowpass lp;                // Kind::Lowpass: the filter
+  double q_sigma = kNaN;     // uncertainty of a resonance's q from its PSD fit
+  bool psd_shape = false;  // a resonance's f0 and q from the periodogram (fit_broad), sigma fitted
+  Lowpass lp;              // Kind::Lowpass: the filter
 };
 
 // Basis curves: the avar of each component with unit coefficient, from model_avar_sampled so
@@ -93,7 +95,9 @@ struct Fit {
 struct Witnesses {
   SpectralLine line;
   StepWitness step;
-  const Curve* without_jump = nullptr;  // the curve with the jump removed (step.found)
+  const Curve* without_jump = nullptr;     // the curve with the jump removed (step.found)
+  const PsdResult* periodogram = nullptr;  // the record's (none with gaps)
+  double line_false_alarm = 1e-4;
 };
 
 struct CandidateFit {
@@ -155,7 +159,10 @@ Fit search_resonance(std::vector<Component> comps, std::size_t idx, const Curve&
                      bool grid);
 /// The resonance candidate: a new component searched with the others as `base` has them; with a
 /// note and no fit when it is not a distinct instance.
-CandidateFit resonance_candidate(std::vector<Component> base, const Curve& cv, const Bases& b);
+CandidateFit resonance_candidate(std::vector<Component> base, const Curve& cv, const Bases& b,
+                                 const Witnesses& seen);
+CandidateFit witnessed_resonance(std::vector<Component> base, const SpectralLine::Narrowband& nb,
+                                 const Curve& cv, const Bases& b);
 /// Marks a fitted candidate (its component added last) evaluated: its criterion against
 /// chi2_ref at k parameters (0 for a witnessed effect) and its parameters on `fit_cv`.
 void score_candidate(CandidateFit& cf, int k, double chi2_ref, const Curve& fit_cv, const Bases& b,
@@ -186,8 +193,18 @@ McBand monte_carlo(const ChannelSpec& spec, const Curve& cv, const std::vector<d
 double effective_taus(const Curve& cv);
 // The line search of find_spectral_line over the bins from f_lo_hz to f_hi_hz (all by default).
 SpectralLine search_line(const PsdResult& psd, double n_seconds, std::span<const double> known,
-                         double false_alarm, double f_lo_hz = 0.0,
+                         std::span<const double> known_wide, double false_alarm,
+                         double f_lo_hz = 0.0,
                          double f_hi_hz = std::numeric_limits<double>::infinity());
+// find_narrowband.cpp: a significant peak wider than a line, and its fit as a resonance. The
+// far ring (bins kFarRing / 4 to kFarRing from the peak) is the background a width is judged
+// against; a wide peak's far ring is left out of the search for further lines.
+inline constexpr std::int64_t kFarRing = 384;
+bool wider_than_a_line(const PsdResult& psd, std::int64_t k);
+SpectralLine::Narrowband fit_narrowband(const PsdResult& psd, std::int64_t k, double false_alarm);
+// A resonance near f0 fitted to the periodogram from f0 / 2 to 1.5 f0: the shape of one whose
+// q the Allan curve left at a bound.
+SpectralLine::Narrowband fit_broad(const PsdResult& psd, double f0, double false_alarm);
 PsdResult full_periodogram(std::span<const double> rate, double rate_hz, int threads);
 bool has_nan(std::span<const double> v);
 

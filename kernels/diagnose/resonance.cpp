@@ -102,7 +102,8 @@ Fit search_resonance(std::vector<Component> comps, std::size_t idx, const Curve&
 // candidate comes back with a note and no fit. A real narrowband noise need not be one
 // Lorentzian: the ADIS16405 z gyroscopes' peak at 17-21 Hz has a broad shoulder 3-5 Hz above it
 // (q 4-6 against 15-25; a fit of their Welch spectra), a resolved second peak.
-CandidateFit resonance_candidate(std::vector<Component> base, const Curve& cv, const Bases& b) {
+CandidateFit resonance_candidate(std::vector<Component> base, const Curve& cv, const Bases& b,
+                                 const Witnesses& seen) {
   CandidateFit out;
   out.info.effect = Effect::Resonance;
   const auto n_res = std::count_if(base.begin(), base.end(),
@@ -114,6 +115,25 @@ CandidateFit resonance_candidate(std::vector<Component> base, const Curve& cv, c
   base.push_back(searched_component(Kind::Resonance));
   const std::size_t idx = base.size() - 1;
   out.fit = search_resonance(std::move(base), idx, cv, b, true);
+  // A q at either end of its range is no estimate: beyond a few hundred, and for a broad peak
+  // beside the sensor's filter, the curve's shape hardly depends on it (the ADIS16405
+  // accelerometers' hump at 9.5-11 Hz, q about 10 in their periodograms, went to q > 79380 on the
+  // curve as a line). The periodogram around the curve's f0 measures the peak's shape instead;
+  // sigma stays the curve's.
+  if (Component& c = out.fit.comps[idx]; c.q_bound != 0 && seen.periodogram != nullptr) {
+    if (const SpectralLine::Narrowband nb =
+            fit_broad(*seen.periodogram, c.nl, seen.line_false_alarm);
+        nb.found) {
+      c.nl = nb.frequency_hz;
+      c.nl_sigma = nb.frequency_sigma;
+      c.q = nb.q;
+      c.q_sigma = nb.q_sigma;
+      c.nl_bound = c.q_bound = 0;
+      c.nl_free = false;
+      c.psd_shape = true;
+      out.fit = fit_components(out.fit.comps, cv, b);
+    }
+  }
   const Component& r = out.fit.comps[idx];
   for (std::size_t i = 0; i < idx; ++i) {
     const Component& o = out.fit.comps[i];
@@ -125,6 +145,38 @@ CandidateFit resonance_candidate(std::vector<Component> base, const Curve& cv, c
       return out;
     }
   }
+  return out;
+}
+
+// Resonance named from its PSD witness, a periodogram peak wider than a line: f0, q and sigma as
+// the periodogram measured them (fit_narrowband), pinned like a witnessed line's. The peak is
+// seen through the sensor's filter; the model's resonance is the one before it, sigma divided by
+// the filter's gain at f0 (the peak is narrow against the filter's response).
+CandidateFit witnessed_resonance(std::vector<Component> base, const SpectralLine::Narrowband& nb,
+                                 const Curve& cv, const Bases& b) {
+  CandidateFit out;
+  out.info.effect = Effect::Resonance;
+  const auto n_res = std::count_if(base.begin(), base.end(),
+                                   [](const auto& c) { return c.kind == Kind::Resonance; });
+  if (static_cast<std::uint32_t>(n_res) >= rng::kMaxResonance) {
+    out.info.note = "too many resonances";
+    return out;
+  }
+  const double gain = std::sqrt(lowpass_gain2(lowpass_of(base), b.rate_hz, nb.frequency_hz));
+  Component c;
+  c.kind = Kind::Resonance;
+  c.nl = nb.frequency_hz;
+  c.nl_sigma = nb.frequency_sigma;
+  c.q = nb.q;
+  c.q_sigma = nb.q_sigma;
+  c.coef = nb.sigma / gain;
+  c.coef_sigma = nb.sigma_sigma / gain;
+  c.pinned = true;
+  base.push_back(c);
+  out.fit = fit_components(std::move(base), cv, b);
+  out.info.note = "PSD peak at " + std::to_string(nb.frequency_hz) +
+                  " Hz wider than a line, fitted as a resonance: q " + std::to_string(nb.q) +
+                  " +- " + std::to_string(nb.q_sigma) + ", sigma " + std::to_string(c.coef);
   return out;
 }
 

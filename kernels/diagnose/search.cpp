@@ -136,30 +136,32 @@ double effective_taus(const Curve& cv) {
   return std::clamp(std::log2(cv.tau.back() / cv.tau.front()) + 1.0, 1.0, static_cast<double>(p));
 }
 
-// Line search on a periodogram (see find_spectral_line).
-SpectralLine search_line(const PsdResult& psd, double n_seconds, std::span<const double> known,
-                         double false_alarm, double f_lo_hz, double f_hi_hz) {
-  SpectralLine out;
-  out.searched = true;
-  out.resolution_hz = psd.df_hz;
+namespace {
+
+constexpr std::int64_t kMinBin = 32, kHalf = 64, kCore = 3, kEdge = 8;
+
+struct Peak {
+  std::int64_t k = -1;
+  double ratio = 0.0, bg = 0.0;
+  std::int64_t n_searched = 0;
+};
+
+// The bin of largest periodogram over background in [f_lo_hz, f_hi_hz], 4 bins or more from
+// each frequency in `known` and `wide_hz` bins or more from each in `wide`.
+Peak strongest_bin(const PsdResult& psd, std::span<const double> known,
+                   std::span<const double> wide, double wide_hz, double f_lo_hz, double f_hi_hz) {
+  Peak out;
   const auto kmax = static_cast<std::int64_t>(psd.size()) - 1;
-  constexpr std::int64_t kMinBin = 32, kHalf = 64, kCore = 3, kEdge = 8;
-  const std::int64_t k_lo = kMinBin, k_hi = kmax - kEdge;
-  if (k_hi <= k_lo) {
-    out.searched = false;
-    return out;
-  }
   std::vector<double> window;
-  double best_ratio = 0.0, best_bg = 0.0;
-  std::int64_t best_k = -1, n_searched = 0;
-  for (std::int64_t k = k_lo; k <= k_hi; ++k) {
+  for (std::int64_t k = kMinBin; k <= kmax - kEdge; ++k) {
     const double f = static_cast<double>(k) * psd.df_hz;
     if (f < f_lo_hz || f > f_hi_hz) continue;
-    bool near_known = false;
-    for (const double fk : known)
-      near_known = near_known || std::abs(f - fk) <= 4.0 * psd.df_hz;
-    if (near_known) continue;
-    ++n_searched;
+    const auto near = [&](std::span<const double> fs, double radius) {
+      return std::any_of(fs.begin(), fs.end(),
+                         [&](double fk) { return std::abs(f - fk) <= radius; });
+    };
+    if (near(known, 4.0 * psd.df_hz) || near(wide, wide_hz)) continue;
+    ++out.n_searched;
     // Symmetric window, so that the median of a monotone background is its central value.
     const std::int64_t w = std::min({kHalf, k - 1, kmax - k});
     window.clear();
@@ -171,40 +173,81 @@ SpectralLine search_line(const PsdResult& psd, double n_seconds, std::span<const
     const double bg = *mid / std::numbers::ln2;
     if (!(bg > 0.0)) continue;
     const double ratio = psd.psd[static_cast<std::size_t>(k)] / bg;
-    if (ratio > best_ratio) {
-      best_ratio = ratio;
-      best_bg = bg;
-      best_k = k;
+    if (ratio > out.ratio) {
+      out.ratio = ratio;
+      out.bg = bg;
+      out.k = k;
     }
   }
-  if (best_k < 0 || n_searched == 0) return out;
-  out.threshold = std::log(static_cast<double>(n_searched) / false_alarm);
-  out.peak_ratio = best_ratio;
-  out.found = best_ratio > out.threshold;
+  return out;
+}
+
+// The line's frequency, power and their Cramer-Rao bounds at the peak bin.
+void describe_line(const PsdResult& psd, double n_seconds, const Peak& pk, SpectralLine& out) {
   // Peak frequency by a parabola through the log periodogram at the peak and its neighbours
   // (the Hann main lobe is close to Gaussian in shape, whose log is a parabola).
   const auto at = [&](std::int64_t k) { return std::log(psd.psd[static_cast<std::size_t>(k)]); };
-  const double lm = at(best_k - 1), l0 = at(best_k), lp = at(best_k + 1);
+  const double lm = at(pk.k - 1), l0 = at(pk.k), lp = at(pk.k + 1);
   const double den = lm - 2.0 * l0 + lp;
   const double delta = den < 0.0 ? std::clamp(0.5 * (lm - lp) / den, -0.5, 0.5) : 0.0;
-  out.frequency_hz = (static_cast<double>(best_k) + delta) * psd.df_hz;
+  out.frequency_hz = (static_cast<double>(pk.k) + delta) * psd.df_hz;
   // The line's power: the periodogram above the background over the main lobe and the first
   // side lobes (the Welch normalization makes sum P df the mean square, so a line of
   // amplitude A contributes A^2 / 2).
   double power = 0.0;
-  for (std::int64_t j = best_k - kCore; j <= best_k + kCore; ++j)
-    power += (psd.psd[static_cast<std::size_t>(j)] - best_bg) * psd.df_hz;
+  for (std::int64_t j = pk.k - kCore; j <= pk.k + kCore; ++j)
+    power += (psd.psd[static_cast<std::size_t>(j)] - pk.bg) * psd.df_hz;
   out.amplitude = std::sqrt(2.0 * std::max(power, 0.0));
   // Cramer-Rao bound of a tone's frequency in locally white noise of one-sided density S1 over
   // a record of T seconds (Rife & Boorstyn, IEEE Trans. Inf. Theory 20(5), 1974):
   // var(omega) = 24 sigma^2 / (A^2 N^3) per sample, sigma^2 = S1 fs / 2, hence
   // sigma_f = sqrt(3 S1 / (A^2 T^3)) / pi.
   // The amplitude's: var(A) = 2 sigma^2 / N per sample (same reference), i.e. S1 / T.
-  out.amplitude_sigma = std::sqrt(best_bg / n_seconds);
+  out.amplitude_sigma = std::sqrt(pk.bg / n_seconds);
   if (out.amplitude > 0.0)
-    out.sigma_hz = std::sqrt(3.0 * best_bg /
+    out.sigma_hz = std::sqrt(3.0 * pk.bg /
                              (out.amplitude * out.amplitude * n_seconds * n_seconds * n_seconds)) /
                    std::numbers::pi;
+}
+
+}  // namespace
+
+// Line search on a periodogram (see find_spectral_line). A significant peak wider than a line
+// is no sinusoid's witness: the first such is noted and fitted as a resonance (wide_hz,
+// narrowband), and the search goes on without the bins within the far ring of it, at most
+// kMaxWide times; the far rings of `known_wide` (the model's resonances) are left out from the
+// start.
+SpectralLine search_line(const PsdResult& psd, double n_seconds, std::span<const double> known,
+                         std::span<const double> known_wide, double false_alarm, double f_lo_hz,
+                         double f_hi_hz) {
+  constexpr int kMaxWide = 4;
+  SpectralLine out;
+  out.searched = true;
+  out.resolution_hz = psd.df_hz;
+  const auto kmax = static_cast<std::int64_t>(psd.size()) - 1;
+  if (kmax - kEdge <= kMinBin) {
+    out.searched = false;
+    return out;
+  }
+  std::vector<double> wide(known_wide.begin(), known_wide.end());
+  for (int attempt = 0; attempt <= kMaxWide; ++attempt) {
+    const Peak pk = strongest_bin(psd, known, wide, static_cast<double>(kFarRing) * psd.df_hz,
+                                  f_lo_hz, f_hi_hz);
+    if (pk.k < 0 || pk.n_searched == 0) return out;
+    out.threshold = std::log(static_cast<double>(pk.n_searched) / false_alarm);
+    out.peak_ratio = pk.ratio;
+    out.found = pk.ratio > out.threshold;
+    if (!out.found || !wider_than_a_line(psd, pk.k)) {
+      describe_line(psd, n_seconds, pk, out);
+      return out;
+    }
+    if (out.wide_hz == 0.0) {
+      out.wide_hz = static_cast<double>(pk.k) * psd.df_hz;
+      out.narrowband = fit_narrowband(psd, pk.k, false_alarm);
+    }
+    wide.push_back(static_cast<double>(pk.k) * psd.df_hz);
+  }
+  out.found = false;
   return out;
 }
 
@@ -244,7 +287,7 @@ SpectralLine find_spectral_line(std::span<const double> rate, double rate_hz,
   if (rate.size() < 256 || has_nan(rate)) return {};
   const PsdResult psd = full_periodogram(rate, rate_hz, resolve_threads(nthreads));
   return search_line(psd, static_cast<double>(rate.size() - rate.size() % 2) / rate_hz, known_hz,
-                     false_alarm);
+                     {}, false_alarm);
 }
 
 }  // namespace allanlot::kernels

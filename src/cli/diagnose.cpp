@@ -69,6 +69,15 @@ void print_report(std::ostream& out, const std::string& file, const std::string&
   if (d.line.found)
     out << "  PSD witness: line at " << num(d.line.frequency_hz) << " Hz (peak/background "
         << num(d.line.peak_ratio) << ", threshold " << num(d.line.threshold) << ")\n";
+  if (const auto& nb = d.line.narrowband; d.line.wide_hz > 0.0) {
+    out << "  PSD witness: the peak at " << num(d.line.wide_hz)
+        << " Hz is wider than a line (a narrowband process)";
+    if (nb.found)
+      out << ", as a resonance: f0 " << num(nb.frequency_hz) << " +- " << num(nb.frequency_sigma)
+          << " Hz, q " << num(nb.q) << " +- " << num(nb.q_sigma) << ", sigma " << num(nb.sigma)
+          << " +- " << num(nb.sigma_sigma);
+    out << "\n";
+  }
   if (d.step.found)
     out << "  time-domain witness: jump of " << num(d.step.size) << " at " << num(d.step.time_s)
         << " s (" << num(d.step.statistic) << " rms at " << d.step.scale_m << " samples, p "

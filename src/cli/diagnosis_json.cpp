@@ -102,11 +102,16 @@ Json diagnosis_json(const std::string& channel, const kernels::Diagnosis& d) {
   j["n_taus"] = d.tau_s.size();
   j["n_eff"] = d.n_eff;
   j["z_threshold"] = d.z_threshold;
-  j["psd_line"] = {{"searched", d.line.searched},
-                   {"found", d.line.found},
-                   {"frequency_hz", d.line.frequency_hz},
-                   {"peak_ratio", d.line.peak_ratio},
-                   {"threshold", d.line.threshold}};
+  j["psd_line"] = {{"searched", d.line.searched},         {"found", d.line.found},
+                   {"frequency_hz", d.line.frequency_hz}, {"peak_ratio", d.line.peak_ratio},
+                   {"threshold", d.line.threshold},       {"wide_hz", d.line.wide_hz}};
+  if (const auto& nb = d.line.narrowband; nb.found)
+    j["psd_line"]["narrowband"] = {{"frequency_hz", nb.frequency_hz},
+                                   {"frequency_sigma", nb.frequency_sigma},
+                                   {"q", nb.q},
+                                   {"q_sigma", nb.q_sigma},
+                                   {"sigma", nb.sigma},
+                                   {"sigma_sigma", nb.sigma_sigma}};
   j["step_witness"] = {{"searched", d.step.searched},   {"found", d.step.found},
                        {"time_s", d.step.time_s},       {"size", d.step.size},
                        {"statistic", d.step.statistic}, {"scale_m", d.step.scale_m},

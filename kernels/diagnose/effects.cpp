@@ -1,0 +1,63 @@
+// Diagnose's vocabulary of effects (docs/diagnose.md "What it names"): each effect's name as
+// the JSON, the model file and the terminal spell it, and the eq. (3) term a term effect is.
+#include "kernels/diagnose/diagnose.hpp"
+
+#include "kernels/diagnose/internal.hpp"
+
+#include <optional>
+#include <string_view>
+
+namespace allanlot::kernels {
+
+using diagnose_detail::kAllEffects;
+
+std::string_view effect_name(Effect e) {
+  switch (e) {
+  case Effect::Quantization:
+    return "quantization";
+  case Effect::White:
+    return "white";
+  case Effect::Flicker:
+    return "flicker";
+  case Effect::RandomWalk:
+    return "random_walk";
+  case Effect::Ramp:
+    return "ramp";
+  case Effect::Sinusoid:
+    return "sinusoid";
+  case Effect::Markov:
+    return "markov";
+  case Effect::Lowpass:
+    return "lowpass";
+  case Effect::Step:
+    return "step";
+  case Effect::Resonance:
+    return "resonance";
+  }
+  return "?";
+}
+
+std::optional<Effect> parse_effect(std::string_view name) {
+  for (const Effect e : kAllEffects)
+    if (effect_name(e) == name) return e;
+  return std::nullopt;
+}
+
+std::optional<Term> effect_term(Effect e) {
+  switch (e) {
+  case Effect::Quantization:
+    return Term::Q;
+  case Effect::White:
+    return Term::N;
+  case Effect::Flicker:
+    return Term::B;
+  case Effect::RandomWalk:
+    return Term::K;
+  case Effect::Ramp:
+    return Term::R;
+  default:
+    return std::nullopt;
+  }
+}
+
+}  // namespace allanlot::kernels
