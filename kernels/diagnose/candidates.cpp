@@ -21,25 +21,6 @@
 namespace allanlot::kernels::diagnose_detail {
 namespace {
 
-// The Allan variance of a Gauss-Markov effect at the curve's taus under the filter `lp`, as
-// model_avar_sampled has it; unfiltered, model_avar's continuous form (the same values).
-std::vector<double> markov_curve(double sigma, double tau_c_s, const Curve& cv, const Lowpass& lp,
-                                 double rate_hz) {
-  std::vector<double> g(cv.size());
-  if (!lp.active()) {
-    ChannelSpec s;
-    s.rate_hz = rate_hz;
-    s.markovs.push_back({sigma, tau_c_s});
-    for (std::size_t i = 0; i < cv.size(); ++i)
-      g[i] = model_avar(s, cv.tau[i]);
-    return g;
-  }
-  const std::vector<double> rho = lowpass_autocorrelation(lp, rate_hz);
-  for (std::size_t i = 0; i < cv.size(); ++i)
-    g[i] = lowpass_markov_avar(sigma, tau_c_s, rate_hz, cv.m[i], rho);
-  return g;
-}
-
 std::vector<double> basis_of(const Component& c, const Curve& cv, const Bases& b) {
   if (c.kind == Kind::Term) return b.term[static_cast<std::size_t>(c.term)];
   // A step is removed from the record instead (diagnose.cpp, Search::curve_without): no
@@ -173,17 +154,6 @@ double log_chi2(const Curve& cv, const std::vector<double>& model) {
 
 std::string term_key(Term t) {
   return std::string(term_name(t));
-}
-
-// Markov candidate: a new component, its tau_c searched with the others' coefficients as
-// `base` has them (fixed or free).
-CandidateFit markov_candidate(std::vector<Component> base, const Curve& cv, const Bases& b) {
-  base.push_back(searched_component(Kind::Markov));
-  const std::size_t idx = base.size() - 1;
-  CandidateFit out;
-  out.fit = search_tau_c(std::move(base), idx, cv, b);
-  out.added = out.fit.comps.size() - 1;
-  return out;
 }
 
 // A jump as a component: |size| and its sign, at time_s, pinned (never refitted on the curve).
@@ -531,39 +501,6 @@ double golden_min(const std::function<double(double)>& f, double a, double c) {
   return f1 < f2 ? x1 : x2;
 }
 
-// tau_c of the Markov component comps[idx] by a log grid of 8 per octave from one sample to
-// the record's length (issue #23: the range must not end inside the taus, where a pinned tau_c
-// absorbed ramps and sensor filtering), then golden-section search on ln tau_c between the
-// neighbours of the best grid point; the free coefficients are fitted at each tau_c. A best
-// point within one grid step of either end is marked as a bound (Component::nl_bound).
-Fit search_tau_c(std::vector<Component> comps, std::size_t idx, const Curve& cv, const Bases& b) {
-  const auto eval = [&](double tau_c) {
-    comps[idx].nl = tau_c;
-    return fit_components(comps, cv, b);
-  };
-  const double lo = std::log(cv.tau0), hi = std::log(static_cast<double>(cv.n_samples) * cv.tau0);
-  const int n_grid = static_cast<int>(std::ceil((hi - lo) / (std::numbers::ln2 / 8.0))) + 1;
-  const double step = (hi - lo) / (n_grid - 1);
-  double best_chi2 = std::numeric_limits<double>::infinity();
-  int best = 0;
-  for (int g = 0; g < n_grid; ++g) {
-    const Fit f = eval(std::exp(lo + step * g));
-    if (f.chi2 < best_chi2) {
-      best_chi2 = f.chi2;
-      best = g;
-    }
-  }
-  const double x =
-      golden_min([&](double v) { return eval(std::exp(v)).chi2; },
-                 lo + step * std::max(best - 1, 0), lo + step * std::min(best + 1, n_grid - 1));
-  Fit grid_best = eval(std::exp(lo + step * best));
-  Fit refined = eval(std::exp(x));
-  Fit& out = refined.chi2 <= grid_best.chi2 ? refined : grid_best;
-  const double x_out = std::log(out.comps[idx].nl);
-  out.comps[idx].nl_bound = x_out < lo + step ? -1 : x_out > lo + step * (n_grid - 2) ? 1 : 0;
-  return out;
-}
-
 CandidateFit evaluate_candidate(Effect e, std::vector<Component> comps, const Witnesses& seen,
                                 int n_refit, double chi2_ref, const Curve& cv, const Bases& b,
                                 const Criterion& crit) {
@@ -651,26 +588,8 @@ CandidateFit evaluate_candidate(Effect e, std::vector<Component> comps, const Wi
     cf.info.effect = e;
     k += 1;
   } else if (e == Effect::Markov) {
-    const auto n_markov = std::count_if(comps.begin(), comps.end(),
-                                        [](const auto& c) { return c.kind == Kind::Markov; });
-    if (static_cast<std::uint32_t>(n_markov) >= rng::kMaxMarkov) {
-      cf.info.note = "too many markov effects";
-      return cf;
-    }
-    cf = markov_candidate(comps, cv, b);
-    cf.info.effect = e;
-    // A second Gauss-Markov effect is a distinct instance only a decade or more from every
-    // other: closer, two humps are one hump re-split (issue #23's "markov, ramp, markov").
-    const double tc = cf.fit.comps.back().nl;
-    for (std::size_t i = 0; i + 1 < cf.fit.comps.size(); ++i)
-      if (cf.fit.comps[i].kind == Kind::Markov &&
-          std::abs(std::log10(tc / cf.fit.comps[i].nl)) < 1.0) {
-        CandidateFit none;
-        none.info.effect = e;
-        none.info.note = "its tau_c " + std::to_string(tc) + " s is within a decade of " +
-                         component_label(cf.fit.comps, i) + "'s";
-        return none;
-      }
+    cf = hump_candidate(std::move(comps), cv, b);
+    if (cf.fit.comps.empty()) return cf;
     k += 2;
   } else if (e == Effect::Resonance && line.narrowband.found) {
     // Its witness, a PSD peak wider than a line, measured f0, q and sigma: no penalty, as for a

@@ -144,7 +144,12 @@ std::vector<double> model_curve(const ChannelSpec& s, const Curve& cv, const Bas
 /// The minimum of f on [a, c] by 25 golden-section steps (the interval shrinks to 6e-6 of
 /// itself): the better of the last two points.
 double golden_min(const std::function<double(double)>& f, double a, double c);
+// markov.cpp: the search of a hump's tau_c, its Allan variance at the curve's taus under the
+// filter `lp`, and its candidate (no fit and a note when refused).
 Fit search_tau_c(std::vector<Component> comps, std::size_t idx, const Curve& cv, const Bases& b);
+std::vector<double> markov_curve(double sigma, double tau_c_s, const Curve& cv, const Lowpass& lp,
+                                 double rate_hz);
+CandidateFit hump_candidate(std::vector<Component> comps, const Curve& cv, const Bases& b);
 /// The filter of the lowpass component comps[idx] searched (both forms, a grid then refined),
 /// the free coefficients fitted at each trial; `b` unfiltered.
 Fit search_lowpass(std::vector<Component> comps, std::size_t idx, const Curve& cv, const Bases& b);

@@ -19,6 +19,18 @@ namespace {
 // project meets and the process is a line of random phase: q is then a lower limit.
 constexpr double kQLo = 2.0, kQHi = kResonanceMaxQ;
 
+// An empty resonance candidate, with a note when the channel already has as many resonances as
+// the simulator draws streams for.
+CandidateFit resonance_room(const std::vector<Component>& base) {
+  CandidateFit out;
+  out.info.effect = Effect::Resonance;
+  const auto n_res = std::count_if(base.begin(), base.end(),
+                                   [](const auto& c) { return c.kind == Kind::Resonance; });
+  if (static_cast<std::uint32_t>(n_res) >= rng::kMaxResonance)
+    out.info.note = "too many resonances";
+  return out;
+}
+
 }  // namespace
 
 std::vector<double> resonance_curve(const Resonance& r, const Curve& cv, const Lowpass& lp,
@@ -104,14 +116,8 @@ Fit search_resonance(std::vector<Component> comps, std::size_t idx, const Curve&
 // (q 4-6 against 15-25; a fit of their Welch spectra), a resolved second peak.
 CandidateFit resonance_candidate(std::vector<Component> base, const Curve& cv, const Bases& b,
                                  const Witnesses& seen) {
-  CandidateFit out;
-  out.info.effect = Effect::Resonance;
-  const auto n_res = std::count_if(base.begin(), base.end(),
-                                   [](const auto& c) { return c.kind == Kind::Resonance; });
-  if (static_cast<std::uint32_t>(n_res) >= rng::kMaxResonance) {
-    out.info.note = "too many resonances";
-    return out;
-  }
+  CandidateFit out = resonance_room(base);
+  if (!out.info.note.empty()) return out;
   base.push_back(searched_component(Kind::Resonance));
   const std::size_t idx = base.size() - 1;
   out.fit = search_resonance(std::move(base), idx, cv, b, true);
@@ -119,20 +125,25 @@ CandidateFit resonance_candidate(std::vector<Component> base, const Curve& cv, c
   // beside the sensor's filter, the curve's shape hardly depends on it (the ADIS16405
   // accelerometers' hump at 9.5-11 Hz, q about 10 in their periodograms, went to q > 79380 on the
   // curve as a line). The periodogram around the curve's f0 measures the peak's shape instead;
-  // sigma stays the curve's.
+  // sigma stays the curve's. Where the periodogram shows no peak there, the curve's feature is
+  // no narrowband process and the candidate is withdrawn (an ADIS16405 z gyroscope's curve named
+  // one at 6.9 Hz with q > 51511 beside its real peak at 19.5 Hz).
   if (Component& c = out.fit.comps[idx]; c.q_bound != 0 && seen.periodogram != nullptr) {
-    if (const SpectralLine::Narrowband nb =
-            fit_broad(*seen.periodogram, c.nl, seen.line_false_alarm);
-        nb.found) {
-      c.nl = nb.frequency_hz;
-      c.nl_sigma = nb.frequency_sigma;
-      c.q = nb.q;
-      c.q_sigma = nb.q_sigma;
-      c.nl_bound = c.q_bound = 0;
-      c.nl_free = false;
-      c.psd_shape = true;
-      out.fit = fit_components(out.fit.comps, cv, b);
+    const SpectralLine::Narrowband nb = fit_broad(*seen.periodogram, c.nl, seen.line_false_alarm);
+    if (!nb.found) {
+      out.info.note = "q at a bound of its range on the curve (" + std::to_string(c.q) + " at " +
+                      std::to_string(c.nl) + " Hz) and no peak near there in the periodogram";
+      out.fit = {};
+      return out;
     }
+    c.nl = nb.frequency_hz;
+    c.nl_sigma = nb.frequency_sigma;
+    c.q = nb.q;
+    c.q_sigma = nb.q_sigma;
+    c.nl_bound = c.q_bound = 0;
+    c.nl_free = false;
+    c.psd_shape = true;
+    out.fit = fit_components(out.fit.comps, cv, b);
   }
   const Component& r = out.fit.comps[idx];
   for (std::size_t i = 0; i < idx; ++i) {
@@ -154,14 +165,8 @@ CandidateFit resonance_candidate(std::vector<Component> base, const Curve& cv, c
 // the filter's gain at f0 (the peak is narrow against the filter's response).
 CandidateFit witnessed_resonance(std::vector<Component> base, const SpectralLine::Narrowband& nb,
                                  const Curve& cv, const Bases& b) {
-  CandidateFit out;
-  out.info.effect = Effect::Resonance;
-  const auto n_res = std::count_if(base.begin(), base.end(),
-                                   [](const auto& c) { return c.kind == Kind::Resonance; });
-  if (static_cast<std::uint32_t>(n_res) >= rng::kMaxResonance) {
-    out.info.note = "too many resonances";
-    return out;
-  }
+  CandidateFit out = resonance_room(base);
+  if (!out.info.note.empty()) return out;
   const double gain = std::sqrt(lowpass_gain2(lowpass_of(base), b.rate_hz, nb.frequency_hz));
   Component c;
   c.kind = Kind::Resonance;

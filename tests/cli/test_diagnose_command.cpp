@@ -150,5 +150,31 @@ TEST(DiagnoseCommand, AJumpIsNamedAsAStepAndTheCorrectedModelCarriesIt) {
   EXPECT_TRUE(nlohmann::json::parse(out)["effects_named"].empty()) << out;
 }
 
+TEST(DiagnoseCommand, APeakWiderThanALineIsNamedAResonanceMeasuredOnThePeriodogram) {
+  // A resonance of q = 100 at 2 Hz (12 bins of 1/600 Hz wide at half power) is no line: the
+  // terminal says so, and the JSON names a resonance whose f0 and q come from the periodogram,
+  // with sigmas, and reports the peak under psd_line.
+  const auto dir = test::fresh_dir("diagnose_cli_narrowband");
+  const std::string in =
+      measurement(dir, R"([{"type": "resonance", "sigma": 0.1, "frequency_hz": 2, "q": 100}])", 5);
+  ASSERT_FALSE(::testing::Test::HasFailure());
+  const std::string cmd =
+      binary() + " diagnose " + in + " --model " + (dir / "given.json").string() + " --replicas 4";
+  std::string out;
+  ASSERT_EQ(run_command(cmd, &out), 0) << out;
+  EXPECT_NE(out.find("Hz is wider than a line (a narrowband process), as a resonance"),
+            std::string::npos)
+      << out;
+  ASSERT_EQ(run_command(cmd + " --json", &out), 0) << out;
+  const auto j = nlohmann::json::parse(out);
+  ASSERT_EQ(j["effects_named"], nlohmann::json::array({"resonance"})) << out;
+  const auto& nb = j["psd_line"]["narrowband"];
+  EXPECT_NEAR(j["psd_line"]["wide_hz"].get<double>(), 2.0, 0.05);
+  EXPECT_NEAR(nb["frequency_hz"].get<double>(), 2.0, 4.0 * nb["frequency_sigma"].get<double>());
+  EXPECT_NEAR(nb["q"].get<double>(), 100.0, 4.0 * nb["q_sigma"].get<double>());
+  EXPECT_EQ(j["parameters"]["resonance"]["q"], nb["q"]);
+  EXPECT_EQ(j["parameter_sigmas"]["resonance"]["q"], nb["q_sigma"]);
+}
+
 }  // namespace
 }  // namespace allanlot

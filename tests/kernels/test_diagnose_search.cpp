@@ -2,10 +2,12 @@
 // length, and a tau_c at either end is reported as a limit with no sigma; inside, it is an
 // estimate with one. Exact model curves (no noise), so that where the search ends is known.
 #include "kernels/diagnose/internal.hpp"
+#include "kernels/simulate/simulate.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 #include <vector>
 
 namespace allanlot {
@@ -143,6 +145,78 @@ TEST(DiagnoseSearch, ResonanceAsNarrowAsALineIsALowerLimitOfQ) {
   EXPECT_EQ(p[2].bound, 1);
   EXPECT_TRUE(std::isnan(p[2].sigma));
   EXPECT_NO_THROW(kernels::validate(spec_of(f.comps, white())));
+}
+
+// The ADIS16405 x and y gyroscopes' filter is a 2-tap boxcar (lag-1 autocorrelation 0.17 to
+// 0.29, none beyond): each form's best grid point is refined before the forms are compared, so
+// the boxcar is found, not the one-pole filter whose grid point happened to lie nearer its own
+// optimum (a one-pole beside a broad resonance was named on those gyroscopes before).
+TEST(DiagnoseSearch, TwoTapBoxcarIsFoundAsABoxcar) {
+  for (const double taps : {1.17, 1.21, 1.33}) {
+    auto truth = white();
+    truth.terms.N = 0.04;
+    truth.lowpass.taps = taps;
+    Bases b;
+    const Curve cv = exact_curve(truth, b);
+    auto given = truth;
+    given.lowpass = {};
+    std::vector<Component> comps = components_of(given);
+    for (Component& c : comps)
+      c.free = true;
+    Component lp;
+    lp.kind = Kind::Lowpass;
+    lp.pinned = true;
+    lp.coef = 1.0;
+    comps.push_back(lp);
+    const Fit f = search_lowpass(comps, comps.size() - 1, cv, b);
+    EXPECT_EQ(f.comps.back().lp.cutoff_hz, 0.0) << "taps " << taps;
+    EXPECT_NEAR(f.comps.back().lp.taps, taps, 1e-3) << "taps " << taps;
+    EXPECT_EQ(f.comps.back().nl_bound, 0);
+  }
+}
+
+// A hump whose tau_c ends at one sample is no hump but a shape at the shortest taus, the
+// sensor filter's: over white noise through a boxcar (the model given without it) the markov
+// candidate is withdrawn with a note, and the filter's deficit is left to `lowpass` (an
+// ADIS16405 z gyroscope named such a hump ahead of its filter).
+TEST(DiagnoseSearch, HumpAtOneSampleIsNotAHump) {
+  auto truth = white();
+  truth.terms.N = 0.04;
+  truth.lowpass.taps = 1.5;
+  Bases b;
+  const Curve cv = exact_curve(truth, b);
+  auto given = truth;
+  given.lowpass = {};
+  std::vector<Component> comps = components_of(given);
+  const Criterion crit{1.0, 0.005, 8.0, kRate};
+  const Fit ref = fit_components(comps, cv, b);
+  const CandidateFit cf =
+      evaluate_candidate(kernels::Effect::Markov, comps, Witnesses{}, 0, ref.chi2, cv, b, crit);
+  EXPECT_FALSE(cf.info.evaluated);
+  EXPECT_NE(cf.info.note.find("one sample"), std::string::npos) << cf.info.note;
+  const CandidateFit lp =
+      evaluate_candidate(kernels::Effect::Lowpass, comps, Witnesses{}, 0, ref.chi2, cv, b, crit);
+  EXPECT_TRUE(lp.info.evaluated);
+  EXPECT_GT(lp.info.delta_ic, 0.0);
+}
+
+// A resonance the curve leaves at a bound of q is measured on the periodogram around its f0;
+// where the periodogram shows no peak there, it is no narrowband process and the candidate is
+// withdrawn with a note (the exact curve of a line-like resonance, against the periodogram of a
+// record of white noise alone).
+TEST(DiagnoseSearch, ResonanceAtABoundThePeriodogramDoesNotSeeIsWithdrawn) {
+  auto truth = white();
+  truth.resonances.push_back({0.02, 5.0, kernels::kResonanceMaxQ});
+  Bases b;
+  const Curve cv = exact_curve(truth, b);
+  std::vector<double> y(static_cast<std::size_t>(kSamples));
+  kernels::simulate_channel(white(), 4, 0, y, 1);
+  const kernels::PsdResult psd = full_periodogram(y, kRate, 1);
+  Witnesses seen;
+  seen.periodogram = &psd;
+  const CandidateFit cf = resonance_candidate(components_of(white()), cv, b, seen);
+  EXPECT_TRUE(cf.fit.comps.empty());
+  EXPECT_NE(cf.info.note.find("no peak"), std::string::npos) << cf.info.note;
 }
 
 }  // namespace
