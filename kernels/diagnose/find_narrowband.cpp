@@ -2,8 +2,8 @@
 // periodogram peak wider than a line, and its resonance (f0, q, sigma) fitted to the bins around
 // it. The Allan curve measures a narrow peak's q poorly: beyond a few hundred the curve of a
 // resonance is that of a line at every tau where it matters, so the curve's search ends at the top
-// of q's range (the ADIS16405 accelerometers' peak near 0.566 Hz: q > 4172 on the curve, about
-// 240 in their periodograms, whose resolution is 1e-4 Hz).
+// of q's range (the ADIS16405 accelerometers' peak near 0.47-0.57 Hz: q > 4000 on the curve,
+// 290-1080 in their periodograms, whose resolution is 1e-4 Hz).
 #include "kernels/diagnose/internal.hpp"
 
 #include "kernels/simulate/resonance.hpp"
@@ -39,7 +39,6 @@ double ring_median(const PsdResult& psd, std::int64_t k, std::int64_t lo, std::i
 // Parameters: ln f0, ln q, ln sigma^2, ln background at the window's centre, and the
 // background's log slope across the window.
 using Params = std::array<double, 5>;
-constexpr std::size_t kNumParams = 5;
 
 // Whittle's likelihood (a periodogram bin is its spectrum times an exponential variate: Whittle
 // 1953) of the means of `block` adjacent bins over a window, under a log-linear background plus
@@ -192,7 +191,7 @@ SpectralLine::Narrowband fit_window(const PsdResult& psd, std::int64_t k0, std::
 // central value and their ratio is about 1. The median of M exponential bins has a relative sd
 // of about 1.44 / sqrt(M) (the asymptotic variance 1 / (4 M p(median)^2) of a sample median),
 // and the Hann window's correlation of neighbouring bins (2/3 and 1/6 at one and two bins)
-// about doubles its variance, so for the near ring (58 bins) against the far (576) ln(ratio) has
+// about doubles its variance, so for the near ring (58 bins) against the far (578) ln(ratio) has
 // an sd of about 0.29, and a ratio above 4 is about 5 sd: a width, not chance.
 bool wider_than_a_line(const PsdResult& psd, std::int64_t k) {
   constexpr double kWideRatio = 4.0;
