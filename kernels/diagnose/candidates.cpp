@@ -83,7 +83,7 @@ Fit search_lowpass(std::vector<Component> comps, std::size_t idx, const Curve& c
   Fit out;
   double best = std::numeric_limits<double>::infinity();
   int best_g = -1;
-  for (const auto [first, last] :
+  for (const auto& [first, last] :
        {std::pair{0, n_grid - 1}, std::pair{n_grid, n_grid + n_taps - 1}}) {
     Fit form_best;
     int g_best = first;
