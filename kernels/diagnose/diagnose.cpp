@@ -160,6 +160,7 @@ struct Search {
 
   bool round(int& iter);
   Fit refit_final();
+  std::vector<Component> given_fixed(std::vector<Component> comps) const;
   Fit fit_given_fixed(std::vector<Component> comps, const Curve& on) const;
   bool given_wrong(const Fit& base, const Fit& fixed);
   bool prune(Fit& base, bool free_given);
@@ -443,14 +444,20 @@ Fit Search::refit_final() {
   return base;
 }
 
-// The final structure with the given components fixed at their given values (the added effects
-// still fitted): the model reported when the given coefficients are not found wrong.
-Fit Search::fit_given_fixed(std::vector<Component> comps, const Curve& on) const {
+// `comps` with the given components back at their given values and fixed (the added effects
+// still fitted).
+std::vector<Component> Search::given_fixed(std::vector<Component> comps) const {
   for (std::size_t c = 0; c < given.size(); ++c) {
     comps[c] = given[c];
     comps[c].free = false;
   }
-  return fit_components(std::move(comps), on, bases);
+  return comps;
+}
+
+// The final structure fitted so: the model reported when the given coefficients are not found
+// wrong.
+Fit Search::fit_given_fixed(std::vector<Component> comps, const Curve& on) const {
+  return fit_components(given_fixed(std::move(comps)), on, bases);
 }
 
 // Were the given coefficients wrong? The final structure with them fixed against all
@@ -490,11 +497,7 @@ bool Search::prune(Fit& base, bool free_given) {
   const auto refit_without = [&](std::vector<Component> comps, const Curve& on) {
     for (std::size_t idx = given.size(); idx < comps.size(); ++idx) {
       if (comps[idx].kind != Kind::Lowpass) continue;
-      if (!free_given)
-        for (std::size_t c = 0; c < given.size(); ++c) {
-          comps[c] = given[c];
-          comps[c].free = false;
-        }
+      if (!free_given) comps = given_fixed(std::move(comps));
       return search_lowpass(std::move(comps), idx, on, bases);
     }
     return fit_on(std::move(comps), on);

@@ -24,18 +24,6 @@ namespace {
 
 constexpr std::int64_t kNearLo = 4, kNearHi = 32;
 
-// The median of the periodogram over the bins lo <= |j - k| <= hi inside [1, kmax].
-double ring_median(const PsdResult& psd, std::int64_t k, std::int64_t lo, std::int64_t hi) {
-  const auto kmax = static_cast<std::int64_t>(psd.size()) - 1;
-  std::vector<double> buf;
-  for (std::int64_t j = std::max<std::int64_t>(k - hi, 1); j <= std::min(k + hi, kmax); ++j)
-    if (std::abs(j - k) >= lo) buf.push_back(psd.psd[static_cast<std::size_t>(j)]);
-  if (buf.empty()) return 0.0;
-  const auto mid = buf.begin() + static_cast<std::ptrdiff_t>(buf.size() / 2);
-  std::nth_element(buf.begin(), mid, buf.end());
-  return *mid;
-}
-
 // Parameters: ln f0, ln q, ln sigma^2, ln background at the window's centre, and the
 // background's log slope across the window.
 using Params = std::array<double, 5>;
@@ -197,8 +185,9 @@ bool wider_than_a_line(const PsdResult& psd, std::int64_t k) {
   constexpr double kWideRatio = 4.0;
   const auto kmax = static_cast<std::int64_t>(psd.size()) - 1;
   if (k - kFarRing < 1 || k + kFarRing > kmax) return false;
-  const double near = ring_median(psd, k, kNearLo, kNearHi);
-  const double far = ring_median(psd, k, kFarRing / 4, kFarRing);
+  std::vector<double> buf;
+  const double near = ring_median(psd, k, kNearLo, kNearHi, buf);
+  const double far = ring_median(psd, k, kFarRing / 4, kFarRing, buf);
   return far > 0.0 && near > kWideRatio * far;
 }
 

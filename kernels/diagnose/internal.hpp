@@ -201,6 +201,11 @@ SpectralLine search_line(const PsdResult& psd, double n_seconds, std::span<const
                          std::span<const double> known_wide, double false_alarm,
                          double f_lo_hz = 0.0,
                          double f_hi_hz = std::numeric_limits<double>::infinity());
+// The median of the periodogram over the bins lo <= |j - k| <= hi inside [1, kmax], gathered
+// in `buf` (its size is the number of bins): the line search's background and the width test's
+// rings.
+double ring_median(const PsdResult& psd, std::int64_t k, std::int64_t lo, std::int64_t hi,
+                   std::vector<double>& buf);
 // find_narrowband.cpp: a significant peak wider than a line, and its fit as a resonance. The
 // far ring (bins kFarRing / 4 to kFarRing from the peak) is the background a width is judged
 // against; a wide peak's far ring is left out of the search for further lines.

@@ -136,6 +136,18 @@ double effective_taus(const Curve& cv) {
   return std::clamp(std::log2(cv.tau.back() / cv.tau.front()) + 1.0, 1.0, static_cast<double>(p));
 }
 
+double ring_median(const PsdResult& psd, std::int64_t k, std::int64_t lo, std::int64_t hi,
+                   std::vector<double>& buf) {
+  const auto kmax = static_cast<std::int64_t>(psd.size()) - 1;
+  buf.clear();
+  for (std::int64_t j = std::max<std::int64_t>(k - hi, 1); j <= std::min(k + hi, kmax); ++j)
+    if (std::abs(j - k) >= lo) buf.push_back(psd.psd[static_cast<std::size_t>(j)]);
+  if (buf.empty()) return 0.0;
+  const auto mid = buf.begin() + static_cast<std::ptrdiff_t>(buf.size() / 2);
+  std::nth_element(buf.begin(), mid, buf.end());
+  return *mid;
+}
+
 namespace {
 
 constexpr std::int64_t kMinBin = 32, kHalf = 64, kCore = 3, kEdge = 8;
@@ -163,14 +175,10 @@ Peak strongest_bin(const PsdResult& psd, std::span<const double> known,
     if (near(known, 4.0 * psd.df_hz) || near(wide, wide_hz)) continue;
     ++out.n_searched;
     // Symmetric window, so that the median of a monotone background is its central value.
-    const std::int64_t w = std::min({kHalf, k - 1, kmax - k});
-    window.clear();
-    for (std::int64_t j = k - w; j <= k + w; ++j)
-      if (std::abs(j - k) > kCore) window.push_back(psd.psd[static_cast<std::size_t>(j)]);
+    const double median =
+        ring_median(psd, k, kCore + 1, std::min({kHalf, k - 1, kmax - k}), window);
     if (window.size() < 8) continue;
-    const auto mid = window.begin() + static_cast<std::ptrdiff_t>(window.size() / 2);
-    std::nth_element(window.begin(), mid, window.end());
-    const double bg = *mid / std::numbers::ln2;
+    const double bg = median / std::numbers::ln2;
     if (!(bg > 0.0)) continue;
     const double ratio = psd.psd[static_cast<std::size_t>(k)] / bg;
     if (ratio > out.ratio) {
