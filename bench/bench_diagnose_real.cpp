@@ -48,6 +48,7 @@ std::string names(const kernels::Diagnosis& d) {
     std::string args;
     for (const auto& p : d.effect_parameters[i])
       if (p.name == "cutoff_hz" || p.name == "taps" || p.name == "tau_c_s" || p.name == "q" ||
+          p.name == "spread_hz" ||
           (p.name == "frequency_hz" && d.effects_named[i] == kernels::Effect::Resonance))
         args += (args.empty() ? "" : " ") + p.name +
                 (p.bound < 0   ? "<"

@@ -27,7 +27,8 @@ std::vector<double> basis_of(const Component& c, const Curve& cv, const Bases& b
   // variance on the curves compared.
   if (c.kind == Kind::Lowpass || c.kind == Kind::Step) return std::vector<double>(cv.size(), 0.0);
   if (c.kind == Kind::Markov) return markov_curve(1.0, c.nl, cv, b.lowpass, b.rate_hz);
-  if (c.kind == Kind::Resonance) return resonance_curve({1.0, c.nl, c.q}, cv, b.lowpass, b.rate_hz);
+  if (c.kind == Kind::Resonance)
+    return resonance_curve({1.0, c.nl, c.q, c.spread}, cv, b.lowpass, b.rate_hz);
   ChannelSpec s;
   s.rate_hz = b.rate_hz;
   s.sinusoids.push_back({1.0, c.nl, 0.0});
@@ -242,6 +243,8 @@ std::vector<Component> components_of(const ChannelSpec& s) {
   for (const Resonance& r : s.resonances) {
     out.push_back(given(Kind::Resonance, r.frequency_hz, r.sigma));
     out.back().q = r.q;
+    out.back().spread = r.spread_hz;
+    out.back().wander = r.wander_s;
   }
   for (const Step& st : s.steps) {
     // A given jump is kept as given: the Allan curve can neither place it nor size it apart
@@ -276,7 +279,7 @@ ChannelSpec spec_of(const std::vector<Component>& comps, const ChannelSpec& like
     } else if (c.kind == Kind::Step) {
       s.steps.push_back({c.sign * c.coef, c.nl});
     } else if (c.kind == Kind::Resonance) {
-      s.resonances.push_back({c.coef, c.nl, c.q});
+      s.resonances.push_back({c.coef, c.nl, c.q, c.spread, c.wander});
     } else {
       s.markovs.push_back({c.coef, c.nl});
     }
@@ -420,10 +423,18 @@ std::vector<Parameter> parameters_of(const Component& c, const Sigmas& sigmas, s
             {"frequency_hz", c.nl, std::isnan(c.nl_sigma) ? nl_sigma : c.nl_sigma}};
   if (c.kind == Kind::Step)
     return {{"size", c.sign * c.coef, c.coef_sigma}, {"time_s", c.nl, c.nl_sigma}};
-  if (c.kind == Kind::Resonance && (c.pinned || c.psd_shape))
-    return {{"sigma", c.coef, c.pinned ? c.coef_sigma : coef_sigma},
-            {"frequency_hz", c.nl, c.nl_sigma},
-            {"q", c.q, c.q_sigma}};
+  if (c.kind == Kind::Resonance && (c.pinned || c.psd_shape)) {
+    std::vector<Parameter> out = {{"sigma", c.coef, c.pinned ? c.coef_sigma : coef_sigma},
+                                  {"frequency_hz", c.nl, c.nl_sigma},
+                                  {"q", c.q, c.q_sigma}};
+    // A wandering resonance's spread, measured with its shape on the periodogram, and the
+    // wander's correlation time from its track (an order of magnitude, no sigma).
+    if (c.spread > 0.0) {
+      out.push_back({"spread_hz", c.spread, c.spread_sigma});
+      out.push_back({"wander_s", c.wander, kNaN});
+    }
+    return out;
+  }
   if (c.kind == Kind::Resonance)
     return {{"sigma", c.coef, coef_sigma},
             {"frequency_hz", c.nl, c.nl_bound != 0 ? kNaN : nl_sigma, c.nl_bound},
@@ -599,10 +610,17 @@ CandidateFit evaluate_candidate(Effect e, std::vector<Component> comps, const Wi
   } else if (e == Effect::Resonance) {
     cf = resonance_candidate(std::move(comps), cv, b, seen);
     if (!cf.info.note.empty()) return cf;
-    k += 3;
+    k += resonance_parameters(cf.fit.comps.back());
   }
   score_candidate(cf, k, chi2_ref, *fit_cv, b, crit);
   return cf;
+}
+
+// The curve's parameters of a resonance: f0, q and sigma searched on it, or sigma alone where the
+// periodogram measured the shape (psd_shape): the shape then has its witness and that witness's
+// false alarm (fit_peak_shapes' likelihood ratio at line_false_alarm), as a witnessed line has.
+int resonance_parameters(const Component& c) {
+  return c.psd_shape ? 1 : 3;
 }
 
 void score_candidate(CandidateFit& cf, int k, double chi2_ref, const Curve& fit_cv, const Bases& b,

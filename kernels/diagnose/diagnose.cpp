@@ -333,8 +333,12 @@ bool Search::round(int& iter) {
       d.trend = trend_under(now);
   }
   std::optional<Curve> without_jump = curve_without_jump(jump);
-  const Witnesses seen{line, jump, without_jump ? &*without_jump : nullptr,
-                       periodogram ? &*periodogram : nullptr, opt.line_false_alarm};
+  const Witnesses seen{line,
+                       jump,
+                       without_jump ? &*without_jump : nullptr,
+                       periodogram ? &*periodogram : nullptr,
+                       opt.line_false_alarm,
+                       periodogram ? rate : std::span<const double>{}};
   // Variant (b) is judged against the refit, not against the model as it stands: its effect
   // must pay for itself beyond what re-estimating alone achieves, or any useless term would
   // ride on the refit's improvement.
@@ -537,7 +541,7 @@ bool Search::prune(Fit& base, bool free_given) {
     const Fit f = refit_without(without, null_cv);
     const Fit w = fit_on(base.comps, null_cv);
     const int k_c = c.kind == Kind::Term || c.kind == Kind::Lowpass ? 1
-                    : c.kind == Kind::Resonance                     ? 3
+                    : c.kind == Kind::Resonance                     ? resonance_parameters(c)
                                                                     : 2;
     const double delta = (f.chi2 - w.chi2) * crit.scale - threshold(k_c, crit.alpha_candidate);
     if (!(c.coef > 0.0) || delta <= worst) {

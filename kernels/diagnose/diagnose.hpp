@@ -205,6 +205,7 @@ struct SpectralLine {
     double frequency_hz = 0, frequency_sigma = 0;  // the resonance's f0 and its 1-sigma
     double q = 0, q_sigma = 0;
     double sigma = 0, sigma_sigma = 0;  // stationary sd of the peak's process [u] (as measured)
+    double spread_hz = 0, spread_sigma = 0;  // a wandering resonance's spread (0: stationary)
   } narrowband;
 };
 

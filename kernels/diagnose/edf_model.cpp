@@ -66,11 +66,32 @@ double markov_alpha(double tau_c, double tau) {
 // noise bandwidth (a Lorentzian's, pi times its half-power width f0 / q; Bendat & Piersol,
 // Random Data, 4th ed., sec. 8.2.2: a mean square's normalized random error is 1 / sqrt(B T)).
 // Beyond the coherence time the averages decorrelate the process into white FM, whose edf is
-// the smaller one there; the smaller of the two is taken at every tau.
+// the smaller one there; the smaller of the two is taken at every tau. A wandering resonance's
+// bandwidth adds its Gaussian's, 2 sqrt(pi) spread_hz ((int S)^2 / int S^2 of a normal density).
 double resonance_edf(const Resonance& r, const Curve& cv, std::size_t i) {
   const double t_record = static_cast<double>(cv.n_samples) * cv.tau0;
-  const double narrowband = 2.0 * std::numbers::pi * r.frequency_hz / r.q * t_record;
+  const double bandwidth =
+      std::numbers::pi * r.frequency_hz / r.q + 2.0 * std::sqrt(std::numbers::pi) * r.spread_hz;
+  const double narrowband = 2.0 * bandwidth * t_record;
   return std::min(narrowband, cv.edf_pl[2][i]);
+}
+
+// A wandering resonance's Allan variance at a tau is its average over the frequencies the record
+// visits: about n = T / (2 wander_s) independent draws of f0 (at least one), whose spread of
+// avar_f(tau) about the mixture's mean a adds the relative variance var_f / (n a^2) to the
+// estimate's (the ripples' positions move with f0, so at the taus of a ripple this can exceed the
+// narrowband term many times). 0 for a stationary resonance.
+double wander_variance(const Resonance& r, double rate_hz, const Curve& cv, std::size_t i,
+                       double a) {
+  if (!(r.spread_hz > 0.0) || !(a > 0.0)) return 0.0;
+  const double t_record = static_cast<double>(cv.n_samples) * cv.tau0;
+  const double n = std::max(1.0, t_record / (2.0 * r.wander_s));
+  double var = 0.0;
+  for (const auto& [node, w] : resonance_nodes(r)) {
+    const double d = resonance_avar(node, rate_hz, static_cast<double>(cv.m[i])) - a;
+    var += w * d * d;
+  }
+  return var / (n * a * a);
 }
 
 }  // namespace
@@ -94,7 +115,8 @@ void prepare_edf(Curve& cv) {
 
 // Combination, per tau, of the model's components with Allan variances a_k:
 //  - stochastic components (the four noise terms, Gauss-Markov) each have the Greenhall-Riley
-//    edf e_k of their power law (a resonance its narrowband edf, resonance_edf), i.e.
+//    edf e_k of their power law (a resonance its narrowband edf, resonance_edf, and a wandering
+//    one the variance of its average over the wander, wander_variance), i.e.
 //    sd(avar_hat_k) = a_k sqrt(2 / e_k). The estimate of their sum is a quadratic form in the sum
 //    of their phases; its variance is 2 sum_kl tr(A R_k A R_l) with every cross term between 0 and
 //    the geometric mean of the diagonal ones (Cauchy-Schwarz for positive semidefinite R_k), so the
@@ -138,7 +160,8 @@ std::vector<double> model_edf(const ChannelSpec& s, const Curve& cv, const Bases
       if (!(r.sigma > 0.0)) continue;
       const double a = resonance_avar(r, s.rate_hz, static_cast<double>(cv.m[i]));
       a_n += a;
-      sd_n += a * std::sqrt(2.0 / resonance_edf(r, cv, i));
+      sd_n +=
+          a * std::sqrt(2.0 / resonance_edf(r, cv, i) + wander_variance(r, s.rate_hz, cv, i, a));
     }
     const double a_d = model_avar(det, cv.tau[i]);
     double edf = cv.edf_cap[i];

@@ -7,6 +7,7 @@
 #include "kernels/diagnose/internal.hpp"
 
 #include "kernels/simulate/resonance.hpp"
+#include "kernels/spectral/psd.hpp"
 #include "kernels/uncertainty/chi2.hpp"
 
 #include <Eigen/Cholesky>
@@ -14,7 +15,6 @@
 #include <Eigen/LU>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -24,19 +24,40 @@ namespace {
 
 constexpr std::int64_t kNearLo = 4, kNearHi = 32;
 
-// Parameters: ln f0, ln q, ln sigma^2, ln background at the window's centre, and the
-// background's log slope across the window.
-using Params = std::array<double, 5>;
+// The parameters of a fit: the background's ln level at the window's centre and its log slope
+// across the window, then for each resonance ln f0, ln q, ln sigma^2 and, for a wandering one
+// (kernels/simulate/resonance.hpp), ln spread.
+using Params = std::vector<double>;
+constexpr std::size_t kBackground = 2;
+
+// Where each resonance's parameters start in a Params, by which of them wander.
+struct Layout {
+  std::vector<bool> wander;
+  std::vector<std::size_t> at;
+  explicit Layout(std::vector<bool> w) : wander(std::move(w)) {
+    std::size_t i = kBackground;
+    for (const bool b : wander) {
+      at.push_back(i);
+      i += b ? 4 : 3;
+    }
+  }
+  std::size_t count() const { return wander.size(); }
+  Resonance unit(const Params& x, std::size_t r) const {
+    const std::size_t i = at[r];
+    return {1.0, std::exp(x[i]), std::exp(x[i + 1]), wander[r] ? std::exp(x[i + 3]) : 0.0};
+  }
+};
 
 // Whittle's likelihood (a periodogram bin is its spectrum times an exponential variate: Whittle
 // 1953) of the means of `block` adjacent bins over a window, under a log-linear background plus
-// a resonance's one-sided PSD. The mean of B bins is Gamma(B, S / B), so the negative
+// resonances' one-sided PSDs. The mean of B bins is Gamma(B, S / B), so the negative
 // log-likelihood is B sum (ln S + P / S).
 struct Whittle {
   double rate_hz = 0.0;
   double block = 1.0;
   std::vector<double> f, p;  // the blocks' centre frequencies and mean periodogram
   double f_mid = 0.0, f_span = 1.0;
+  Layout layout{{}};
 
   Whittle(const PsdResult& psd, std::int64_t k0, std::int64_t k1, std::int64_t b)
       : rate_hz(2.0 * static_cast<double>(psd.size() - 1) * psd.df_hz),
@@ -54,20 +75,24 @@ struct Whittle {
     }
   }
   std::vector<double> ln_spectrum(const Params& x) const {
-    const Resonance unit{1.0, std::exp(x[0]), std::exp(x[1])};
-    std::vector<double> out(f.size());
-    for (std::size_t j = 0; j < f.size(); ++j) {
-      const double bg = std::exp(x[3] + x[4] * (f[j] - f_mid) / f_span);
-      const double res =
-          x[2] > -600.0 ? std::exp(x[2]) * resonance_psd_one_sided(unit, rate_hz, f[j]) : 0.0;
-      out[j] = std::log(bg + res);
-    }
-    return out;
+    std::vector<double> s(f.size());
+    for (std::size_t j = 0; j < f.size(); ++j)
+      s[j] = std::exp(x[0] + x[1] * (f[j] - f_mid) / f_span);
+    for (std::size_t r = 0; r < layout.count(); ++r)
+      add_resonance_psd(layout.unit(x, r), rate_hz, std::exp(x[layout.at[r] + 2]), f, s);
+    for (double& v : s)
+      v = std::log(v);
+    return s;
   }
   bool valid(const Params& x) const {
-    const double f0 = std::exp(x[0]), q = std::exp(x[1]);
-    return f0 > 0.0 && f0 < 0.5 * rate_hz && q >= kResonanceMinQ && q <= kResonanceMaxQ &&
-           std::all_of(x.begin(), x.end(), [](double v) { return std::isfinite(v); });
+    if (!std::all_of(x.begin(), x.end(), [](double v) { return std::isfinite(v); })) return false;
+    for (std::size_t r = 0; r < layout.count(); ++r) {
+      const Resonance u = layout.unit(x, r);
+      if (!(u.frequency_hz > 0.0 && u.frequency_hz < 0.5 * rate_hz && u.q >= kResonanceMinQ &&
+            u.q <= kResonanceMaxQ && u.spread_hz <= resonance_max_spread(u.frequency_hz, rate_hz)))
+        return false;
+    }
+    return true;
   }
   double nll(const Params& x) const {
     if (!valid(x)) return std::numeric_limits<double>::infinity();
@@ -77,14 +102,13 @@ struct Whittle {
       s += ls[j] + p[j] * std::exp(-ls[j]);
     return block * s;
   }
-  // d ln S_j / d x_a of the parameters `free`, by central differences.
-  Eigen::MatrixXd jacobian(const Params& x, const std::vector<std::size_t>& free) const {
-    Eigen::MatrixXd jac(static_cast<Eigen::Index>(f.size()),
-                        static_cast<Eigen::Index>(free.size()));
-    for (std::size_t a = 0; a < free.size(); ++a) {
+  // d ln S_j / d x_a of every parameter, by central differences.
+  Eigen::MatrixXd jacobian(const Params& x) const {
+    Eigen::MatrixXd jac(static_cast<Eigen::Index>(f.size()), static_cast<Eigen::Index>(x.size()));
+    for (std::size_t a = 0; a < x.size(); ++a) {
       Params lo = x, hi = x;
-      lo[free[a]] -= 1e-6;
-      hi[free[a]] += 1e-6;
+      lo[a] -= 1e-6;
+      hi[a] += 1e-6;
       const std::vector<double> sl = ln_spectrum(lo), sh = ln_spectrum(hi);
       for (std::size_t j = 0; j < f.size(); ++j)
         jac(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(a)) = (sh[j] - sl[j]) / 2e-6;
@@ -93,13 +117,14 @@ struct Whittle {
   }
 };
 
-// Fisher scoring of the parameters `free` from x (the step I^-1 J^T (P / S - 1) with
-// I = J^T J, halved until the likelihood improves); the minimum found and its negative
+// Fisher scoring of every parameter from x (the step I^-1 J^T (P / S - 1) with I = J^T J, halved
+// until the likelihood improves) under `layout`; the minimum found and its negative
 // log-likelihood.
-std::pair<Params, double> score(const Whittle& w, Params x, const std::vector<std::size_t>& free) {
+std::pair<Params, double> score(Whittle& w, const Layout& layout, Params x) {
+  w.layout = layout;
   double now = w.nll(x);
   for (int it = 0; it < 60 && std::isfinite(now); ++it) {
-    const Eigen::MatrixXd jac = w.jacobian(x, free);
+    const Eigen::MatrixXd jac = w.jacobian(x);
     const std::vector<double> ls = w.ln_spectrum(x);
     Eigen::VectorXd r(jac.rows());
     for (Eigen::Index j = 0; j < r.size(); ++j)
@@ -109,8 +134,8 @@ std::pair<Params, double> score(const Whittle& w, Params x, const std::vector<st
     bool moved = false;
     for (int h = 0; h < 30 && !moved; ++h, scale *= 0.5) {
       Params y = x;
-      for (std::size_t a = 0; a < free.size(); ++a)
-        y[free[a]] += scale * step(static_cast<Eigen::Index>(a));
+      for (std::size_t a = 0; a < x.size(); ++a)
+        y[a] += scale * step(static_cast<Eigen::Index>(a));
       if (const double v = w.nll(y); v < now) {
         moved = now - v > 1e-9;
         x = y;
@@ -127,6 +152,59 @@ std::pair<Params, double> score(const Whittle& w, Params x, const std::vector<st
 // the Fisher information and the likelihood ratio are divided by it.
 constexpr double kHannInflation = 1.0 + 2.0 * (4.0 / 9.0 + 1.0 / 36.0);
 
+// The shapes of a fit's resonances with their 1-sigma, from the inverse Fisher information;
+// empty when it is singular.
+std::vector<SpectralLine::Narrowband> shapes_of(const Whittle& w, const Params& x) {
+  const Eigen::MatrixXd jac = w.jacobian(x);
+  const Eigen::MatrixXd cov = (jac.transpose() * jac).inverse() * kHannInflation / w.block;
+  if (!cov.allFinite() || cov.diagonal().minCoeff() < 0.0) return {};
+  std::vector<SpectralLine::Narrowband> out;
+  for (std::size_t r = 0; r < w.layout.count(); ++r) {
+    const auto i = static_cast<Eigen::Index>(w.layout.at[r]);
+    const Resonance u = w.layout.unit(x, r);
+    SpectralLine::Narrowband nb;
+    nb.found = true;
+    nb.frequency_hz = u.frequency_hz;
+    nb.frequency_sigma = u.frequency_hz * std::sqrt(cov(i, i));
+    nb.q = u.q;
+    nb.q_sigma = u.q * std::sqrt(cov(i + 1, i + 1));
+    nb.sigma = std::exp(0.5 * x[w.layout.at[r] + 2]);
+    nb.sigma_sigma = 0.5 * nb.sigma * std::sqrt(cov(i + 2, i + 2));
+    if (w.layout.wander[r]) {
+      nb.spread_hz = u.spread_hz;
+      nb.spread_sigma = u.spread_hz * std::sqrt(cov(i + 3, i + 3));
+    }
+    out.push_back(nb);
+  }
+  return out;
+}
+
+// The window's background level (its lower quartile: the peak leaves it alone) and peak.
+std::pair<double, double> background_and_top(const Whittle& w) {
+  std::vector<double> sorted = w.p;
+  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 4),
+                   sorted.end());
+  return {sorted[sorted.size() / 4], *std::max_element(w.p.begin(), w.p.end())};
+}
+
+// A new resonance's start from its peak's height: at its peak a resonance's PSD is about
+// 2 sigma^2 q / (pi f0) (a Lorentzian of half-width f0 / (2 q) holding sigma^2).
+void append_start(Params& x, double f0, double q, double height) {
+  const double s2 = height * std::numbers::pi * f0 / (2.0 * q);
+  x.insert(x.end(), {std::log(f0), std::log(q), std::log(s2)});
+}
+
+// The height of a new peak at f0 over the fit x: the window's excess over x's spectrum in the
+// block nearest f0, at least that spectrum there (a peak to be found is not below it).
+double excess_at(const Whittle& w, const Params& x, double f0) {
+  const std::vector<double> ls = w.ln_spectrum(x);
+  const auto j = static_cast<std::size_t>(
+      std::min_element(w.f.begin(), w.f.end(),
+                       [f0](double a, double b) { return std::abs(a - f0) < std::abs(b - f0); }) -
+      w.f.begin());
+  return std::max(w.p[j] - std::exp(ls[j]), std::exp(ls[j]));
+}
+
 // The resonance over the window k0 .. k1 in blocks of `block` bins: Fisher scoring from f0 =
 // f_start with q from q_starts and sigma^2 from the window's excess at the start's peak, the
 // best likelihood kept. Found when q lies strictly inside (2, f0 over two blocks) and the
@@ -135,41 +213,73 @@ constexpr double kHannInflation = 1.0 + 2.0 * (4.0 / 9.0 + 1.0 / 36.0);
 SpectralLine::Narrowband fit_window(const PsdResult& psd, std::int64_t k0, std::int64_t k1,
                                     std::int64_t block, double f_start,
                                     const std::vector<double>& q_starts, double false_alarm) {
-  SpectralLine::Narrowband out;
-  const Whittle w(psd, k0, k1, block);
-  if (w.f.size() < 16) return out;
-  std::vector<double> sorted = w.p;
-  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 4),
-                   sorted.end());
-  const double bg = sorted[sorted.size() / 4];
-  const double top = *std::max_element(w.p.begin(), w.p.end());
-  const std::vector<std::size_t> all{0, 1, 2, 3, 4}, background{3, 4};
+  Whittle w(psd, k0, k1, block);
+  if (w.f.size() < 16) return {};
+  const auto [bg, top] = background_and_top(w);
   std::pair<Params, double> best{{}, std::numeric_limits<double>::infinity()};
   for (const double q : q_starts) {
-    // At its peak a resonance's PSD is about 2 sigma^2 q / (pi f0) (a Lorentzian of half-width
-    // f0 / (2 q) holding sigma^2).
-    const double s2 = std::max(top - bg, bg) * std::numbers::pi * f_start / (2.0 * q);
-    const auto r = score(w, {std::log(f_start), std::log(q), std::log(s2), std::log(bg), 0.0}, all);
+    Params x{std::log(bg), 0.0};
+    append_start(x, f_start, q, std::max(top - bg, bg));
+    const auto r = score(w, Layout({false}), x);
     if (r.second < best.second) best = r;
   }
-  const auto none = score(w, {std::log(f_start), 0.0, -1000.0, std::log(bg), 0.0}, background);
-  if (!std::isfinite(best.second) || !std::isfinite(none.second)) return out;
-  const Params& x = best.first;
-  const double f0 = std::exp(x[0]), q = std::exp(x[1]);
+  const auto none = score(w, Layout({}), {std::log(bg), 0.0});
+  if (!std::isfinite(best.second) || !std::isfinite(none.second)) return {};
+  const double f0 = std::exp(best.first[2]), q = std::exp(best.first[3]);
   const double ratio = 2.0 * (none.second - best.second) / kHannInflation;
   if (!(q > 2.0 && q < f0 / (2.0 * w.block * psd.df_hz)) ||
       ratio < chi2_quantile(1.0 - false_alarm, 3.0))
-    return out;
-  const Eigen::MatrixXd jac = w.jacobian(x, all);
-  const Eigen::MatrixXd cov = (jac.transpose() * jac).inverse() * kHannInflation / w.block;
-  if (!cov.allFinite() || cov.diagonal().minCoeff() < 0.0) return out;
-  out.found = true;
-  out.frequency_hz = f0;
-  out.frequency_sigma = f0 * std::sqrt(cov(0, 0));
-  out.q = q;
-  out.q_sigma = q * std::sqrt(cov(1, 1));
-  out.sigma = std::exp(0.5 * x[2]);
-  out.sigma_sigma = 0.5 * out.sigma * std::sqrt(cov(2, 2));
+    return {};
+  w.layout = Layout({false});
+  const auto shapes = shapes_of(w, best.first);
+  return shapes.empty() ? SpectralLine::Narrowband{} : shapes.front();
+}
+
+// The new resonance of fit_peak_shapes (last in best's layout), tried wandering too from its
+// stationary fit with the spread at its half-width: wandering where the spread's likelihood
+// ratio passes chi2(1) at false_alarm, its q still resolved (below f0 over two blocks: narrower,
+// the width is the spread's alone and q no estimate) and its spread below 95 % of its range's
+// top (above, a band, no peak). Found when its q lies strictly inside (2, f0 over two blocks) and
+// its likelihood ratio against the present resonances alone passes chi2 of its 3 or 4 degrees
+// of freedom at false_alarm. The present ones' shapes then the new one's, every present one
+// outside the window as it was with `found` false; empty when not found.
+std::vector<SpectralLine::Narrowband>
+accept_new(Whittle& w, const PsdResult& psd, const std::vector<std::size_t>& inside,
+           const std::vector<SpectralLine::Narrowband>& present, double nll_none,
+           std::pair<Params, double> best, double false_alarm) {
+  std::vector<bool> wander(inside.size() + 1, false);
+  for (std::size_t j = 0; j < inside.size(); ++j)
+    wander[j] = present[inside[j]].spread_hz > 0.0;
+  const double q_top_of = 0.5 / (w.block * psd.df_hz);  // q below f0 times this is resolved
+  {
+    std::vector<bool> with = wander;
+    with.back() = true;
+    Params x = best.first;
+    const double f0 = std::exp(x[x.size() - 3]), q = std::exp(x[x.size() - 2]);
+    x.push_back(std::log(std::min(f0 / (2.0 * q), 0.9 * resonance_max_spread(f0, w.rate_hz))));
+    const auto r = score(w, Layout(with), x);
+    const Resonance u = Layout(with).unit(r.first, inside.size());
+    if (2.0 * (best.second - r.second) / kHannInflation > chi2_quantile(1.0 - false_alarm, 1.0) &&
+        u.q < u.frequency_hz * q_top_of &&
+        u.spread_hz < 0.95 * resonance_max_spread(u.frequency_hz, w.rate_hz)) {
+      best = r;
+      wander = with;
+    }
+  }
+  w.layout = Layout(wander);
+  const Resonance u = w.layout.unit(best.first, inside.size());
+  const double dof = wander.back() ? 4.0 : 3.0;
+  if (!(u.q > 2.0 && u.q < u.frequency_hz * q_top_of) ||
+      2.0 * (nll_none - best.second) / kHannInflation < chi2_quantile(1.0 - false_alarm, dof))
+    return {};
+  const std::vector<SpectralLine::Narrowband> shapes = shapes_of(w, best.first);
+  if (shapes.empty()) return {};
+  std::vector<SpectralLine::Narrowband> out = present;
+  for (auto& r : out)
+    r.found = false;
+  for (std::size_t j = 0; j < inside.size(); ++j)
+    out[inside[j]] = shapes[j];
+  out.push_back(shapes.back());
   return out;
 }
 
@@ -204,17 +314,97 @@ SpectralLine::Narrowband fit_narrowband(const PsdResult& psd, std::int64_t k, do
                     1, f_peak, q_starts, false_alarm);
 }
 
-// From half to 1.5 times f0 (below 0.45 of the rate), in blocks that leave about 512 points,
-// with q from 2 to 256 by factors of 2.
-SpectralLine::Narrowband fit_broad(const PsdResult& psd, double f0, double false_alarm) {
+// From half to 1.5 times f0 (below 0.45 of the rate), in blocks that leave about 512 points.
+// The present resonances inside start from their shapes (sigma^2 from the window's excess like a
+// new one's); the model without the new one is fitted too, for the likelihood ratio.
+std::vector<SpectralLine::Narrowband>
+fit_peak_shapes(const PsdResult& psd, const std::vector<SpectralLine::Narrowband>& present,
+                double f0, const std::vector<double>& q_starts, double false_alarm) {
   const auto kmax = static_cast<std::int64_t>(psd.size()) - 1;
   const double rate_hz = 2.0 * static_cast<double>(kmax) * psd.df_hz;
   const auto k0 = std::max<std::int64_t>(static_cast<std::int64_t>(0.5 * f0 / psd.df_hz), 1);
   const auto k1 =
       std::min(static_cast<std::int64_t>(std::min(1.5 * f0, 0.45 * rate_hz) / psd.df_hz), kmax - 1);
   const std::int64_t block = std::max<std::int64_t>((k1 - k0) / 512, 1);
-  return fit_window(psd, k0, k1, block, f0, {2.0, 4.0, 8.0, 16.0, 32.0, 64.0, 128.0, 256.0},
-                    false_alarm);
+  Whittle w(psd, k0, k1, block);
+  if (w.f.size() < 16) return {};
+  std::vector<std::size_t> inside;
+  std::vector<bool> wander;
+  const auto [bg, top] = background_and_top(w);
+  Params base{std::log(bg), 0.0};
+  for (std::size_t i = 0; i < present.size(); ++i) {
+    const SpectralLine::Narrowband& r = present[i];
+    if (r.frequency_hz < w.f.front() || r.frequency_hz > w.f.back()) continue;
+    inside.push_back(i);
+    wander.push_back(r.spread_hz > 0.0);
+    append_start(base, r.frequency_hz, r.q, std::max(top - bg, bg));
+    if (r.spread_hz > 0.0) base.push_back(std::log(r.spread_hz));
+  }
+  const auto none = score(w, Layout(wander), base);
+  wander.push_back(false);
+  const Layout stationary(wander);
+  w.layout = Layout(std::vector<bool>(wander.begin(), wander.end() - 1));
+  const double height = excess_at(w, none.first, f0);
+  std::pair<Params, double> best{{}, std::numeric_limits<double>::infinity()};
+  for (const double q : q_starts) {
+    Params x = none.first;
+    append_start(x, f0, q, height);
+    const auto r = score(w, stationary, x);
+    if (r.second < best.second) best = r;
+  }
+  if (!std::isfinite(best.second) || !std::isfinite(none.second)) return {};
+  return accept_new(w, psd, inside, present, none.second, best, false_alarm);
+}
+
+// The frequency's track: in each piece of L seconds, L the longest of T / 128 (enough pieces for
+// their correlation), 32 coherence times q / (pi f0) (a piece resolves the peak) and 8 / spread
+// (its bins resolve the wander), the centroid of the Hann periodogram's excess over its lower
+// quartile within f0 +- 3 spread (the quartile of the bins within +- 6 spread, of which the peak
+// holds about a third). A Gauss-Markov wander of correlation time tau makes consecutive pieces'
+// centroids correlate by about exp(-L / tau), so tau = -L / ln rho of their lag-1 correlation rho.
+// The centroids' own noise lowers rho, and a wander with memory longer than one time constant
+// (the ADIS16405 z gyroscopes': 144-574 s from 60 s pieces, 151-1082 s from 120 s ones) raises
+// tau with L: the estimate errs short, towards replicas that vary less than the record, the strict
+// side. Fewer than 8 pieces, or rho <= 0, give L / 2; at most the record's length.
+double wander_time(std::span<const double> record, double rate_hz, double f0, double spread,
+                   double q) {
+  const double t_record = static_cast<double>(record.size()) / rate_hz;
+  const double l_s = std::max({t_record / 128.0, 32.0 * q / (std::numbers::pi * f0), 8.0 / spread});
+  const auto len = 2 * static_cast<std::int64_t>(0.5 * l_s * rate_hz);
+  const std::int64_t pieces = len >= 16 ? static_cast<std::int64_t>(record.size()) / len : 0;
+  if (pieces < 8) return std::min(0.5 * l_s, t_record);
+  const PsdPlan plan(len);
+  std::vector<double> track, near;
+  for (std::int64_t i = 0; i < pieces; ++i) {
+    const PsdResult p =
+        plan.welch(record.subspan(static_cast<std::size_t>(i * len), static_cast<std::size_t>(len)),
+                   rate_hz, 1);
+    near.clear();
+    for (std::size_t k = 1; k < p.size(); ++k)
+      if (std::abs(static_cast<double>(k) * p.df_hz - f0) <= 6.0 * spread) near.push_back(p.psd[k]);
+    if (near.size() < 8) return std::min(0.5 * l_s, t_record);
+    std::nth_element(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(near.size() / 4),
+                     near.end());
+    const double bg = near[near.size() / 4];
+    double sum = 0.0, moment = 0.0;
+    for (std::size_t k = 1; k < p.size(); ++k)
+      if (const double f = static_cast<double>(k) * p.df_hz; std::abs(f - f0) <= 3.0 * spread) {
+        sum += std::max(p.psd[k] - bg, 0.0);
+        moment += f * std::max(p.psd[k] - bg, 0.0);
+      }
+    track.push_back(sum > 0.0 ? moment / sum : f0);
+  }
+  double mean = 0.0;
+  for (const double v : track)
+    mean += v / static_cast<double>(track.size());
+  double c0 = 0.0, c1 = 0.0;
+  for (std::size_t i = 0; i < track.size(); ++i) {
+    c0 += (track[i] - mean) * (track[i] - mean);
+    if (i > 0) c1 += (track[i] - mean) * (track[i - 1] - mean);
+  }
+  const double rho = c0 > 0.0 ? c1 / c0 : 0.0;
+  if (!(rho > 0.0)) return 0.5 * l_s;
+  return std::min(-l_s / std::log(std::min(rho, 0.999999)), t_record);
 }
 
 }  // namespace allanlot::kernels::diagnose_detail

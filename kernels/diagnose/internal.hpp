@@ -48,10 +48,12 @@ enum class Kind { Term, Sinusoid, Markov, Lowpass, Step, Resonance };
 struct Component {
   Kind kind = Kind::Term;
   Term term = Term::N;
-  double nl = 0.0;     // frequency_hz (sinusoid, resonance), tau_c_s (markov) or time_s (step)
-  double q = 0.0;      // a resonance's quality factor
-  double phase = 0.0;  // sinusoid phase (no effect on avar; kept for the model file)
-  double sign = 1.0;   // a step's direction: size = sign coef (no effect on avar)
+  double nl = 0.0;      // frequency_hz (sinusoid, resonance), tau_c_s (markov) or time_s (step)
+  double q = 0.0;       // a resonance's quality factor
+  double spread = 0.0;  // a resonance's frequency wander, sd [Hz] (0: stationary)
+  double wander = 0.0;  // the wander's correlation time [s] (spread > 0)
+  double phase = 0.0;   // sinusoid phase (no effect on avar; kept for the model file)
+  double sign = 1.0;    // a step's direction: size = sign coef (no effect on avar)
   double coef = 0.0;
   bool free = false;       // re-estimated by the fit
   bool nl_free = false;    // tau_c is searched (for its uncertainty)
@@ -65,8 +67,9 @@ struct Component {
   // the sinusoid's alone. A step's size comes from its jump in the record, for the same reason
   // (a random walk's or a ramp's rise would be absorbed).
   bool pinned = false;
-  double coef_sigma = kNaN;  // uncertainty of coef when pinned
-  double q_sigma = kNaN;     // uncertainty of a resonance's q from its PSD fit
+  double coef_sigma = kNaN;    // uncertainty of coef when pinned
+  double q_sigma = kNaN;       // uncertainty of a resonance's q from its PSD fit
+  double spread_sigma = kNaN;  // uncertainty of a wandering resonance's spread (PSD fit)
   bool psd_shape = false;  // a resonance's f0 and q from the periodogram (fit_broad), sigma fitted
   Lowpass lp;              // Kind::Lowpass: the filter
 };
@@ -98,6 +101,7 @@ struct Witnesses {
   const Curve* without_jump = nullptr;     // the curve with the jump removed (step.found)
   const PsdResult* periodogram = nullptr;  // the record's (none with gaps)
   double line_false_alarm = 1e-4;
+  std::span<const double> record;  // the record, with its periodogram (a wander's track)
 };
 
 struct CandidateFit {
@@ -168,6 +172,8 @@ CandidateFit resonance_candidate(std::vector<Component> base, const Curve& cv, c
                                  const Witnesses& seen);
 CandidateFit witnessed_resonance(std::vector<Component> base, const SpectralLine::Narrowband& nb,
                                  const Curve& cv, const Bases& b);
+/// The parameters a resonance's criterion charges (candidates.cpp).
+int resonance_parameters(const Component& c);
 /// Marks a fitted candidate (its component added last) evaluated: its criterion against
 /// chi2_ref at k parameters (0 for a witnessed effect) and its parameters on `fit_cv`.
 void score_candidate(CandidateFit& cf, int k, double chi2_ref, const Curve& fit_cv, const Bases& b,
@@ -212,9 +218,18 @@ double ring_median(const PsdResult& psd, std::int64_t k, std::int64_t lo, std::i
 inline constexpr std::int64_t kFarRing = 384;
 bool wider_than_a_line(const PsdResult& psd, std::int64_t k);
 SpectralLine::Narrowband fit_narrowband(const PsdResult& psd, std::int64_t k, double false_alarm);
-// A resonance near f0 fitted to the periodogram from f0 / 2 to 1.5 f0: the shape of one whose
-// q the Allan curve left at a bound.
-SpectralLine::Narrowband fit_broad(const PsdResult& psd, double f0, double false_alarm);
+// The shapes of a peak's resonances on the periodogram from f0 / 2 to 1.5 f0: the model's
+// `present` resonances there and a new one near f0 (from each q of q_starts), fitted together
+// over a log-linear background; the new one wandering where that is significant. The present
+// ones' shapes (those outside the window unchanged, `found` false) then the new one's; empty
+// when the new one is not significant at false_alarm (find_narrowband.cpp).
+std::vector<SpectralLine::Narrowband>
+fit_peak_shapes(const PsdResult& psd, const std::vector<SpectralLine::Narrowband>& present,
+                double f0, const std::vector<double>& q_starts, double false_alarm);
+// The correlation time [s] of a wandering resonance's frequency from its track through `record`
+// (find_narrowband.cpp).
+double wander_time(std::span<const double> record, double rate_hz, double f0, double spread,
+                   double q);
 PsdResult full_periodogram(std::span<const double> rate, double rate_hz, int threads);
 bool has_nan(std::span<const double> v);
 

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <tuple>
 
 namespace allanlot::kernels::diagnose_detail {
 namespace {
@@ -29,6 +30,94 @@ CandidateFit resonance_room(const std::vector<Component>& base) {
   if (static_cast<std::uint32_t>(n_res) >= rng::kMaxResonance)
     out.info.note = "too many resonances";
   return out;
+}
+
+// The half-width at half power of a resonance's peak: f0 / (2 q), plus a wandering one's
+// Gaussian's, sqrt(2 ln 2) spread (the two added, an upper bound of the mixture's).
+double half_width(const Component& c) {
+  return c.nl / (2.0 * c.q) + 1.1774 * c.spread;
+}
+
+// Two resonances whose peaks overlap are still two where one is this many times wider than the
+// other: a broad pedestal under a narrow peak, a shape no single resonance makes, whereas one
+// peak split in two gives two of about its width.
+constexpr double kPedestal = 3.0;
+
+// A model resonance as a start of the periodogram's fit.
+SpectralLine::Narrowband narrowband_of(const Component& c) {
+  SpectralLine::Narrowband nb;
+  nb.frequency_hz = c.nl;
+  nb.q = c.q;
+  nb.spread_hz = c.spread;
+  return nb;
+}
+
+void set_shape(Component& c, const SpectralLine::Narrowband& nb, const Witnesses& seen) {
+  c.nl = nb.frequency_hz;
+  c.nl_sigma = nb.frequency_sigma;
+  c.q = nb.q;
+  c.q_sigma = nb.q_sigma;
+  c.spread = nb.spread_hz;
+  c.spread_sigma = nb.spread_hz > 0.0 ? nb.spread_sigma : kNaN;
+  const double rate_hz =
+      2.0 * static_cast<double>(seen.periodogram->size() - 1) * seen.periodogram->df_hz;
+  c.wander = nb.spread_hz > 0.0 ? wander_time(seen.record, rate_hz, c.nl, c.spread, c.q) : 0.0;
+  c.nl_bound = c.q_bound = 0;
+  c.nl_free = false;
+  c.psd_shape = true;
+}
+
+// The new resonance comps[idx] and the model's resonances beside its peak measured together on
+// the periodogram (fit_peak_shapes), from the curve's f0 and q (and q from 2 to 128 by factors
+// of 4: a q at a bound is no start). The new one and the others the search added take the
+// periodogram's f0, q and spread (psd_shape: sigma stays the curve's to fit); given and witnessed
+// resonances join the fit, so that their peaks are not taken for the new one, and stay as they
+// are. False, the components unchanged, when the periodogram shows no new peak there.
+bool shape_on_periodogram(Fit& fit, std::size_t idx, const Witnesses& seen) {
+  std::vector<SpectralLine::Narrowband> present;
+  std::vector<std::size_t> which;
+  for (std::size_t i = 0; i < idx; ++i)
+    if (fit.comps[i].kind == Kind::Resonance) {
+      which.push_back(i);
+      present.push_back(narrowband_of(fit.comps[i]));
+    }
+  const Component& c = fit.comps[idx];
+  std::vector<double> q_starts{2.0, 8.0, 32.0, 128.0};
+  if (c.q_bound == 0) q_starts.push_back(c.q);
+  const auto shapes =
+      fit_peak_shapes(*seen.periodogram, present, c.nl, q_starts, seen.line_false_alarm);
+  if (shapes.empty()) return false;
+  for (std::size_t j = 0; j < which.size(); ++j) {
+    Component& o = fit.comps[which[j]];
+    if (shapes[j].found && !o.given && !o.pinned) set_shape(o, shapes[j], seen);
+  }
+  set_shape(fit.comps[idx], shapes.back(), seen);
+  return true;
+}
+
+// The new resonance's shape on the periodogram from the curve's f0 and, beside each resonance
+// the periodogram has shaped already, from 1.2 times and 1 / 1.2 times its f0 at q 4: a peak
+// need not be one Lorentzian (the ADIS16405 z gyroscopes' has a broad shoulder 3-5 Hz above
+// it, q 4-6, which the curve's search, its ripples taken, does not find). Of the starts the
+// periodogram confirms, the one whose fit on the curve has the lowest chi-square; no components
+// when none.
+Fit shaped_on_periodogram(const Fit& searched, std::size_t idx, const Curve& cv, const Bases& b,
+                          const Witnesses& seen) {
+  Fit best;
+  if (seen.periodogram == nullptr) return best;
+  std::vector<std::pair<double, double>> starts{{searched.comps[idx].nl, searched.comps[idx].q}};
+  for (std::size_t i = 0; i < idx; ++i)
+    if (const Component& o = searched.comps[i]; o.kind == Kind::Resonance && o.psd_shape)
+      starts.insert(starts.end(), {{1.2 * o.nl, 4.0}, {o.nl / 1.2, 4.0}});
+  for (std::size_t s = 0; s < starts.size(); ++s) {
+    Fit trial = searched;
+    Component& c = trial.comps[idx];
+    if (s > 0) std::tie(c.nl, c.q, c.q_bound) = std::tuple(starts[s].first, starts[s].second, 0);
+    if (!shape_on_periodogram(trial, idx, seen)) continue;
+    trial = fit_components(std::move(trial.comps), cv, b);
+    if (best.comps.empty() || trial.chi2 < best.chi2) best = std::move(trial);
+  }
+  return best;
 }
 
 }  // namespace
@@ -108,12 +197,13 @@ Fit search_resonance(std::vector<Component> comps, std::size_t idx, const Curve&
 }
 
 // Resonance candidate: a new component, its frequency and q searched over their whole range
-// with the others' coefficients as `base` has them. A second resonance is a distinct instance
-// only where the two peaks are resolved: their frequencies further apart than the sum of their
-// half-widths at half power, f0 / (2 q) each (closer, two are one peak re-split); else the
-// candidate comes back with a note and no fit. A real narrowband noise need not be one
-// Lorentzian: the ADIS16405 z gyroscopes' peak at 17-21 Hz has a broad shoulder 3-5 Hz above it
-// (q 4-6 against 15-25; a fit of their Welch spectra), a resolved second peak.
+// with the others' coefficients as `base` has them, then its shape measured on the periodogram.
+// A second resonance is a distinct instance only where the two peaks are resolved: their
+// frequencies further apart than the sum of their half-widths at half power (half_width;
+// closer, two are one peak re-split) or one of them a pedestal under the other (kPedestal); else
+// the candidate comes back with a note and no fit. A real narrowband noise need not be one
+// Lorentzian: the ADIS16405 z gyroscopes' wandering peak at 17-21 Hz has a broad pedestal about
+// 2 Hz above it (q 4-5).
 CandidateFit resonance_candidate(std::vector<Component> base, const Curve& cv, const Bases& b,
                                  const Witnesses& seen) {
   CandidateFit out = resonance_room(base);
@@ -121,35 +211,30 @@ CandidateFit resonance_candidate(std::vector<Component> base, const Curve& cv, c
   base.push_back(searched_component(Kind::Resonance));
   const std::size_t idx = base.size() - 1;
   out.fit = search_resonance(std::move(base), idx, cv, b, true);
-  // A q at either end of its range is no estimate: beyond a few hundred, and for a broad peak
-  // beside the sensor's filter, the curve's shape hardly depends on it (the ADIS16405
+  // The periodogram measures the peak's shape, which the curve sees only through its ripples: a
+  // q at either end of its range on the curve is no estimate (beyond a few hundred, and for a
+  // broad peak beside the sensor's filter, the curve's shape hardly depends on it: the ADIS16405
   // accelerometers' hump at 9.5-11 Hz, q about 10 in their periodograms, went to q > 79380 on the
-  // curve as a line). The periodogram around the curve's f0 measures the peak's shape instead;
-  // sigma stays the curve's. Where the periodogram shows no peak there, the curve's feature is
-  // no narrowband process and the candidate is withdrawn (an ADIS16405 z gyroscope's curve named
-  // one at 6.9 Hz with q > 51511 beside its real peak at 19.5 Hz).
-  if (Component& c = out.fit.comps[idx]; c.q_bound != 0 && seen.periodogram != nullptr) {
-    const SpectralLine::Narrowband nb = fit_broad(*seen.periodogram, c.nl, seen.line_false_alarm);
-    if (!nb.found) {
-      out.info.note = "q at a bound of its range on the curve (" + std::to_string(c.q) + " at " +
-                      std::to_string(c.nl) + " Hz) and no peak near there in the periodogram";
-      out.fit = {};
-      return out;
-    }
-    c.nl = nb.frequency_hz;
-    c.nl_sigma = nb.frequency_sigma;
-    c.q = nb.q;
-    c.q_sigma = nb.q_sigma;
-    c.nl_bound = c.q_bound = 0;
-    c.nl_free = false;
-    c.psd_shape = true;
-    out.fit = fit_components(out.fit.comps, cv, b);
+  // curve as a line), and a peak whose frequency wanders is a Lorentzian to the curve (the
+  // ADIS16405 z gyroscopes'). Where the periodogram shows no peak near a q at a bound, the
+  // curve's feature is no narrowband process and the candidate is withdrawn (an ADIS16405 z
+  // gyroscope's curve named one at 6.9 Hz with q > 51511 beside its real peak at 19.5 Hz).
+  if (Fit shaped = shaped_on_periodogram(out.fit, idx, cv, b, seen); !shaped.comps.empty()) {
+    out.fit = std::move(shaped);
+  } else if (seen.periodogram != nullptr && out.fit.comps[idx].q_bound != 0) {
+    const Component& c = out.fit.comps[idx];
+    out.info.note = "q at a bound of its range on the curve (" + std::to_string(c.q) + " at " +
+                    std::to_string(c.nl) + " Hz) and no peak near there in the periodogram";
+    out.fit = {};
+    return out;
   }
   const Component& r = out.fit.comps[idx];
   for (std::size_t i = 0; i < idx; ++i) {
     const Component& o = out.fit.comps[i];
-    if (o.kind == Kind::Resonance &&
-        std::abs(r.nl - o.nl) <= r.nl / (2.0 * r.q) + o.nl / (2.0 * o.q)) {
+    if (o.kind != Kind::Resonance) continue;
+    const double wide = std::max(half_width(r), half_width(o));
+    const double narrow = std::min(half_width(r), half_width(o));
+    if (std::abs(r.nl - o.nl) <= half_width(r) + half_width(o) && wide < kPedestal * narrow) {
       out.info.note = "its peak at " + std::to_string(r.nl) + " Hz (q " + std::to_string(r.q) +
                       ") overlaps " + component_label(out.fit.comps, i) + "'s";
       out.fit = {};

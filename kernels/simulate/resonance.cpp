@@ -78,14 +78,51 @@ void validate_resonance(const Resonance& r, double rate_hz, const std::string& a
   if (!std::isfinite(r.q) || r.q < kResonanceMinQ || r.q > kResonanceMaxQ)
     throw std::invalid_argument(at + "q must be in [" + std::to_string(kResonanceMinQ) + ", " +
                                 std::to_string(kResonanceMaxQ) + "], got " + std::to_string(r.q));
+  const double top = resonance_max_spread(r.frequency_hz, rate_hz);
+  if (!std::isfinite(r.spread_hz) || r.spread_hz < 0 || r.spread_hz > top)
+    throw std::invalid_argument(
+        at + "spread_hz must be in [0, " + std::to_string(top) +
+        "] (a fifth of frequency_hz's distance to 0 or to rate_hz/2), got " +
+        std::to_string(r.spread_hz));
+  if (r.spread_hz > 0 && !(std::isfinite(r.wander_s) && r.wander_s > 0))
+    throw std::invalid_argument(at + "wander_s must be finite and > 0 with spread_hz > 0, got " +
+                                std::to_string(r.wander_s));
+}
+
+double resonance_max_spread(double frequency_hz, double rate_hz) {
+  return std::min(frequency_hz, rate_hz / 2 - frequency_hz) / 5.0;
+}
+
+std::vector<std::pair<Resonance, double>> resonance_nodes(const Resonance& r) {
+  Resonance node = r;
+  node.spread_hz = 0.0;
+  if (!(r.spread_hz > 0.0)) return {{node, 1.0}};
+  // The node spacing in standard deviations: a Lorentzian narrower than the spread needs nodes
+  // closer than its width, or the mixture's PSD would show the nodes as separate peaks.
+  const double step = std::min(0.5, r.frequency_hz / (2.0 * r.q) / r.spread_hz);
+  const int half = std::min(64, static_cast<int>(std::ceil(4.0 / step)));
+  std::vector<std::pair<Resonance, double>> out;
+  double total = 0.0;
+  for (int i = -half; i <= half; ++i) {
+    const double u = 4.0 * i / half;
+    node.frequency_hz = r.frequency_hz + r.spread_hz * u;
+    const double w = std::exp(-0.5 * u * u) * (std::abs(i) == half ? 0.5 : 1.0);
+    out.emplace_back(node, w);
+    total += w;
+  }
+  for (auto& nw : out)
+    nw.second /= total;
+  return out;
 }
 
 std::vector<double> resonance_autocovariance(const Resonance& r, double rate_hz,
                                              std::size_t n_lags) {
-  const Ar2 p = ar2_of(r, rate_hz);
-  std::vector<double> c(n_lags);
-  for (std::size_t k = 0; k < n_lags; ++k)
-    c[k] = std::real(p.c * std::exp(static_cast<double>(k) * p.log_z));
+  std::vector<double> c(n_lags, 0.0);
+  for (const auto& [node, w] : resonance_nodes(r)) {
+    const Ar2 p = ar2_of(node, rate_hz);
+    for (std::size_t k = 0; k < n_lags; ++k)
+      c[k] += w * std::real(p.c * std::exp(static_cast<double>(k) * p.log_z));
+  }
   return c;
 }
 
@@ -139,31 +176,102 @@ private:
 double resonance_avar(const Resonance& r, double rate_hz, double m,
                       const std::vector<double>& rho) {
   if (!(m > 0.0)) throw std::invalid_argument("resonance_avar: m must be > 0");
-  return AvarUnderFilter(r, rate_hz, rho).at(m);
+  double v = 0.0;
+  for (const auto& [node, w] : resonance_nodes(r))
+    v += w * AvarUnderFilter(node, rate_hz, rho).at(m);
+  return v;
 }
 
 std::vector<double> resonance_avar(const Resonance& r, double rate_hz,
                                    std::span<const std::int64_t> m,
                                    const std::vector<double>& rho) {
-  const AvarUnderFilter a(r, rate_hz, rho);
-  std::vector<double> out(m.size());
-  for (std::size_t i = 0; i < m.size(); ++i) {
-    if (m[i] < 1) throw std::invalid_argument("resonance_avar: m must be >= 1");
-    out[i] = a.at(static_cast<double>(m[i]));
+  for (const std::int64_t mi : m)
+    if (mi < 1) throw std::invalid_argument("resonance_avar: m must be >= 1");
+  std::vector<double> out(m.size(), 0.0);
+  for (const auto& [node, w] : resonance_nodes(r)) {
+    const AvarUnderFilter a(node, rate_hz, rho);
+    for (std::size_t i = 0; i < m.size(); ++i)
+      out[i] += w * a.at(static_cast<double>(m[i]));
   }
   return out;
 }
 
 double resonance_psd_one_sided(const Resonance& r, double rate_hz, double f_hz) {
-  const Ar2 p = ar2_of(r, rate_hz);
-  const double w = 2.0 * std::numbers::pi * f_hz / rate_hz;
-  const cplx den = 1.0 - p.a1 * std::polar(1.0, -w) - p.a2 * std::polar(1.0, -2.0 * w);
-  return 2.0 * p.sd_e * p.sd_e / (rate_hz * std::norm(den));
+  double s = 0.0;
+  add_resonance_psd(r, rate_hz, 1.0, std::span(&f_hz, 1), std::span(&s, 1));
+  return s;
 }
+
+// |1 - a1 e^-iw - a2 e^-2iw|^2 = (1 - a1 c1 - a2 c2)^2 + (a1 s1 + a2 s2)^2 with c_k = cos(k w),
+// s_k = sin(k w): the trigonometry once per frequency, the nodes' coefficients once per node.
+void add_resonance_psd(const Resonance& r, double rate_hz, double scale,
+                       std::span<const double> f_hz, std::span<double> out) {
+  struct Node {
+    double a1, a2, gain;
+  };
+  std::vector<Node> nodes;
+  for (const auto& [node, weight] : resonance_nodes(r)) {
+    const Ar2 p = ar2_of(node, rate_hz);
+    nodes.push_back({p.a1, p.a2, scale * weight * 2.0 * p.sd_e * p.sd_e / rate_hz});
+  }
+  for (std::size_t i = 0; i < f_hz.size(); ++i) {
+    const double w = 2.0 * std::numbers::pi * f_hz[i] / rate_hz;
+    const double c1 = std::cos(w), s1 = std::sin(w), c2 = std::cos(2.0 * w), s2 = std::sin(2.0 * w);
+    double s = 0.0;
+    for (const Node& n : nodes) {
+      const double re = 1.0 - n.a1 * c1 - n.a2 * c2, im = n.a1 * s1 + n.a2 * s2;
+      s += n.gain / (re * re + im * im);
+    }
+    out[i] += s;
+  }
+}
+
+namespace {
+
+// A wandering resonance (resonance.hpp): the stationary recursion with its coefficients those of
+// the frequency f0 + spread u, u held for 8 samples and then stepped as a unit Gauss-Markov
+// process sampled every 8 samples (exactly: its correlation over 8 samples is phi8).
+void add_wandering(const Resonance& r, double rate_hz, std::uint64_t seed, std::uint64_t stream,
+                   std::uint32_t component, std::span<double> y) {
+  constexpr std::uint64_t kWanderIndex = std::uint64_t{1} << 55;
+  constexpr std::size_t kHold = 8;
+  const auto normal = [&](std::uint64_t k) {
+    const auto pair = rng::normal_pair(seed, stream, component, k / 2);
+    return k % 2 == 0 ? pair.first : pair.second;
+  };
+  const double phi8 = std::exp(-static_cast<double>(kHold) / (rate_hz * r.wander_s));
+  double u = normal(2 * kWanderIndex);
+  const auto at = [&](double v) {
+    return ar2_of({r.sigma, r.frequency_hz + r.spread_hz * std::clamp(v, -4.0, 4.0), r.q}, rate_hz);
+  };
+  Ar2 p = at(u);
+  double x2 = p.sigma * normal(0), x1 = 0.0;
+  y[0] += x2;
+  if (y.size() > 1) {
+    x1 = p.rho1 * x2 + p.sigma * std::sqrt(1.0 - p.rho1 * p.rho1) * normal(1);
+    y[1] += x1;
+  }
+  for (std::size_t k = 2; k < y.size(); ++k) {
+    if (k % kHold == 0) {
+      u = phi8 * u + std::sqrt(1.0 - phi8 * phi8) * normal(2 * kWanderIndex + k / kHold);
+      p = at(u);
+    }
+    const double x0 = p.a1 * x1 + p.a2 * x2 + p.sd_e * normal(k);
+    y[k] += x0;
+    x2 = x1;
+    x1 = x0;
+  }
+}
+
+}  // namespace
 
 void add_resonance(const Resonance& r, double rate_hz, std::uint64_t seed, std::uint64_t stream,
                    std::uint32_t component, std::span<double> y) {
   if (y.empty() || !(r.sigma > 0.0)) return;
+  if (r.spread_hz > 0.0) {
+    add_wandering(r, rate_hz, seed, stream, component, y);
+    return;
+  }
   const Ar2 p = ar2_of(r, rate_hz);
   const auto normal = [&](std::size_t k) {
     const auto pair = rng::normal_pair(seed, stream, component, k / 2);

@@ -23,11 +23,22 @@
 // which the structure-function form of lowpass_structure_avar turns into the overlapping Allan
 // variance under the sensor's filter. D is evaluated through g(x) = e^x - 1 - x of x = ln z, (k+1)
 // ln z, so that a resonance far below the sample rate (z near 1) keeps its digits.
+//
+// A wandering resonance (spread_hz > 0): the frequency drifts slowly about f0, Gaussian with
+// standard deviation spread_hz, as the ADIS16405 z gyroscopes' peak does with temperature (its
+// frequency in 300 s pieces of a record moves over 18.4-20.8 Hz). Slow means against the
+// coherence time, so the process is stationary resonances mixed over the frequency's law: its
+// autocovariance, PSD and Allan variance are the mixture's, the Gaussian average of the
+// stationary forms over f0 + spread_hz u, u standard normal (resonance_nodes: a trapezoidal rule).
+// The simulation draws u as a Gauss-Markov process of correlation time wander_s, which sets how
+// much a record's average over the wander varies from record to record (diagnose measures it
+// on the frequency's track through the record).
 #pragma once
 
 #include <cstdint>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace allanlot::kernels {
@@ -38,6 +49,9 @@ struct Resonance {
   double sigma = 0;         // stationary standard deviation [u], >= 0
   double frequency_hz = 0;  // f0, 0 < f0 < rate_hz / 2
   double q = 0;             // quality factor, kResonanceMinQ <= q <= kResonanceMaxQ
+  double spread_hz = 0;     // sd of the frequency's slow wander; 0 (stationary) <= spread_hz
+                            // <= resonance_max_spread(frequency_hz, rate_hz)
+  double wander_s = 0;      // the wander's correlation time [s], > 0 when spread_hz > 0
   friend bool operator==(const Resonance&, const Resonance&) = default;
 };
 
@@ -47,8 +61,19 @@ struct Resonance {
 inline constexpr double kResonanceMinQ = 0.5;
 inline constexpr double kResonanceMaxQ = 1e5;
 
+/// The largest spread_hz at f0: a fifth of the distance to 0 or to the Nyquist frequency, so that
+/// the mixture's nodes (4 standard deviations either side) and the wander stay inside.
+double resonance_max_spread(double frequency_hz, double rate_hz);
+
+/// The mixture of a wandering resonance: stationary resonances (spread_hz 0, each of r's sigma)
+/// and their weights (sum 1), by the trapezoidal rule over +-4 standard deviations of the
+/// frequency with the normal density's weights; nodes at most half an sd and half the half-power
+/// width f0 / (2 q) apart (at most 129). A stationary r is its own one node.
+std::vector<std::pair<Resonance, double>> resonance_nodes(const Resonance& r);
+
 /// Throws std::invalid_argument naming `at` + the field: sigma finite and >= 0, frequency_hz in
-/// (0, rate_hz / 2), q finite in [kResonanceMinQ, kResonanceMaxQ].
+/// (0, rate_hz / 2), q finite in [kResonanceMinQ, kResonanceMaxQ], spread_hz in
+/// [0, resonance_max_spread], wander_s finite and > 0 when spread_hz > 0 (else ignored).
 void validate_resonance(const Resonance& r, double rate_hz, const std::string& at);
 
 /// The autocovariance C(k) of the samples at lags k = 0 .. n_lags - 1 (the closed form above).
@@ -71,9 +96,18 @@ std::vector<double> resonance_avar(const Resonance& r, double rate_hz,
 /// w = 2 pi f h and s_e the innovation's sd: integrates to sigma^2 over (0, rate_hz / 2).
 double resonance_psd_one_sided(const Resonance& r, double rate_hz, double f_hz);
 
+/// Adds scale times resonance_psd_one_sided at each frequency of f_hz to out (same size), the
+/// mixture's nodes and their recursions' coefficients computed once: the form for fits over many
+/// bins.
+void add_resonance_psd(const Resonance& r, double rate_hz, double scale,
+                       std::span<const double> f_hz, std::span<double> out);
+
 /// Adds the process to y: x_0 and x_1 from the stationary joint law, then the recursion, its
 /// innovations standard normals of `component`'s sequence of (seed, stream), index k for sample
-/// k. Sequential, so the same bytes for any thread count; about 5 ns a sample.
+/// k. Sequential, so the same bytes for any thread count; about 5 ns a sample. A wandering
+/// resonance's frequency is f0 + spread_hz u_k, u the unit Gauss-Markov process of correlation
+/// time wander_s whose innovations are the same sequence's from index 2^55 on, held within +-4;
+/// its recursion's coefficients follow u every 8 samples.
 void add_resonance(const Resonance& r, double rate_hz, std::uint64_t seed, std::uint64_t stream,
                    std::uint32_t component, std::span<double> y);
 

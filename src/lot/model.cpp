@@ -147,7 +147,7 @@ void parse_lowpass(const Json& e, double rate_hz, Channel& ch, const std::string
 
 void parse_resonance(const Json& e, double rate_hz, Channel& ch, const std::string& source,
                      const std::string& at) {
-  only_keys(e, {"type", "sigma", "frequency_hz", "q"}, source, at);
+  only_keys(e, {"type", "sigma", "frequency_hz", "q", "spread_hz", "wander_s"}, source, at);
   kernels::Resonance r;
   r.sigma = nonneg(required(e, "sigma", source, at), source, join(at, "sigma"));
   r.frequency_hz =
@@ -161,6 +161,17 @@ void parse_resonance(const Json& e, double rate_hz, Channel& ch, const std::stri
     fail(source, join(at, "q"),
          "must be in [" + Json(kernels::kResonanceMinQ).dump() + ", " +
              Json(kernels::kResonanceMaxQ).dump() + "], got " + Json(r.q).dump());
+  if (e.contains("spread_hz")) {
+    r.spread_hz = nonneg(e["spread_hz"], source, join(at, "spread_hz"));
+    const double top = kernels::resonance_max_spread(r.frequency_hz, rate_hz);
+    if (r.spread_hz > top)
+      fail(source, join(at, "spread_hz"),
+           "must be at most " + Json(top).dump() +
+               " Hz (a fifth of frequency_hz's distance to 0 or to the Nyquist frequency), got " +
+               Json(r.spread_hz).dump());
+    if (r.spread_hz > 0)
+      r.wander_s = positive(required(e, "wander_s", source, at), source, join(at, "wander_s"));
+  }
   if (ch.resonances.size() >= kernels::rng::kMaxResonance)
     fail(source, at,
          "at most " + std::to_string(kernels::rng::kMaxResonance) + " resonance effects");
@@ -251,9 +262,14 @@ Json channel_body_json(const Channel& ch) {
                        {"phase_rad", s.phase_rad}});
   for (const auto& g : ch.markovs)
     effects.push_back({{"type", "markov"}, {"sigma", g.sigma}, {"tau_c_s", g.tau_c_s}});
-  for (const auto& r : ch.resonances)
+  for (const auto& r : ch.resonances) {
     effects.push_back(
         {{"type", "resonance"}, {"sigma", r.sigma}, {"frequency_hz", r.frequency_hz}, {"q", r.q}});
+    if (r.spread_hz > 0) {
+      effects.back()["spread_hz"] = r.spread_hz;
+      effects.back()["wander_s"] = r.wander_s;
+    }
+  }
   for (const auto& st : ch.steps)
     effects.push_back({{"type", "step"}, {"size", st.size}, {"time_s", st.time_s}});
   if (ch.lowpass.cutoff_hz > 0)

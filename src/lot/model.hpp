@@ -8,7 +8,8 @@
 //                    "offset"}, ...}, "lot_spread"}
 // `units` and `sample_rate_hz` are required; `terms` (any of R, K, B, N, Q; missing = 0),
 // `effects` (array of {"type": "sinusoid", "amplitude", "frequency_hz", "phase_rad"?},
-// {"type": "markov", "sigma", "tau_c_s"}, {"type": "resonance", "sigma", "frequency_hz", "q"},
+// {"type": "markov", "sigma", "tau_c_s"}, {"type": "resonance", "sigma", "frequency_hz", "q",
+// "spread_hz"?, "wander_s"?},
 // {"type": "lowpass", "cutoff_hz" | "taps"} and
 // {"type": "step", "size", "time_s"}), `offset` (constant added to the channel, e.g.
 // 9.80665 on a vertical accelerometer) and `lot_spread` ({term: relative sd}) are optional.

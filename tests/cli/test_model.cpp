@@ -114,6 +114,22 @@ TEST(Model, StepRoundTripsAndReachesTheSpec) {
   EXPECT_EQ(model::to_spec(m, 0).steps, m.channels[0].steps);
 }
 
+// A wandering resonance: spread_hz with its wander_s, written back only when the spread is not 0.
+TEST(Model, WanderingResonanceRoundTripsAndReachesTheSpec) {
+  const auto m = model::parse_model(R"({"sample_rate_hz": 100, "units": "deg/s",
+      "effects": [{"type": "resonance", "sigma": 0.3, "frequency_hz": 19.9, "q": 31,
+                   "spread_hz": 0.59, "wander_s": 770},
+                  {"type": "resonance", "sigma": 0.2, "frequency_hz": 21.3, "q": 5}]})",
+                                    "wander.json");
+  ASSERT_EQ(m.channels[0].resonances.size(), 2u);
+  EXPECT_EQ(m.channels[0].resonances[0], (kernels::Resonance{0.3, 19.9, 31, 0.59, 770}));
+  EXPECT_EQ(m.channels[0].resonances[1], (kernels::Resonance{0.2, 21.3, 5}));
+  const std::string text = model::to_json(m);
+  EXPECT_EQ(model::parse_model(text, "roundtrip.json"), m);
+  EXPECT_EQ(text.find("spread_hz"), text.rfind("spread_hz"));
+  EXPECT_EQ(model::to_spec(m, 0).resonances, m.channels[0].resonances);
+}
+
 struct BadCase {
   const char* json;
   const char* expected;  // substring of the message after "bad.json: "
@@ -176,6 +192,15 @@ TEST(Model, BadFilesNameTheKey) {
       {R"({"sample_rate_hz": 100, "units": "deg/s", "effects": [{"type": "resonance",
            "sigma": 1, "frequency_hz": 20, "q": 3, "tau_c_s": 1}]})",
        "effects[0].tau_c_s: unknown key"},
+      {R"({"sample_rate_hz": 100, "units": "deg/s", "effects": [{"type": "resonance",
+           "sigma": 1, "frequency_hz": 20, "q": 3, "spread_hz": 0.5}]})",
+       "effects[0].wander_s: missing"},
+      {R"({"sample_rate_hz": 100, "units": "deg/s", "effects": [{"type": "resonance",
+           "sigma": 1, "frequency_hz": 20, "q": 3, "spread_hz": 4.5, "wander_s": 60}]})",
+       "effects[0].spread_hz: must be at most 4"},
+      {R"({"sample_rate_hz": 100, "units": "deg/s", "effects": [{"type": "resonance",
+           "sigma": 1, "frequency_hz": 20, "q": 3, "spread_hz": 0.5, "wander_s": 0}]})",
+       "effects[0].wander_s: must be > 0"},
       {R"({"sample_rate_hz": 1000, "units": "deg/s", "effects": [{"type": "markov",
            "sigma": 1, "tau_c_s": 0}]})",
        "effects[0].tau_c_s: must be > 0"},

@@ -7,6 +7,7 @@
 #include "kernels/simulate/resonance.hpp"
 #include "kernels/simulate/rng.hpp"
 #include "kernels/simulate/simulate.hpp"
+#include "kernels/spectral/psd.hpp"
 
 #include <gtest/gtest.h>
 
@@ -170,6 +171,7 @@ TEST(SimulateResonance, SameBytesForAnyThreadCountAndBadSpecsRejected) {
   spec.terms.N = 0.01;
   spec.resonances.push_back({0.2, 20.0, 40.0});
   spec.resonances.push_back({0.1, 3.0, 2.0});
+  spec.resonances.push_back({0.1, 30.0, 60.0, 0.5, 20.0});
   std::vector<double> a(70001), b(70001);
   kernels::simulate_channel(spec, 5, 1, a, 1);
   kernels::simulate_channel(spec, 5, 1, b, 2);
@@ -177,12 +179,99 @@ TEST(SimulateResonance, SameBytesForAnyThreadCountAndBadSpecsRejected) {
   for (const kernels::Resonance bad :
        {kernels::Resonance{-1.0, 20.0, 40.0}, kernels::Resonance{0.2, 50.0, 40.0},
         kernels::Resonance{0.2, 0.0, 40.0}, kernels::Resonance{0.2, 20.0, 0.4},
-        kernels::Resonance{0.2, 20.0, NAN}}) {
+        kernels::Resonance{0.2, 20.0, NAN}, kernels::Resonance{0.2, 20.0, 40.0, -0.1, 10.0},
+        kernels::Resonance{0.2, 20.0, 40.0, 4.1, 10.0},
+        kernels::Resonance{0.2, 20.0, 40.0, 0.5, 0.0}}) {
     spec.resonances = {bad};
     EXPECT_THROW(kernels::validate(spec), std::invalid_argument);
   }
   spec.resonances.assign(kernels::rng::kMaxResonance + 1, {0.1, 3.0, 2.0});
   EXPECT_THROW(kernels::validate(spec), std::invalid_argument);
+}
+
+// A wandering resonance's Allan variance and PSD are one mixture: the Allan variance of m-sample
+// averages is the integral of the one-sided PSD times 2 sin^4(pi f m h) / (m^2 sin^2(pi f h))
+// over (0, Nyquist) (the transfer function of a difference of two adjacent m-sample means), a
+// form resonance_avar does not use; the PSD holds sigma^2; the mixture's weights sum to 1 and a
+// stationary resonance is its own one node.
+TEST(SimulateResonance, WanderingAllanVarianceIsItsPsdsIntegral) {
+  EXPECT_EQ(kernels::resonance_nodes({0.2, 20.0, 40.0}).size(), 1u);
+  for (const double q : {40.0, 400.0}) {
+    const kernels::Resonance r{0.25, 20.0, q, 0.6, 30.0};
+    double weights = 0.0;
+    for (const auto& node : kernels::resonance_nodes(r))
+      weights += node.second;
+    EXPECT_NEAR(weights, 1.0, 1e-12);
+    constexpr int n = 400000;
+    const double df = 50.0 / n;
+    double total = 0.0;
+    std::vector<double> f(n), psd(n, 0.0);
+    for (int i = 0; i < n; ++i)
+      f[static_cast<std::size_t>(i)] = (i + 0.5) * df;
+    kernels::add_resonance_psd(r, kRate, 1.0, f, psd);
+    for (const double s : psd)
+      total += s * df;
+    EXPECT_NEAR(total / (0.25 * 0.25), 1.0, 1e-6) << "q " << q;
+    for (const int m : {1, 2, 3, 5, 8, 13, 40}) {
+      double integral = 0.0;
+      for (std::size_t i = 0; i < f.size(); ++i) {
+        const double x = std::numbers::pi * f[i] / kRate;
+        integral +=
+            psd[i] * 2.0 * std::pow(std::sin(m * x), 4) / (m * m * std::pow(std::sin(x), 2)) * df;
+      }
+      EXPECT_NEAR(kernels::resonance_avar(r, kRate, static_cast<double>(m)) / integral, 1.0, 1e-5)
+          << "q " << q << " m " << m;
+    }
+  }
+}
+
+// A simulated wandering resonance has the mixture's spectrum and Allan variance within what its
+// record allows. 4000 s with a wander of 10 s (15 coherence times of q = 40 at 20 Hz, so the
+// mixture holds) visit about T / (2 wander_s) = 200 independent frequencies:
+//  - the share of the power within 0.3 Hz of f0 (Welch, 4096-sample segments) is about the share
+//    of time the frequency spends near f0, p = 0.2 for the mixture; from 200 draws its relative
+//    sd is sqrt(p (1 - p) / 200) / p = 14 %, and 4 of them (57 %) keep it far from a stationary
+//    resonance's (2.8 times as much: the test fails when the simulation ignores the spread);
+//  - the Allan variance at m samples: the relative variance var_f / (200 a^2) of the average of
+//    avar_f(m) over the draws (the nodes' spread about the mixture's a) beside the narrowband
+//    1 / (B T), B = pi f0 / q + 2 sqrt(pi) spread; 5 of their combined sd.
+TEST(SimulateResonance, SimulatedWanderHasTheMixturesSpectrumAndAllanVariance) {
+  kernels::ChannelSpec spec;
+  spec.rate_hz = kRate;
+  spec.resonances.push_back({0.2, 20.0, 40.0, 1.0, 10.0});
+  const kernels::Resonance& r = spec.resonances[0];
+  constexpr std::size_t n = 400000;
+  std::vector<double> y(n);
+  kernels::simulate_channel(spec, 17, 2, y, 1);
+  const double t = static_cast<double>(n) / kRate, draws = t / (2.0 * r.wander_s);
+  const kernels::PsdResult psd = kernels::PsdPlan(4096).welch(y, kRate, 1);
+  std::vector<double> f(psd.size()), want(psd.size(), 0.0);
+  for (std::size_t k = 0; k < f.size(); ++k)
+    f[k] = static_cast<double>(k) * psd.df_hz;
+  kernels::add_resonance_psd(r, kRate, 1.0, f, want);
+  const auto share = [&](const std::vector<double>& s) {
+    double near = 0.0, all = 0.0;
+    for (std::size_t k = 1; k < f.size(); ++k) {
+      all += s[k];
+      near += std::abs(f[k] - 20.0) <= 0.3 ? s[k] : 0.0;
+    }
+    return near / all;
+  };
+  const double p = share(want);
+  EXPECT_NEAR(share(psd.psd) / p, 1.0, 4.0 * std::sqrt(p * (1.0 - p) / draws) / p);
+  const double band = std::numbers::pi * 20.0 / 40.0 + 2.0 * std::sqrt(std::numbers::pi) * 1.0;
+  const std::vector<std::int64_t> ms{1, 2, 3, 5, 8, 13};
+  const auto got =
+      kernels::compute(kernels::Stat::Oadev, kernels::phase_from_rate(y, kRate, 1), ms, 1);
+  for (std::size_t i = 0; i < ms.size(); ++i) {
+    const auto m = static_cast<double>(ms[i]);
+    const double a = kernels::resonance_avar(r, kRate, m);
+    double var_f = 0.0;
+    for (const auto& [node, w] : kernels::resonance_nodes(r))
+      var_f += w * std::pow(kernels::resonance_avar(node, kRate, m) - a, 2);
+    const double sd = std::sqrt(1.0 / (band * t) + var_f / (draws * a * a));
+    EXPECT_NEAR(got.dev[i] * got.dev[i] / a, 1.0, 5.0 * sd) << "m " << m;
+  }
 }
 
 }  // namespace
