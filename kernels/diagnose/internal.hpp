@@ -70,8 +70,8 @@ struct Component {
   double coef_sigma = kNaN;    // uncertainty of coef when pinned
   double q_sigma = kNaN;       // uncertainty of a resonance's q from its PSD fit
   double spread_sigma = kNaN;  // uncertainty of a wandering resonance's spread (PSD fit)
-  bool psd_shape = false;  // a resonance's f0 and q from the periodogram (fit_broad), sigma fitted
-  Lowpass lp;              // Kind::Lowpass: the filter
+  bool psd_shape = false;      // a resonance's shape measured on the periodogram, sigma fitted
+  Lowpass lp;                  // Kind::Lowpass: the filter
 };
 
 // Basis curves: the avar of each component with unit coefficient, from model_avar_sampled so
