@@ -59,11 +59,10 @@ struct Whittle {
   double block = 1.0;
   std::vector<double> f, p;  // the blocks' centre frequencies and mean periodogram
   double f_mid = 0.0, f_span = 1.0;
-  Layout layout{{}};
+  double df_hz = 0.0;
 
   Whittle(const PsdResult& psd, std::int64_t k0, std::int64_t k1, std::int64_t b)
-      : rate_hz(2.0 * static_cast<double>(psd.size() - 1) * psd.df_hz),
-        block(static_cast<double>(b)) {
+      : rate_hz(psd_rate_hz(psd)), block(static_cast<double>(b)), df_hz(psd.df_hz) {
     for (std::int64_t k = k0; k + b - 1 <= k1; k += b) {
       double sum = 0.0;
       for (std::int64_t j = k; j < k + b; ++j)
@@ -76,42 +75,44 @@ struct Whittle {
       f_span = std::max(f.back() - f.front(), psd.df_hz);
     }
   }
-  std::vector<double> ln_spectrum(const Params& x) const {
+  // The largest q whose peak the blocks resolve at f0: half-power width f0 / q over two blocks.
+  double q_top(double f0) const { return f0 / (2.0 * block * df_hz); }
+  std::vector<double> ln_spectrum(const Layout& l, const Params& x) const {
     std::vector<double> s(f.size());
     for (std::size_t j = 0; j < f.size(); ++j)
       s[j] = std::exp(x[0] + x[1] * (f[j] - f_mid) / f_span);
-    for (std::size_t r = 0; r < layout.count(); ++r)
-      add_resonance_psd(layout.unit(x, r), rate_hz, std::exp(x[layout.at[r] + 2]), f, s);
+    for (std::size_t r = 0; r < l.count(); ++r)
+      add_resonance_psd(l.unit(x, r), rate_hz, std::exp(x[l.at[r] + 2]), f, s);
     for (double& v : s)
       v = std::log(v);
     return s;
   }
-  bool valid(const Params& x) const {
+  bool valid(const Layout& l, const Params& x) const {
     if (!std::all_of(x.begin(), x.end(), [](double v) { return std::isfinite(v); })) return false;
-    for (std::size_t r = 0; r < layout.count(); ++r) {
-      const Resonance u = layout.unit(x, r);
+    for (std::size_t r = 0; r < l.count(); ++r) {
+      const Resonance u = l.unit(x, r);
       if (!(u.frequency_hz > 0.0 && u.frequency_hz < 0.5 * rate_hz && u.q >= kResonanceMinQ &&
             u.q <= kResonanceMaxQ && u.spread_hz <= resonance_max_spread(u.frequency_hz, rate_hz)))
         return false;
     }
     return true;
   }
-  double nll(const Params& x) const {
-    if (!valid(x)) return std::numeric_limits<double>::infinity();
-    const std::vector<double> ls = ln_spectrum(x);
+  double nll(const Layout& l, const Params& x) const {
+    if (!valid(l, x)) return std::numeric_limits<double>::infinity();
+    const std::vector<double> ls = ln_spectrum(l, x);
     double s = 0.0;
     for (std::size_t j = 0; j < f.size(); ++j)
       s += ls[j] + p[j] * std::exp(-ls[j]);
     return block * s;
   }
   // d ln S_j / d x_a of every parameter, by central differences.
-  Eigen::MatrixXd jacobian(const Params& x) const {
+  Eigen::MatrixXd jacobian(const Layout& l, const Params& x) const {
     Eigen::MatrixXd jac(static_cast<Eigen::Index>(f.size()), static_cast<Eigen::Index>(x.size()));
     for (std::size_t a = 0; a < x.size(); ++a) {
       Params lo = x, hi = x;
       lo[a] -= 1e-6;
       hi[a] += 1e-6;
-      const std::vector<double> sl = ln_spectrum(lo), sh = ln_spectrum(hi);
+      const std::vector<double> sl = ln_spectrum(l, lo), sh = ln_spectrum(l, hi);
       for (std::size_t j = 0; j < f.size(); ++j)
         jac(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(a)) = (sh[j] - sl[j]) / 2e-6;
     }
@@ -120,14 +121,13 @@ struct Whittle {
 };
 
 // Fisher scoring of every parameter from x (the step I^-1 J^T (P / S - 1) with I = J^T J, halved
-// until the likelihood improves) under `layout`; the minimum found and its negative
+// until the likelihood improves) under layout l; the minimum found and its negative
 // log-likelihood.
-std::pair<Params, double> score(Whittle& w, const Layout& layout, Params x) {
-  w.layout = layout;
-  double now = w.nll(x);
+std::pair<Params, double> score(const Whittle& w, const Layout& l, Params x) {
+  double now = w.nll(l, x);
   for (int it = 0; it < 60 && std::isfinite(now); ++it) {
-    const Eigen::MatrixXd jac = w.jacobian(x);
-    const std::vector<double> ls = w.ln_spectrum(x);
+    const Eigen::MatrixXd jac = w.jacobian(l, x);
+    const std::vector<double> ls = w.ln_spectrum(l, x);
     Eigen::VectorXd r(jac.rows());
     for (Eigen::Index j = 0; j < r.size(); ++j)
       r(j) = w.p[static_cast<std::size_t>(j)] * std::exp(-ls[static_cast<std::size_t>(j)]) - 1.0;
@@ -138,7 +138,7 @@ std::pair<Params, double> score(Whittle& w, const Layout& layout, Params x) {
       Params y = x;
       for (std::size_t a = 0; a < x.size(); ++a)
         y[a] += scale * step(static_cast<Eigen::Index>(a));
-      if (const double v = w.nll(y); v < now) {
+      if (const double v = w.nll(l, y); v < now) {
         moved = now - v > 1e-9;
         x = y;
         now = v;
@@ -154,25 +154,31 @@ std::pair<Params, double> score(Whittle& w, const Layout& layout, Params x) {
 // the Fisher information and the likelihood ratio are divided by it.
 constexpr double kHannInflation = 1.0 + 2.0 * (4.0 / 9.0 + 1.0 / 36.0);
 
+// The likelihood ratio statistic of a fit against a nested one, divided by kHannInflation.
+double likelihood_ratio(double nll_without, double nll_with) {
+  return 2.0 * (nll_without - nll_with) / kHannInflation;
+}
+
 // The shapes of a fit's resonances with their 1-sigma, from the inverse Fisher information;
 // empty when it is singular.
-std::vector<SpectralLine::Narrowband> shapes_of(const Whittle& w, const Params& x) {
-  const Eigen::MatrixXd jac = w.jacobian(x);
+std::vector<SpectralLine::Narrowband> shapes_of(const Whittle& w, const Layout& l,
+                                                const Params& x) {
+  const Eigen::MatrixXd jac = w.jacobian(l, x);
   const Eigen::MatrixXd cov = (jac.transpose() * jac).inverse() * kHannInflation / w.block;
   if (!cov.allFinite() || cov.diagonal().minCoeff() < 0.0) return {};
   std::vector<SpectralLine::Narrowband> out;
-  for (std::size_t r = 0; r < w.layout.count(); ++r) {
-    const auto i = static_cast<Eigen::Index>(w.layout.at[r]);
-    const Resonance u = w.layout.unit(x, r);
+  for (std::size_t r = 0; r < l.count(); ++r) {
+    const auto i = static_cast<Eigen::Index>(l.at[r]);
+    const Resonance u = l.unit(x, r);
     SpectralLine::Narrowband nb;
     nb.found = true;
     nb.frequency_hz = u.frequency_hz;
     nb.frequency_sigma = u.frequency_hz * std::sqrt(cov(i, i));
     nb.q = u.q;
     nb.q_sigma = u.q * std::sqrt(cov(i + 1, i + 1));
-    nb.sigma = std::exp(0.5 * x[w.layout.at[r] + 2]);
+    nb.sigma = std::exp(0.5 * x[l.at[r] + 2]);
     nb.sigma_sigma = 0.5 * nb.sigma * std::sqrt(cov(i + 2, i + 2));
-    if (w.layout.wander[r]) {
+    if (l.wander[r]) {
       nb.spread_hz = u.spread_hz;
       nb.spread_sigma = u.spread_hz * std::sqrt(cov(i + 3, i + 3));
     }
@@ -181,12 +187,16 @@ std::vector<SpectralLine::Narrowband> shapes_of(const Whittle& w, const Params& 
   return out;
 }
 
-// The window's background level (its lower quartile: the peak leaves it alone) and peak.
+// The lower quartile of v (reordered): a background beside a peak, which leaves it alone.
+double lower_quartile(std::vector<double>& v) {
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 4), v.end());
+  return v[v.size() / 4];
+}
+
+// The window's background level (its lower quartile) and peak.
 std::pair<double, double> background_and_top(const Whittle& w) {
   std::vector<double> sorted = w.p;
-  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 4),
-                   sorted.end());
-  return {sorted[sorted.size() / 4], *std::max_element(w.p.begin(), w.p.end())};
+  return {lower_quartile(sorted), *std::max_element(w.p.begin(), w.p.end())};
 }
 
 // A new resonance's start from its peak's height: at its peak a resonance's PSD is about
@@ -198,8 +208,8 @@ void append_start(Params& x, double f0, double q, double height) {
 
 // The height of a new peak at f0 over the fit x: the window's excess over x's spectrum in the
 // block nearest f0, at least that spectrum there (a peak to be found is not below it).
-double excess_at(const Whittle& w, const Params& x, double f0) {
-  const std::vector<double> ls = w.ln_spectrum(x);
+double excess_at(const Whittle& w, const Layout& l, const Params& x, double f0) {
+  const std::vector<double> ls = w.ln_spectrum(l, x);
   const auto j = static_cast<std::size_t>(
       std::min_element(w.f.begin(), w.f.end(),
                        [f0](double a, double b) { return std::abs(a - f0) < std::abs(b - f0); }) -
@@ -215,25 +225,24 @@ double excess_at(const Whittle& w, const Params& x, double f0) {
 SpectralLine::Narrowband fit_window(const PsdResult& psd, std::int64_t k0, std::int64_t k1,
                                     std::int64_t block, double f_start,
                                     const std::vector<double>& q_starts, double false_alarm) {
-  Whittle w(psd, k0, k1, block);
+  const Whittle w(psd, k0, k1, block);
   if (w.f.size() < 16) return {};
   const auto [bg, top] = background_and_top(w);
+  const Layout one({false});
   std::pair<Params, double> best{{}, std::numeric_limits<double>::infinity()};
   for (const double q : q_starts) {
     Params x{std::log(bg), 0.0};
     append_start(x, f_start, q, std::max(top - bg, bg));
-    const auto r = score(w, Layout({false}), x);
+    const auto r = score(w, one, x);
     if (r.second < best.second) best = r;
   }
   const auto none = score(w, Layout({}), {std::log(bg), 0.0});
   if (!std::isfinite(best.second) || !std::isfinite(none.second)) return {};
   const double f0 = std::exp(best.first[2]), q = std::exp(best.first[3]);
-  const double ratio = 2.0 * (none.second - best.second) / kHannInflation;
-  if (!(q > 2.0 && q < f0 / (2.0 * w.block * psd.df_hz)) ||
-      ratio < chi2_quantile(1.0 - false_alarm, 3.0))
+  if (!(q > 2.0 && q < w.q_top(f0)) ||
+      likelihood_ratio(none.second, best.second) < chi2_quantile(1.0 - false_alarm, 3.0))
     return {};
-  w.layout = Layout({false});
-  const auto shapes = shapes_of(w, best.first);
+  const auto shapes = shapes_of(w, one, best.first);
   return shapes.empty() ? SpectralLine::Narrowband{} : shapes.front();
 }
 
@@ -246,35 +255,35 @@ SpectralLine::Narrowband fit_window(const PsdResult& psd, std::int64_t k0, std::
 // of freedom at false_alarm. The present ones' shapes then the new one's, every present one
 // outside the window as it was with `found` false; empty when not found.
 std::vector<SpectralLine::Narrowband>
-accept_new(Whittle& w, const PsdResult& psd, const std::vector<std::size_t>& inside,
+accept_new(const Whittle& w, const std::vector<std::size_t>& inside,
            const std::vector<SpectralLine::Narrowband>& present, double nll_none,
            std::pair<Params, double> best, double false_alarm) {
   std::vector<bool> wander(inside.size() + 1, false);
   for (std::size_t j = 0; j < inside.size(); ++j)
     wander[j] = present[inside[j]].spread_hz > 0.0;
-  const double q_top_of = 0.5 / (w.block * psd.df_hz);  // q below f0 times this is resolved
   {
     std::vector<bool> with = wander;
     with.back() = true;
+    const Layout wandering(with);
     Params x = best.first;
     const double f0 = std::exp(x[x.size() - 3]), q = std::exp(x[x.size() - 2]);
     x.push_back(std::log(std::min(f0 / (2.0 * q), 0.9 * resonance_max_spread(f0, w.rate_hz))));
-    const auto r = score(w, Layout(with), x);
-    const Resonance u = Layout(with).unit(r.first, inside.size());
-    if (2.0 * (best.second - r.second) / kHannInflation > chi2_quantile(1.0 - false_alarm, 1.0) &&
-        u.q < u.frequency_hz * q_top_of &&
+    const auto r = score(w, wandering, x);
+    const Resonance u = wandering.unit(r.first, inside.size());
+    if (likelihood_ratio(best.second, r.second) > chi2_quantile(1.0 - false_alarm, 1.0) &&
+        u.q < w.q_top(u.frequency_hz) &&
         u.spread_hz < 0.95 * resonance_max_spread(u.frequency_hz, w.rate_hz)) {
       best = r;
       wander = with;
     }
   }
-  w.layout = Layout(wander);
-  const Resonance u = w.layout.unit(best.first, inside.size());
+  const Layout chosen(wander);
+  const Resonance u = chosen.unit(best.first, inside.size());
   const double dof = wander.back() ? 4.0 : 3.0;
-  if (!(u.q > 2.0 && u.q < u.frequency_hz * q_top_of) ||
-      2.0 * (nll_none - best.second) / kHannInflation < chi2_quantile(1.0 - false_alarm, dof))
+  if (!(u.q > 2.0 && u.q < w.q_top(u.frequency_hz)) ||
+      likelihood_ratio(nll_none, best.second) < chi2_quantile(1.0 - false_alarm, dof))
     return {};
-  const std::vector<SpectralLine::Narrowband> shapes = shapes_of(w, best.first);
+  const std::vector<SpectralLine::Narrowband> shapes = shapes_of(w, chosen, best.first);
   if (shapes.empty()) return {};
   std::vector<SpectralLine::Narrowband> out = present;
   for (auto& r : out)
@@ -323,12 +332,12 @@ std::vector<SpectralLine::Narrowband>
 fit_peak_shapes(const PsdResult& psd, const std::vector<SpectralLine::Narrowband>& present,
                 double f0, const std::vector<double>& q_starts, double false_alarm) {
   const auto kmax = static_cast<std::int64_t>(psd.size()) - 1;
-  const double rate_hz = 2.0 * static_cast<double>(kmax) * psd.df_hz;
+  const double rate_hz = psd_rate_hz(psd);
   const auto k0 = std::max<std::int64_t>(static_cast<std::int64_t>(0.5 * f0 / psd.df_hz), 1);
   const auto k1 =
       std::min(static_cast<std::int64_t>(std::min(1.5 * f0, 0.45 * rate_hz) / psd.df_hz), kmax - 1);
   const std::int64_t block = std::max<std::int64_t>((k1 - k0) / 512, 1);
-  Whittle w(psd, k0, k1, block);
+  const Whittle w(psd, k0, k1, block);
   if (w.f.size() < 16) return {};
   std::vector<std::size_t> inside;
   std::vector<bool> wander;
@@ -342,11 +351,11 @@ fit_peak_shapes(const PsdResult& psd, const std::vector<SpectralLine::Narrowband
     append_start(base, r.frequency_hz, r.q, std::max(top - bg, bg));
     if (r.spread_hz > 0.0) base.push_back(std::log(r.spread_hz));
   }
-  const auto none = score(w, Layout(wander), base);
+  const Layout without(wander);
+  const auto none = score(w, without, base);
+  const double height = excess_at(w, without, none.first, f0);
   wander.push_back(false);
   const Layout stationary(wander);
-  w.layout = Layout(std::vector<bool>(wander.begin(), wander.end() - 1));
-  const double height = excess_at(w, none.first, f0);
   std::pair<Params, double> best{{}, std::numeric_limits<double>::infinity()};
   for (const double q : q_starts) {
     Params x = none.first;
@@ -355,7 +364,7 @@ fit_peak_shapes(const PsdResult& psd, const std::vector<SpectralLine::Narrowband
     if (r.second < best.second) best = r;
   }
   if (!std::isfinite(best.second) || !std::isfinite(none.second)) return {};
-  return accept_new(w, psd, inside, present, none.second, best, false_alarm);
+  return accept_new(w, inside, present, none.second, best, false_alarm);
 }
 
 // The frequency's track: in each piece of L seconds, L the longest of T / 128 (enough pieces for
@@ -385,9 +394,7 @@ double wander_time(std::span<const double> record, double rate_hz, double f0, do
     for (std::size_t k = 1; k < p.size(); ++k)
       if (std::abs(static_cast<double>(k) * p.df_hz - f0) <= 6.0 * spread) near.push_back(p.psd[k]);
     if (near.size() < 8) return std::min(0.5 * l_s, t_record);
-    std::nth_element(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(near.size() / 4),
-                     near.end());
-    const double bg = near[near.size() / 4];
+    const double bg = lower_quartile(near);
     double sum = 0.0, moment = 0.0;
     for (std::size_t k = 1; k < p.size(); ++k)
       if (const double f = static_cast<double>(k) * p.df_hz; std::abs(f - f0) <= 3.0 * spread) {

@@ -231,6 +231,10 @@ fit_peak_shapes(const PsdResult& psd, const std::vector<SpectralLine::Narrowband
 double wander_time(std::span<const double> record, double rate_hz, double f0, double spread,
                    double q);
 PsdResult full_periodogram(std::span<const double> rate, double rate_hz, int threads);
+// The sample rate of a one-sided periodogram: twice its last bin's frequency.
+inline double psd_rate_hz(const PsdResult& psd) {
+  return 2.0 * static_cast<double>(psd.size() - 1) * psd.df_hz;
+}
 bool has_nan(std::span<const double> v);
 
 }  // namespace allanlot::kernels::diagnose_detail

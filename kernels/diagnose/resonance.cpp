@@ -52,19 +52,28 @@ SpectralLine::Narrowband narrowband_of(const Component& c) {
   return nb;
 }
 
-void set_shape(Component& c, const SpectralLine::Narrowband& nb, const Witnesses& seen) {
+// The periodogram's shape for c; a wandering one's wander_s is measured once a start is chosen
+// (measure_wander).
+void set_shape(Component& c, const SpectralLine::Narrowband& nb) {
   c.nl = nb.frequency_hz;
   c.nl_sigma = nb.frequency_sigma;
   c.q = nb.q;
   c.q_sigma = nb.q_sigma;
   c.spread = nb.spread_hz;
   c.spread_sigma = nb.spread_hz > 0.0 ? nb.spread_sigma : kNaN;
-  const double rate_hz =
-      2.0 * static_cast<double>(seen.periodogram->size() - 1) * seen.periodogram->df_hz;
-  c.wander = nb.spread_hz > 0.0 ? wander_time(seen.record, rate_hz, c.nl, c.spread, c.q) : 0.0;
+  c.wander = 0.0;
   c.nl_bound = c.q_bound = 0;
   c.nl_free = false;
   c.psd_shape = true;
+}
+
+// The wander's correlation time of every wandering resonance the search added, on its frequency's
+// track through the record (the curve's fit does not depend on it: only the edf and the replicas
+// do, so the starts that lose never need it).
+void measure_wander(std::vector<Component>& comps, const Witnesses& seen) {
+  for (Component& c : comps)
+    if (c.kind == Kind::Resonance && c.psd_shape && c.spread > 0.0)
+      c.wander = wander_time(seen.record, psd_rate_hz(*seen.periodogram), c.nl, c.spread, c.q);
 }
 
 // The new resonance comps[idx] and the model's resonances beside its peak measured together on
@@ -89,9 +98,9 @@ bool shape_on_periodogram(Fit& fit, std::size_t idx, const Witnesses& seen) {
   if (shapes.empty()) return false;
   for (std::size_t j = 0; j < which.size(); ++j) {
     Component& o = fit.comps[which[j]];
-    if (shapes[j].found && !o.given && !o.pinned) set_shape(o, shapes[j], seen);
+    if (shapes[j].found && !o.given && !o.pinned) set_shape(o, shapes[j]);
   }
-  set_shape(fit.comps[idx], shapes.back(), seen);
+  set_shape(fit.comps[idx], shapes.back());
   return true;
 }
 
@@ -117,6 +126,7 @@ Fit shaped_on_periodogram(const Fit& searched, std::size_t idx, const Curve& cv,
     trial = fit_components(std::move(trial.comps), cv, b);
     if (best.comps.empty() || trial.chi2 < best.chi2) best = std::move(trial);
   }
+  measure_wander(best.comps, seen);
   return best;
 }
 

@@ -226,64 +226,37 @@ void add_resonance_psd(const Resonance& r, double rate_hz, double scale,
   }
 }
 
-namespace {
-
-// A wandering resonance (resonance.hpp): the stationary recursion with its coefficients those of
-// the frequency f0 + spread u, u held for 8 samples and then stepped as a unit Gauss-Markov
-// process sampled every 8 samples (exactly: its correlation over 8 samples is phi8).
-void add_wandering(const Resonance& r, double rate_hz, std::uint64_t seed, std::uint64_t stream,
+// x_0 and x_1 from the stationary law (unit variances, correlation rho1), then the recursion,
+// two samples to each pair of normals. A wandering resonance's coefficients are those of the
+// frequency f0 + spread u: u starts in its stationary law and steps every kHold samples as a unit
+// Gauss-Markov process sampled there (exactly: its correlation over kHold samples is phi), its
+// normals the same sequence's from pair 2^55 on; a stationary one keeps u = 0.
+void add_resonance(const Resonance& r, double rate_hz, std::uint64_t seed, std::uint64_t stream,
                    std::uint32_t component, std::span<double> y) {
+  if (y.empty() || !(r.sigma > 0.0)) return;
   constexpr std::uint64_t kWanderIndex = std::uint64_t{1} << 55;
-  constexpr std::size_t kHold = 8;
+  constexpr std::size_t kHold = 8;  // even: the coefficients change on a pair's first sample
   const auto normal = [&](std::uint64_t k) {
     const auto pair = rng::normal_pair(seed, stream, component, k / 2);
     return k % 2 == 0 ? pair.first : pair.second;
   };
-  const double phi8 = std::exp(-static_cast<double>(kHold) / (rate_hz * r.wander_s));
-  double u = normal(2 * kWanderIndex);
-  const auto at = [&](double v) {
-    return ar2_of({r.sigma, r.frequency_hz + r.spread_hz * std::clamp(v, -4.0, 4.0), r.q}, rate_hz);
+  const bool wanders = r.spread_hz > 0.0;
+  const double phi = wanders ? std::exp(-static_cast<double>(kHold) / (rate_hz * r.wander_s)) : 0.0;
+  const auto at = [&](double u) {
+    return ar2_of({r.sigma, r.frequency_hz + r.spread_hz * std::clamp(u, -4.0, 4.0), r.q}, rate_hz);
   };
+  double u = wanders ? normal(2 * kWanderIndex) : 0.0;
   Ar2 p = at(u);
-  double x2 = p.sigma * normal(0), x1 = 0.0;
-  y[0] += x2;
-  if (y.size() > 1) {
-    x1 = p.rho1 * x2 + p.sigma * std::sqrt(1.0 - p.rho1 * p.rho1) * normal(1);
-    y[1] += x1;
-  }
-  for (std::size_t k = 2; k < y.size(); ++k) {
-    if (k % kHold == 0) {
-      u = phi8 * u + std::sqrt(1.0 - phi8 * phi8) * normal(2 * kWanderIndex + k / kHold);
-      p = at(u);
-    }
-    const double x0 = p.a1 * x1 + p.a2 * x2 + p.sd_e * normal(k);
-    y[k] += x0;
-    x2 = x1;
-    x1 = x0;
-  }
-}
-
-}  // namespace
-
-void add_resonance(const Resonance& r, double rate_hz, std::uint64_t seed, std::uint64_t stream,
-                   std::uint32_t component, std::span<double> y) {
-  if (y.empty() || !(r.sigma > 0.0)) return;
-  if (r.spread_hz > 0.0) {
-    add_wandering(r, rate_hz, seed, stream, component, y);
-    return;
-  }
-  const Ar2 p = ar2_of(r, rate_hz);
-  const auto normal = [&](std::size_t k) {
-    const auto pair = rng::normal_pair(seed, stream, component, k / 2);
-    return k % 2 == 0 ? pair.first : pair.second;
-  };
-  // x_0, x_1 from the stationary law: unit variances, correlation rho1.
   double x2 = p.sigma * normal(0);
   y[0] += x2;
   if (y.size() == 1) return;
   double x1 = p.rho1 * x2 + p.sigma * std::sqrt(1.0 - p.rho1 * p.rho1) * normal(1);
   y[1] += x1;
   for (std::size_t k = 2; k < y.size(); k += 2) {
+    if (wanders && k % kHold == 0) {
+      u = phi * u + std::sqrt(1.0 - phi * phi) * normal(2 * kWanderIndex + k / kHold);
+      p = at(u);
+    }
     const auto [g0, g1] = rng::normal_pair(seed, stream, component, k / 2);
     const double x0 = p.a1 * x1 + p.a2 * x2 + p.sd_e * g0;
     y[k] += x0;
