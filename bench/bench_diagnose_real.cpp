@@ -9,6 +9,7 @@
 // a sinusoid, a Gauss-Markov process, a ramp and a step are added, one at a time, small (5
 // sigma of the measured Allan variance where the effect's share is largest) and clear (20
 // sigma), and the record is diagnosed against the corrected model of its untouched samples.
+// BENCH_INJECT=ramp (any text but 1) keeps the injections whose name contains the text.
 //
 // Not a Google Benchmark: a table on stdout, one line per channel.
 #include "io/recording.hpp"
@@ -119,10 +120,16 @@ void inject_rows(const std::string& unit, const std::string& channel,
   const auto n = static_cast<std::int64_t>(y.size());
   std::vector<double> add(y.size()), z(y.size());
   std::uint64_t stream = 0;
+  const char* only = std::getenv("BENCH_INJECT");
+  const bool all = only == nullptr || std::string(only) == "1";
   for (const Injection& inj : injections(rate, static_cast<double>(n) / rate))
     for (const double sigmas : {5.0, 20.0}) {
+      // The stream is counted for every injection, so that one kept alone draws what it draws
+      // beside the others.
+      const std::uint64_t this_stream = stream++;
+      if (!all && std::string(inj.name).find(only) == std::string::npos) continue;
       const double a = amplitude_for(inj.unit, d, n, sigmas);
-      kernels::simulate_channel(scaled(inj.unit, a), 4242, stream++, add, 0);
+      kernels::simulate_channel(scaled(inj.unit, a), 4242, this_stream, add, 0);
       for (std::size_t i = 0; i < y.size(); ++i)
         z[i] = y[i] + add[i];
       const kernels::Diagnosis g = kernels::diagnose(z, rate, d.model_after, opt);
@@ -139,6 +146,9 @@ void inject_rows(const std::string& unit, const std::string& channel,
                       ? (g.coefficients_wrong ? "model's ramp found wrong" : "model has a ramp")
                       : "missed",
                   g.after.gap, g.mc_after.gap_p95);
+      if (std::getenv("BENCH_VERBOSE"))
+        for (const auto& note : g.notes)
+          std::printf("    note: %s\n", note.c_str());
       std::fflush(stdout);
     }
 }

@@ -192,9 +192,13 @@ std::vector<double> model_edf(const ChannelSpec& s, const Curve& cv, const Bases
 /// Sets cv.edf and the unbiased logarithms ln_y and their variances var_ln from it.
 void use_edf(Curve& cv, std::vector<double> edf);
 
-// diagnose.cpp: the measured curve of an overlapping Allan deviation with its edf (taus of
+// measure.cpp: the measured curve of an overlapping Allan deviation with its edf (taus of
 // zero variance dropped), edf capped at what the averages allow, ready for use_edf.
 Curve curve_of(const StatResult& oadev, double rate_hz, std::int64_t n_samples);
+/// The record's curve: overlapping Allan variance on a log grid of opt.taus_per_decade, with
+/// its edf (curve_of); throws when fewer than 3 octaves of tau or 4 non-zero taus remain.
+Curve measure(std::span<const double> rate, double rate_hz, const DiagnoseOptions& opt,
+              int threads);
 
 // search.cpp: the measurement against a model, the PSD witness and the Monte Carlo band.
 Comparison compare(const Curve& cv, std::vector<double> model, const std::vector<double>& edf,
