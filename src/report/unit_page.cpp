@@ -20,13 +20,16 @@ using svg::number;
 namespace {
 
 // Every table fits its column or wraps (nothing scrolls, nothing is cut); plots sit in a
-// grid of at least 520 px columns, the tables below them.
+// grid of at least 520 px columns, the tables below them. A table of words and short numbers
+// beside a plot (the diagnosis's rounds) breaks only between words: broken anywhere, its
+// narrow column split "round" and "resonance" in two.
 const char* kCss =
     R"(body{font:14px/1.45 Helvetica,Arial,sans-serif;color:#222;margin:0 auto;max-width:1600px;padding:0 18px 40px}
 h1{font-size:24px;margin:18px 0 6px}h2{font-size:19px;border-bottom:2px solid #ccc;padding-bottom:3px;margin-top:28px}
 h3{font-size:16px;margin:22px 0 6px}h4{font-size:14px;margin:12px 0 4px}
 table{border-collapse:collapse;margin:6px 0 14px;font-size:13px;max-width:100%}
 th,td{border:1px solid #ccc;padding:2px 7px;text-align:right;vertical-align:top;overflow-wrap:anywhere}
+table.words th,table.words td{overflow-wrap:break-word}
 th{background:#f1f1f1}td.l,th.l{text-align:left}td.wrap{white-space:normal;max-width:900px;word-break:break-word;font-size:12px}
 .pass{background:#cdeccf}.fail{background:#f6c4c4}.undecided{background:#fbeab5}
 .nd{color:#999}.bad{color:#b00;font-weight:bold}.small{font-size:12px;color:#555}
@@ -149,7 +152,7 @@ std::string diagnosis_section(const std::string& id, const io::DiagnosisView& d,
       std::max({d.effects_named.size(), d.iteration_gap_before.size(), d.iteration_gap_after.size(),
                 d.iteration_delta_ic.size(), d.iteration_parameters.size()});
   if (iterations > 0) {
-    h << "<table><tr><th>round</th><th class=\"l\">effect</th><th>gap before</th>"
+    h << "<table class=\"words\"><tr><th>round</th><th class=\"l\">effect</th><th>gap before</th>"
          "<th>gap after</th><th>&Delta;IC</th><th class=\"l\">parameters</th></tr>\n";
     const auto num = [](const std::vector<double>& v, std::size_t i) {
       return i < v.size() ? number(v[i], 3) : std::string("&ndash;");
