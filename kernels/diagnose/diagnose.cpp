@@ -86,6 +86,7 @@ struct Search {
   Criterion crit;
   double alpha_tau = 0.0;
   std::optional<PsdResult> periodogram;
+  std::vector<double> line_medians;  // line_backgrounds(*periodogram)
   double t_record = 0.0;
   std::vector<Component> given, current;
   std::vector<std::size_t> added_idx;
@@ -135,7 +136,7 @@ SpectralLine Search::focused_line(const Fit& ref, const std::vector<double>& kno
     if (b.sign > 0 && (top == nullptr || b.max_abs_z > top->max_abs_z)) top = &b;
   if (top == nullptr) return global;
   const SpectralLine near =
-      search_line(*periodogram, t_record, known_f, known_wide, opt.line_false_alarm,
+      search_line(*periodogram, line_medians, t_record, known_f, known_wide, opt.line_false_alarm,
                   0.1 / top->tau_hi_s, 1.0 / top->tau_lo_s);
   return near.found ? near : global;
 }
@@ -301,7 +302,8 @@ bool Search::round(int& iter) {
   }
   SpectralLine line;
   if (periodogram)
-    line = search_line(*periodogram, t_record, known_f, known_wide, opt.line_false_alarm);
+    line = search_line(*periodogram, line_medians, t_record, known_f, known_wide,
+                       opt.line_false_alarm);
   if (periodogram && !line.found) line = focused_line(ref, known_f, known_wide, line);
   const StepWitness jump =
       find_step(rate, crit.rate_hz, spec_of(current, spec).steps, opt.step_false_alarm);
@@ -586,7 +588,7 @@ Diagnosis diagnose(std::span<const double> rate, double rate_hz, const ChannelSp
   validate(spec);
 
   Diagnosis d;
-  Search search{opt, spec, d, {}, {}, {}, 0.0, {}, 0.0, {}, {}, {}, false, rate, threads};
+  Search search{opt, spec, d, {}, {}, {}, 0.0, {}, {}, 0.0, {}, {}, {}, false, rate, threads};
   search.crit.rate_hz = rate_hz;
   // The given model's steps are removed from the record before anything is compared.
   search.cv = search.curve_without(spec.steps);
@@ -613,8 +615,10 @@ Diagnosis diagnose(std::span<const double> rate, double rate_hz, const ChannelSp
 
   if (has_nan(rate))
     d.notes.push_back("the record has gaps: no PSD witness, so no sinusoid can be named");
-  else if (rate.size() >= 256)
+  else if (rate.size() >= 256) {
     search.periodogram = full_periodogram(rate, rate_hz, threads);
+    search.line_medians = line_backgrounds(*search.periodogram);
+  }
   search.t_record = static_cast<double>(rate.size() - rate.size() % 2) / rate_hz;
 
   // The add-and-repeat loop. Each round compares, against the current model with its

@@ -60,6 +60,7 @@ struct Whittle {
   std::vector<double> f, p;  // the blocks' centre frequencies and mean periodogram
   double f_mid = 0.0, f_span = 1.0;
   double df_hz = 0.0;
+  PsdTrig trig{{}, 1.0};  // of f, for the many evaluations of the spectrum
 
   Whittle(const PsdResult& psd, std::int64_t k0, std::int64_t k1, std::int64_t b)
       : rate_hz(psd_rate_hz(psd)), block(static_cast<double>(b)), df_hz(psd.df_hz) {
@@ -74,6 +75,7 @@ struct Whittle {
       f_mid = 0.5 * (f.front() + f.back());
       f_span = std::max(f.back() - f.front(), psd.df_hz);
     }
+    trig = PsdTrig(f, rate_hz);
   }
   // The largest q whose peak the blocks resolve at f0: half-power width f0 / q over two blocks.
   double q_top(double f0) const { return f0 / (2.0 * block * df_hz); }
@@ -82,7 +84,7 @@ struct Whittle {
     for (std::size_t j = 0; j < f.size(); ++j)
       s[j] = std::exp(x[0] + x[1] * (f[j] - f_mid) / f_span);
     for (std::size_t r = 0; r < l.count(); ++r)
-      add_resonance_psd(l.unit(x, r), rate_hz, std::exp(x[l.at[r] + 2]), f, s);
+      add_resonance_psd(l.unit(x, r), rate_hz, std::exp(x[l.at[r] + 2]), trig, s);
     for (double& v : s)
       v = std::log(v);
     return s;

@@ -206,10 +206,13 @@ Comparison compare(const Curve& cv, std::vector<double> model, const std::vector
 McBand monte_carlo(const ChannelSpec& spec, const Curve& cv, const std::vector<double>& model,
                    const std::vector<double>& edf, int replicas, std::uint64_t seed, int threads);
 double effective_taus(const Curve& cv);
-// The line search of find_spectral_line over the bins from f_lo_hz to f_hi_hz (all by default).
-SpectralLine search_line(const PsdResult& psd, double n_seconds, std::span<const double> known,
-                         std::span<const double> known_wide, double false_alarm,
-                         double f_lo_hz = 0.0,
+// Each bin's background median for the line search (NaN where it has none).
+std::vector<double> line_backgrounds(const PsdResult& psd);
+// The line search of find_spectral_line over the bins from f_lo_hz to f_hi_hz (all by default),
+// against the backgrounds line_backgrounds(psd) gives.
+SpectralLine search_line(const PsdResult& psd, std::span<const double> medians, double n_seconds,
+                         std::span<const double> known, std::span<const double> known_wide,
+                         double false_alarm, double f_lo_hz = 0.0,
                          double f_hi_hz = std::numeric_limits<double>::infinity());
 // The median of the periodogram over the bins lo <= |j - k| <= hi inside [1, kmax], gathered
 // in `buf` (its size is the number of bins): the line search's background and the width test's

@@ -159,12 +159,13 @@ struct Peak {
 };
 
 // The bin of largest periodogram over background in [f_lo_hz, f_hi_hz], 4 bins or more from
-// each frequency in `known` and `wide_hz` bins or more from each in `wide`.
-Peak strongest_bin(const PsdResult& psd, std::span<const double> known,
-                   std::span<const double> wide, double wide_hz, double f_lo_hz, double f_hi_hz) {
+// each frequency in `known` and `wide_hz` bins or more from each in `wide`; `medians` as
+// line_backgrounds gives them.
+Peak strongest_bin(const PsdResult& psd, std::span<const double> medians,
+                   std::span<const double> known, std::span<const double> wide, double wide_hz,
+                   double f_lo_hz, double f_hi_hz) {
   Peak out;
   const auto kmax = static_cast<std::int64_t>(psd.size()) - 1;
-  std::vector<double> window;
   for (std::int64_t k = kMinBin; k <= kmax - kEdge; ++k) {
     const double f = static_cast<double>(k) * psd.df_hz;
     if (f < f_lo_hz || f > f_hi_hz) continue;
@@ -174,10 +175,8 @@ Peak strongest_bin(const PsdResult& psd, std::span<const double> known,
     };
     if (near(known, 4.0 * psd.df_hz) || near(wide, wide_hz)) continue;
     ++out.n_searched;
-    // Symmetric window, so that the median of a monotone background is its central value.
-    const double median =
-        ring_median(psd, k, kCore + 1, std::min({kHalf, k - 1, kmax - k}), window);
-    if (window.size() < 8) continue;
+    const double median = medians[static_cast<std::size_t>(k)];
+    if (std::isnan(median)) continue;
     const double bg = median / std::numbers::ln2;
     if (!(bg > 0.0)) continue;
     const double ratio = psd.psd[static_cast<std::size_t>(k)] / bg;
@@ -220,14 +219,30 @@ void describe_line(const PsdResult& psd, double n_seconds, const Peak& pk, Spect
 
 }  // namespace
 
+// Each bin's background for the line search: the median of the bins kCore + 1 to kHalf away on
+// both sides (a symmetric window, so that the median of a monotone background is its central
+// value), NaN where fewer than 8 bins are there. It depends on the periodogram alone, so a
+// diagnosis computes it once for all its rounds (a fifth of a z gyroscope's diagnosis went to
+// recomputing it).
+std::vector<double> line_backgrounds(const PsdResult& psd) {
+  const auto kmax = static_cast<std::int64_t>(psd.size()) - 1;
+  std::vector<double> out(psd.size(), std::numeric_limits<double>::quiet_NaN()), window;
+  for (std::int64_t k = kMinBin; k <= kmax - kEdge; ++k) {
+    const double median =
+        ring_median(psd, k, kCore + 1, std::min({kHalf, k - 1, kmax - k}), window);
+    if (window.size() >= 8) out[static_cast<std::size_t>(k)] = median;
+  }
+  return out;
+}
+
 // Line search on a periodogram (see find_spectral_line). A significant peak wider than a line
 // is no sinusoid's witness: the first such is noted and fitted as a resonance (wide_hz,
 // narrowband), and the search goes on without the bins within the far ring of it, at most
 // kMaxWide times; the far rings of `known_wide` (the model's resonances) are left out from the
 // start.
-SpectralLine search_line(const PsdResult& psd, double n_seconds, std::span<const double> known,
-                         std::span<const double> known_wide, double false_alarm, double f_lo_hz,
-                         double f_hi_hz) {
+SpectralLine search_line(const PsdResult& psd, std::span<const double> medians, double n_seconds,
+                         std::span<const double> known, std::span<const double> known_wide,
+                         double false_alarm, double f_lo_hz, double f_hi_hz) {
   constexpr int kMaxWide = 4;
   SpectralLine out;
   out.searched = true;
@@ -239,8 +254,8 @@ SpectralLine search_line(const PsdResult& psd, double n_seconds, std::span<const
   }
   std::vector<double> wide(known_wide.begin(), known_wide.end());
   for (int attempt = 0; attempt <= kMaxWide; ++attempt) {
-    const Peak pk = strongest_bin(psd, known, wide, static_cast<double>(kFarRing) * psd.df_hz,
-                                  f_lo_hz, f_hi_hz);
+    const Peak pk = strongest_bin(psd, medians, known, wide,
+                                  static_cast<double>(kFarRing) * psd.df_hz, f_lo_hz, f_hi_hz);
     if (pk.k < 0 || pk.n_searched == 0) return out;
     out.threshold = std::log(static_cast<double>(pk.n_searched) / false_alarm);
     out.peak_ratio = pk.ratio;
@@ -294,8 +309,9 @@ SpectralLine find_spectral_line(std::span<const double> rate, double rate_hz,
                                 std::to_string(false_alarm));
   if (rate.size() < 256 || has_nan(rate)) return {};
   const PsdResult psd = full_periodogram(rate, rate_hz, resolve_threads(nthreads));
-  return search_line(psd, static_cast<double>(rate.size() - rate.size() % 2) / rate_hz, known_hz,
-                     {}, false_alarm);
+  return search_line(psd, line_backgrounds(psd),
+                     static_cast<double>(rate.size() - rate.size() % 2) / rate_hz, known_hz, {},
+                     false_alarm);
 }
 
 }  // namespace allanlot::kernels

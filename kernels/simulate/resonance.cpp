@@ -202,10 +202,21 @@ double resonance_psd_one_sided(const Resonance& r, double rate_hz, double f_hz) 
   return s;
 }
 
+PsdTrig::PsdTrig(std::span<const double> f_hz, double rate_hz)
+    : c1(f_hz.size()), s1(f_hz.size()), c2(f_hz.size()), s2(f_hz.size()) {
+  for (std::size_t i = 0; i < f_hz.size(); ++i) {
+    const double w = 2.0 * std::numbers::pi * f_hz[i] / rate_hz;
+    c1[i] = std::cos(w);
+    s1[i] = std::sin(w);
+    c2[i] = std::cos(2.0 * w);
+    s2[i] = std::sin(2.0 * w);
+  }
+}
+
 // |1 - a1 e^-iw - a2 e^-2iw|^2 = (1 - a1 c1 - a2 c2)^2 + (a1 s1 + a2 s2)^2 with c_k = cos(k w),
 // s_k = sin(k w): the trigonometry once per frequency, the nodes' coefficients once per node.
-void add_resonance_psd(const Resonance& r, double rate_hz, double scale,
-                       std::span<const double> f_hz, std::span<double> out) {
+void add_resonance_psd(const Resonance& r, double rate_hz, double scale, const PsdTrig& trig,
+                       std::span<double> out) {
   struct Node {
     double a1, a2, gain;
   };
@@ -214,16 +225,20 @@ void add_resonance_psd(const Resonance& r, double rate_hz, double scale,
     const Ar2 p = ar2_of(node, rate_hz);
     nodes.push_back({p.a1, p.a2, scale * weight * 2.0 * p.sd_e * p.sd_e / rate_hz});
   }
-  for (std::size_t i = 0; i < f_hz.size(); ++i) {
-    const double w = 2.0 * std::numbers::pi * f_hz[i] / rate_hz;
-    const double c1 = std::cos(w), s1 = std::sin(w), c2 = std::cos(2.0 * w), s2 = std::sin(2.0 * w);
+  for (std::size_t i = 0; i < trig.size(); ++i) {
     double s = 0.0;
     for (const Node& n : nodes) {
-      const double re = 1.0 - n.a1 * c1 - n.a2 * c2, im = n.a1 * s1 + n.a2 * s2;
+      const double re = 1.0 - n.a1 * trig.c1[i] - n.a2 * trig.c2[i],
+                   im = n.a1 * trig.s1[i] + n.a2 * trig.s2[i];
       s += n.gain / (re * re + im * im);
     }
     out[i] += s;
   }
+}
+
+void add_resonance_psd(const Resonance& r, double rate_hz, double scale,
+                       std::span<const double> f_hz, std::span<double> out) {
+  add_resonance_psd(r, rate_hz, scale, PsdTrig(f_hz, rate_hz), out);
 }
 
 // x_0 and x_1 from the stationary law (unit variances, correlation rho1), then the recursion,

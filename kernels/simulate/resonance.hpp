@@ -96,9 +96,21 @@ std::vector<double> resonance_avar(const Resonance& r, double rate_hz,
 /// w = 2 pi f h and s_e the innovation's sd: integrates to sigma^2 over (0, rate_hz / 2).
 double resonance_psd_one_sided(const Resonance& r, double rate_hz, double f_hz);
 
-/// Adds scale times resonance_psd_one_sided at each frequency of f_hz to out (same size), the
+/// The trigonometry of the resonances' one-sided PSD at a set of frequencies: cos w, sin w,
+/// cos 2w, sin 2w with w = 2 pi f / rate_hz. It depends on the frequencies alone, so a fit that
+/// evaluates the PSD over the same bins many times computes it once.
+struct PsdTrig {
+  std::vector<double> c1, s1, c2, s2;
+  PsdTrig(std::span<const double> f_hz, double rate_hz);
+  std::size_t size() const { return c1.size(); }
+};
+
+/// Adds scale times resonance_psd_one_sided at each frequency of `trig` to out (same size), the
 /// mixture's nodes and their recursions' coefficients computed once: the form for fits over many
 /// bins.
+void add_resonance_psd(const Resonance& r, double rate_hz, double scale, const PsdTrig& trig,
+                       std::span<double> out);
+/// The same at the frequencies f_hz.
 void add_resonance_psd(const Resonance& r, double rate_hz, double scale,
                        std::span<const double> f_hz, std::span<double> out);
 
