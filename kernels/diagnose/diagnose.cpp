@@ -213,7 +213,8 @@ std::size_t Search::ramp_or_random_walk(std::vector<CandidateFit>& cands, std::s
   // of chi2(1), 3.84 (the round's criterion subtracts the quantile at its own level,
   // alpha_candidate). Without their lines, the walks that won the curve in 80 records of the
   // study's base (K = 5e-4 to 2e-3) improved it by 6.2 or more; the ramps injected into the
-  // real x gyroscopes that the curve took for a walk, by 1.1 (imu3, 20 sigma) to 6.3 (imu4).
+  // real x and y gyroscopes that the curve took for a walk, by 0.85 to 3.3 (and 6.3 on imu4
+  // gyro_x at 20 sigma, which stays a walk).
   const double delta = random_walk_without_line(fixed_now, free_now);
   if (delta + threshold(1, crit.alpha_candidate) >= threshold(1, 0.05)) return best;
   const std::size_t ramp = witnessed_ramp(cands, fixed_now, chi2_ref);

@@ -20,6 +20,7 @@
 #include <numbers>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace allanlot::kernels {
 namespace {
@@ -36,24 +37,35 @@ double trend_slope_variance(const ChannelSpec& model, double duration_s) {
   if (!(duration_s > 0) || !std::isfinite(duration_s))
     throw std::invalid_argument("trend_slope_variance: duration_s must be finite and > 0");
   const double pi = std::numbers::pi, t = duration_s;
-  const auto psd = [&](double x) { return model_psd_one_sided(model, x / (pi * t)); };
   // Up to x = 400 (f = 127 / T) j1^2 is integrated as it is, by the midpoint rule at 40 points
   // per unit of x (its period is 2 pi); beyond, where j1^2 oscillates about 1 / (2 x^2) with an
-  // error O(1/x^3), on a log grid of 1000 points per decade up to Nyquist.
+  // error O(1/x^3), on a log grid of 1000 points per decade up to Nyquist. The model's PSD is
+  // evaluated on all the points at once (a wandering resonance's nodes once, not per point).
   const double x_split = 400.0, x_max = pi * 0.5 * model.rate_hz * t;
-  double sum = 0.0;
   const double h = 1.0 / 40.0;
+  std::vector<double> x_lin, x_log;
+  double dl = 0.0;
   for (double x = 0.5 * h; x < std::min(x_split, x_max); x += h)
-    sum += psd(x) * j1_squared(x) * h;
+    x_lin.push_back(x);
   if (x_max > x_split) {
     const double lx = std::log(x_split), step = std::log(10.0) / 1000.0;
     const int n = static_cast<int>(std::ceil((std::log(x_max) - lx) / step));
-    const double dl = (std::log(x_max) - lx) / n;
-    for (int i = 0; i < n; ++i) {
-      const double x = std::exp(lx + (i + 0.5) * dl);
-      sum += psd(x) * (0.5 / (x * x)) * x * dl;
-    }
+    dl = (std::log(x_max) - lx) / n;
+    for (int i = 0; i < n; ++i)
+      x_log.push_back(std::exp(lx + (i + 0.5) * dl));
   }
+  const auto psd_at = [&](const std::vector<double>& xs) {
+    std::vector<double> f(xs.size());
+    for (std::size_t i = 0; i < xs.size(); ++i)
+      f[i] = xs[i] / (pi * t);
+    return model_psd_one_sided(model, f);
+  };
+  const std::vector<double> s_lin = psd_at(x_lin), s_log = psd_at(x_log);
+  double sum = 0.0;
+  for (std::size_t i = 0; i < x_lin.size(); ++i)
+    sum += s_lin[i] * j1_squared(x_lin[i]) * h;
+  for (std::size_t i = 0; i < x_log.size(); ++i)
+    sum += s_log[i] * (0.5 / (x_log[i] * x_log[i])) * x_log[i] * dl;
   return 36.0 / (pi * t * t * t) * sum;
 }
 

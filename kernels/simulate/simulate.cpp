@@ -645,20 +645,29 @@ double model_avar_sampled(const ChannelSpec& spec, std::int64_t m, std::int64_t 
 }
 
 double model_psd_one_sided(const ChannelSpec& spec, double f_hz) {
-  if (!(f_hz > 0) || !std::isfinite(f_hz))
-    throw std::invalid_argument("model_psd_one_sided: f_hz must be finite and > 0, got " +
-                                std::to_string(f_hz));
+  return model_psd_one_sided(spec, std::span(&f_hz, 1)).front();
+}
+
+std::vector<double> model_psd_one_sided(const ChannelSpec& spec, std::span<const double> f_hz) {
   const auto& t = spec.terms;
-  const double w = 2 * pi * f_hz;
-  double s = t.K * t.K / (2 * pi * pi * f_hz * f_hz) + t.B * t.B / (pi * f_hz) + 2 * t.N * t.N +
-             2 * w * w * t.Q * t.Q / spec.rate_hz;
-  for (const auto& g : spec.markovs) {
-    const double wt = w * g.tau_c_s;
-    s += 4 * g.sigma * g.sigma * g.tau_c_s / (1 + wt * wt);
+  std::vector<double> out(f_hz.size());
+  for (std::size_t i = 0; i < f_hz.size(); ++i) {
+    const double f = f_hz[i];
+    if (!(f > 0) || !std::isfinite(f))
+      throw std::invalid_argument("model_psd_one_sided: f_hz must be finite and > 0, got " +
+                                  std::to_string(f));
+    const double w = 2 * pi * f;
+    double s = t.K * t.K / (2 * pi * pi * f * f) + t.B * t.B / (pi * f) + 2 * t.N * t.N +
+               2 * w * w * t.Q * t.Q / spec.rate_hz;
+    for (const auto& g : spec.markovs) {
+      const double wt = w * g.tau_c_s;
+      s += 4 * g.sigma * g.sigma * g.tau_c_s / (1 + wt * wt);
+    }
+    out[i] = s;
   }
   for (const auto& r : spec.resonances)
-    s += resonance_psd_one_sided(r, spec.rate_hz, f_hz);
-  return s;
+    add_resonance_psd(r, spec.rate_hz, 1.0, f_hz, out);
+  return out;
 }
 
 }  // namespace allanlot::kernels

@@ -205,5 +205,8 @@ double flicker_avar_factor(std::int64_t m);
 /// sinusoids are deterministic (no density; a sinusoid is a line of power A^2/2 at its
 /// frequency) and contribute nothing here; the offset neither.
 double model_psd_one_sided(const ChannelSpec& spec, double f_hz);
+/// The same at each frequency of f_hz (each > 0 and finite), each resonance's nodes computed
+/// once: the form for integrals over many frequencies.
+std::vector<double> model_psd_one_sided(const ChannelSpec& spec, std::span<const double> f_hz);
 
 }  // namespace allanlot::kernels
