@@ -105,10 +105,11 @@ struct Search {
   std::size_t ramp_or_random_walk(std::vector<CandidateFit>& cands, std::size_t best,
                                   const std::vector<Component>& fixed_now,
                                   const std::vector<Component>& free_now, double chi2_ref,
-                                  std::string& note) const;
+                                  const TrendWitness& trend, std::string& note) const;
   TrendWitness trend_under(const ChannelSpec& model) const;
   std::size_t witnessed_ramp(std::vector<CandidateFit>& cands,
-                             const std::vector<Component>& fixed_now, double chi2_ref) const;
+                             const std::vector<Component>& fixed_now, double chi2_ref,
+                             const TrendWitness& tr) const;
 
   bool round(int& iter);
   Fit refit_final();
@@ -196,7 +197,7 @@ double Search::random_walk_without_line(const std::vector<Component>& fixed_now,
 std::size_t Search::ramp_or_random_walk(std::vector<CandidateFit>& cands, std::size_t best,
                                         const std::vector<Component>& fixed_now,
                                         const std::vector<Component>& free_now, double chi2_ref,
-                                        std::string& note) const {
+                                        const TrendWitness& trend, std::string& note) const {
   if (best == cands.size()) return best;
   const Effect winner = cands[best].info.effect;
   if (winner == Effect::Ramp) {
@@ -208,7 +209,7 @@ std::size_t Search::ramp_or_random_walk(std::vector<CandidateFit>& cands, std::s
            std::to_string(delta) + "), which the ramp does not explain: random_walk named first";
     return rw;
   }
-  if (winner != Effect::RandomWalk || !trend_under(spec_of(current, spec)).found) return best;
+  if (winner != Effect::RandomWalk || !trend.found) return best;
   // Not significant at 5 %: the walk's improvement of the chi-square below the 95 % quantile
   // of chi2(1), 3.84 (the round's criterion subtracts the quantile at its own level,
   // alpha_candidate). Without their lines, the walks that won the curve in 80 records of the
@@ -217,11 +218,11 @@ std::size_t Search::ramp_or_random_walk(std::vector<CandidateFit>& cands, std::s
   // gyro_x at 20 sigma, which stays a walk).
   const double delta = random_walk_without_line(fixed_now, free_now);
   if (delta + threshold(1, crit.alpha_candidate) >= threshold(1, 0.05)) return best;
-  const std::size_t ramp = witnessed_ramp(cands, fixed_now, chi2_ref);
+  const std::size_t ramp = witnessed_ramp(cands, fixed_now, chi2_ref, trend);
   if (ramp == cands.size()) return best;
   note = "the record without its least-squares line no longer shows the random walk (criterion " +
          std::to_string(delta) +
-         "), and its slope is a trend the model does not explain: " + "ramp named first";
+         "), and its slope is a trend the model does not explain: ramp named first";
   return ramp;
 }
 
@@ -246,12 +247,11 @@ std::optional<Curve> Search::curve_without_jump(const StepWitness& jump) const {
 // the record, is named by the curve first; the slope is then judged against the spread the
 // model as it stands gives it (find_trend), and a ramp of that slope is taken when the curve
 // agrees better with it (no penalty, as for a witnessed line or jump: its size comes from the
-// witness, whose false alarm is trend_false_alarm). Not asked when the model has a ramp.
+// witness, whose false alarm is trend_false_alarm). `tr` is the round's witness, not searched
+// when the model has a ramp.
 std::size_t Search::witnessed_ramp(std::vector<CandidateFit>& cands,
-                                   const std::vector<Component>& fixed_now, double chi2_ref) const {
-  const ChannelSpec now = spec_of(current, spec);
-  if (now.terms.R > 0.0) return cands.size();
-  const TrendWitness tr = trend_under(now);
+                                   const std::vector<Component>& fixed_now, double chi2_ref,
+                                   const TrendWitness& tr) const {
   if (!tr.found) return cands.size();
   Component c;
   c.term = Term::R;
@@ -308,11 +308,13 @@ bool Search::round(int& iter) {
   if (periodogram && !line.found) line = focused_line(ref, known_f, known_wide, line);
   const StepWitness jump =
       find_step(rate, crit.rate_hz, spec_of(current, spec).steps, opt.step_false_alarm);
+  // The ramp's witness, under the model as it stands; none when the model has a ramp.
+  const ChannelSpec now = spec_of(current, spec);
+  const TrendWitness trend = now.terms.R > 0.0 ? TrendWitness{} : trend_under(now);
   if (iter == 0 && !refit_taken) {
     d.line = line;
     d.step = jump;
-    if (const ChannelSpec now = spec_of(current, spec); !(now.terms.R > 0.0))
-      d.trend = trend_under(now);
+    if (!(now.terms.R > 0.0)) d.trend = trend;
   }
   std::optional<Curve> without_jump = curve_without_jump(jump);
   const Witnesses seen{line,
@@ -347,9 +349,9 @@ bool Search::round(int& iter) {
       strongest(cands, [](Effect e) { return e == Effect::Sinusoid || e == Effect::Step; });
   std::string nested_note;
   best = prefer_nested(cands, best, cv, nested_note);
-  best = ramp_or_random_walk(cands, best, fixed_now, free_now, ref.chi2, nested_note);
+  best = ramp_or_random_walk(cands, best, fixed_now, free_now, ref.chi2, trend, nested_note);
   if (witnessed < cands.size()) best = witnessed;
-  if (best == cands.size()) best = witnessed_ramp(cands, fixed_now, ref.chi2);
+  if (best == cands.size()) best = witnessed_ramp(cands, fixed_now, ref.chi2, trend);
   // (c): the coefficients re-estimated with nothing added, taken at most once and only when
   // no effect is significant: incomplete before wrong, because a raised flicker floor can
   // mimic two hidden effects at once (a greedy round cannot see that one effect now and one
