@@ -292,7 +292,8 @@ bool Search::round(int& iter) {
     c.free = !c.pinned;
   // The round's fits are weighted, and its chi-squares judged, with the edf of the model as it
   // stands: the hypothesis every candidate is tested against.
-  use_edf(cv, model_edf(spec_of(current, spec), cv, bases));
+  const ChannelSpec now = spec_of(current, spec);
+  use_edf(cv, model_edf(now, cv, bases));
   const Fit ref = fit_components(fixed_now, cv, bases);
   const int n_free = static_cast<int>(
       std::count_if(free_now.begin(), free_now.end(), [](const auto& c) { return c.free; }));
@@ -306,15 +307,13 @@ bool Search::round(int& iter) {
     line = search_line(*periodogram, line_medians, t_record, known_f, known_wide,
                        opt.line_false_alarm);
   if (periodogram && !line.found) line = focused_line(ref, known_f, known_wide, line);
-  const StepWitness jump =
-      find_step(rate, crit.rate_hz, spec_of(current, spec).steps, opt.step_false_alarm);
-  // The ramp's witness, under the model as it stands; none when the model has a ramp.
-  const ChannelSpec now = spec_of(current, spec);
+  // The step's and the ramp's witnesses under the model as it stands (no ramp's beside a ramp).
+  const StepWitness jump = find_step(rate, crit.rate_hz, now.steps, opt.step_false_alarm);
   const TrendWitness trend = now.terms.R > 0.0 ? TrendWitness{} : trend_under(now);
   if (iter == 0 && !refit_taken) {
     d.line = line;
     d.step = jump;
-    if (!(now.terms.R > 0.0)) d.trend = trend;
+    d.trend = trend;
   }
   std::optional<Curve> without_jump = curve_without_jump(jump);
   const Witnesses seen{line,
