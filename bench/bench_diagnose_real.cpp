@@ -3,7 +3,7 @@
 // the folder is an argument), each diagnosed against its own eq. (3) fit, the corrected model
 // re-diagnosed, and the eq. (3) fit repeated on the taus a named lowpass leaves alone.
 //
-//   bench_diagnose_real FOLDER [REPLICAS] [CHANNEL_SUBSTRING]
+//   bench_diagnose_real FOLDER [REPLICAS] [CHANNEL_SUBSTRING]   (REPLICAS: diagnose's default, 30)
 //
 // With BENCH_INJECT=1 it makes the injection table instead: into each channel's real samples
 // a sinusoid, a Gauss-Markov process, a ramp and a step are added, one at a time, small (5
@@ -161,7 +161,7 @@ int main(int argc, char** argv) {
     if (argc >= 2) std::fprintf(stderr, "%s: %s is not a folder\n", argv[0], argv[1]);
     return 2;
   }
-  const int replicas = argc > 2 ? std::atoi(argv[2]) : 20;
+  const int replicas = argc > 2 ? std::atoi(argv[2]) : kernels::DiagnoseOptions{}.mc_replicas;
   const std::string only = argc > 3 ? argv[3] : "";
   std::vector<std::filesystem::path> files;
   for (const auto& e : std::filesystem::directory_iterator(argv[1]))
