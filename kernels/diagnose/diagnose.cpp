@@ -242,9 +242,10 @@ std::optional<Curve> Search::curve_without_jump(const StepWitness& jump) const {
 // A ramp the curve alone does not show: its Allan variance R^2 tau^2 / 2 rises at the longest
 // taus, where a few averages leave it within their spread (a ramp of 5 sigma at its best tau
 // injected into a real gyroscope's record: 0 of 10 named), while the record's slope is a direct
-// and far more precise witness of a deterministic trend. Asked only when no candidate is
-// significant on the curve, so that a hump or a random walk the model lacks, which also tilt
-// the record, is named by the curve first; the slope is then judged against the spread the
+// and far more precise witness of a deterministic trend. Asked when no candidate is significant
+// on the curve, or when a random walk wins whose rise the record's line takes away
+// (ramp_or_random_walk), so that a hump or a random walk the model lacks, which also tilt the
+// record, is named by the curve first; the slope is then judged against the spread the
 // model as it stands gives it (find_trend), and a ramp of that slope is taken when the curve
 // agrees better with it (no penalty, as for a witnessed line or jump: its size comes from the
 // witness, whose false alarm is trend_false_alarm). `tr` is the round's witness, not searched
