@@ -608,8 +608,10 @@ CandidateFit evaluate_candidate(Effect e, std::vector<Component> comps, const Wi
     cf = witnessed_resonance(std::move(comps), line.narrowband, cv, b);
     if (cf.fit.comps.empty()) return cf;
   } else if (e == Effect::Resonance) {
-    cf = resonance_candidate(std::move(comps), cv, b, seen);
-    if (!cf.info.note.empty()) return cf;
+    cf = resonance_candidate(std::move(comps), cv, b, seen, [&](int n) {
+      return threshold(n, crit.alpha_candidate) / crit.scale;
+    });
+    if (cf.fit.comps.empty()) return cf;
     k += resonance_parameters(cf.fit.comps.back());
   }
   score_candidate(cf, k, chi2_ref, *fit_cv, b, crit);

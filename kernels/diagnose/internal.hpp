@@ -12,6 +12,7 @@
 #include <limits>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace allanlot::kernels::diagnose_detail {
@@ -164,12 +165,15 @@ std::vector<double> resonance_curve(const Resonance& r, const Curve& cv, const L
                                     double rate_hz);
 /// frequency_hz and q of the resonance comps[idx] searched on the curve, the free coefficients
 /// fitted at each; `grid` searches the whole range first, else only near the present values.
+/// With `grid`, `others` (when given) receives the grid's other local minima over the frequency,
+/// (f0, q) each, best first: at most kOtherStarts, an octave or more from the best and apart.
 Fit search_resonance(std::vector<Component> comps, std::size_t idx, const Curve& cv, const Bases& b,
-                     bool grid);
+                     bool grid, std::vector<std::pair<double, double>>* others = nullptr);
+inline constexpr std::size_t kOtherStarts = 3;
 /// The resonance candidate: a new component searched with the others as `base` has them; with a
 /// note and no fit when it is not a distinct instance.
 CandidateFit resonance_candidate(std::vector<Component> base, const Curve& cv, const Bases& b,
-                                 const Witnesses& seen);
+                                 const Witnesses& seen, const std::function<double(int)>& penalty);
 CandidateFit witnessed_resonance(std::vector<Component> base, const SpectralLine::Narrowband& nb,
                                  const Curve& cv, const Bases& b);
 /// The parameters a resonance's criterion charges (candidates.cpp).
@@ -233,6 +237,13 @@ SpectralLine::Narrowband fit_narrowband(const PsdResult& psd, std::int64_t k, do
 std::vector<SpectralLine::Narrowband>
 fit_peak_shapes(const PsdResult& psd, const std::vector<SpectralLine::Narrowband>& present,
                 double f0, const std::vector<double>& q_starts, double false_alarm);
+// The periodogram's broad humps above f_lo_hz, strongest first, as (frequency, z) pairs: the
+// local maxima of the excess of 1/16-octave bands over the median of the bands within half an
+// octave, in standard deviations of a band's mean, from z = kBroadPeakZ, at most `count` of
+// them and each half an octave or more from the ones before (find_narrowband.cpp).
+inline constexpr double kBroadPeakZ = 3.0;
+std::vector<std::pair<double, double>> broad_peaks(const PsdResult& psd, double f_lo_hz,
+                                                   std::size_t count);
 // The correlation time [s] of a wandering resonance's frequency from its track through `record`
 // (find_narrowband.cpp).
 double wander_time(std::span<const double> record, double rate_hz, double f0, double spread,

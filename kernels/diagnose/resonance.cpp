@@ -82,7 +82,7 @@ void measure_wander(std::vector<Component>& comps, const Witnesses& seen) {
 // periodogram's f0, q and spread (psd_shape: sigma stays the curve's to fit); given and witnessed
 // resonances join the fit, so that their peaks are not taken for the new one, and stay as they
 // are. False, the components unchanged, when the periodogram shows no new peak there.
-bool shape_on_periodogram(Fit& fit, std::size_t idx, const Witnesses& seen) {
+bool shape_on_periodogram(Fit& fit, std::size_t idx, const Witnesses& seen, double false_alarm) {
   std::vector<SpectralLine::Narrowband> present;
   std::vector<std::size_t> which;
   for (std::size_t i = 0; i < idx; ++i)
@@ -93,8 +93,7 @@ bool shape_on_periodogram(Fit& fit, std::size_t idx, const Witnesses& seen) {
   const Component& c = fit.comps[idx];
   std::vector<double> q_starts{2.0, 8.0, 32.0, 128.0};
   if (c.q_bound == 0) q_starts.push_back(c.q);
-  const auto shapes =
-      fit_peak_shapes(*seen.periodogram, present, c.nl, q_starts, seen.line_false_alarm);
+  const auto shapes = fit_peak_shapes(*seen.periodogram, present, c.nl, q_starts, false_alarm);
   if (shapes.empty()) return false;
   for (std::size_t j = 0; j < which.size(); ++j) {
     Component& o = fit.comps[which[j]];
@@ -111,7 +110,7 @@ bool shape_on_periodogram(Fit& fit, std::size_t idx, const Witnesses& seen) {
 // periodogram confirms, the one whose fit on the curve has the lowest chi-square; no components
 // when none.
 Fit shaped_on_periodogram(const Fit& searched, std::size_t idx, const Curve& cv, const Bases& b,
-                          const Witnesses& seen) {
+                          const Witnesses& seen, double false_alarm) {
   Fit best;
   if (seen.periodogram == nullptr) return best;
   std::vector<std::pair<double, double>> starts{{searched.comps[idx].nl, searched.comps[idx].q}};
@@ -122,12 +121,95 @@ Fit shaped_on_periodogram(const Fit& searched, std::size_t idx, const Curve& cv,
     Fit trial = searched;
     Component& c = trial.comps[idx];
     if (s > 0) std::tie(c.nl, c.q, c.q_bound) = std::tuple(starts[s].first, starts[s].second, 0);
-    if (!shape_on_periodogram(trial, idx, seen)) continue;
+    if (!shape_on_periodogram(trial, idx, seen, false_alarm)) continue;
     trial = fit_components(std::move(trial.comps), cv, b);
     if (best.comps.empty() || trial.chi2 < best.chi2) best = std::move(trial);
   }
   measure_wander(best.comps, seen);
   return best;
+}
+
+// The note when resonance comps[idx] is not a distinct instance beside the model's others
+// (resonance_candidate); empty when it is.
+std::string overlap_note(const std::vector<Component>& comps, std::size_t idx) {
+  const Component& r = comps[idx];
+  for (std::size_t i = 0; i < idx; ++i) {
+    const Component& o = comps[i];
+    if (o.kind != Kind::Resonance) continue;
+    const double wide = std::max(half_width(r), half_width(o));
+    const double narrow = std::min(half_width(r), half_width(o));
+    if (std::abs(r.nl - o.nl) <= half_width(r) + half_width(o) && wide < kPedestal * narrow)
+      return "its peak at " + std::to_string(r.nl) + " Hz (q " + std::to_string(r.q) +
+             ") overlaps " + component_label(comps, i) + "'s";
+  }
+  return {};
+}
+
+// Of the other starts, the shaped fit the periodogram confirms, at the false alarm shared among
+// them, as a distinct instance, with the lowest chi-square on the curve; no components when
+// none is.
+Fit other_start_shaped(const Fit& searched, std::size_t idx, const Curve& cv, const Bases& b,
+                       const Witnesses& seen,
+                       const std::vector<std::pair<double, double>>& starts) {
+  const double alarm =
+      seen.line_false_alarm / static_cast<double>(std::max<std::size_t>(1, starts.size()));
+  Fit best;
+  for (const auto& [f0, q] : starts) {
+    Fit start = searched;
+    Component& c = start.comps[idx];
+    std::tie(c.nl, c.q, c.nl_bound, c.q_bound) = std::tuple(f0, q, 0, 0);
+    Fit shaped = shaped_on_periodogram(start, idx, cv, b, seen, alarm);
+    if (shaped.comps.empty() || !overlap_note(shaped.comps, idx).empty()) continue;
+    if (best.comps.empty() || shaped.chi2 < best.chi2) best = std::move(shaped);
+  }
+  return best;
+}
+
+// The starts beside the curve's best: its grid's other minima (`curve`), then the
+// periodogram's broad humps (broad_peaks, at q 8) away from the peaks of the model's resonances
+// (two half-widths, or the hump's band, 1/16 octave), the new one (comps' last) not counted.
+std::vector<std::pair<double, double>> other_starts(std::vector<std::pair<double, double>> curve,
+                                                    const std::vector<Component>& comps,
+                                                    const Curve& cv, const Witnesses& seen) {
+  for (const auto& [f, z] : broad_peaks(*seen.periodogram, 1.0 / cv.tau.back(), kOtherStarts)) {
+    const bool modelled = std::any_of(comps.begin(), comps.end() - 1, [&](const Component& o) {
+      return o.kind == Kind::Resonance && (std::abs(f - o.nl) <= 2.0 * half_width(o) ||
+                                           std::abs(std::log2(f / o.nl)) <= 1.0 / 16.0);
+    });
+    if (!modelled) curve.emplace_back(f, 8.0);
+  }
+  return curve;
+}
+
+// The grid's best chi-square at one frequency, over q.
+struct GridRow {
+  double ln_f = 0.0, ln_q = 0.0;
+  double chi2 = std::numeric_limits<double>::infinity();
+};
+
+// The grid's local minima over the frequency other than the best's (at ln_best_f), best first:
+// at most kOtherStarts, each an octave or more from the best and from those before it (the
+// ripples of one peak are within an octave of it).
+std::vector<std::pair<double, double>> other_minima(const std::vector<GridRow>& rows,
+                                                    double ln_best_f) {
+  std::vector<const GridRow*> minima;
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    if ((i == 0 || rows[i].chi2 < rows[i - 1].chi2) &&
+        (i + 1 == rows.size() || rows[i].chi2 <= rows[i + 1].chi2))
+      minima.push_back(&rows[i]);
+  std::sort(minima.begin(), minima.end(),
+            [](const GridRow* a, const GridRow* c) { return a->chi2 < c->chi2; });
+  std::vector<double> taken{ln_best_f};
+  std::vector<std::pair<double, double>> out;
+  for (const GridRow* r : minima) {
+    if (out.size() == kOtherStarts) break;
+    if (std::any_of(taken.begin(), taken.end(),
+                    [&](double f) { return std::abs(r->ln_f - f) < std::numbers::ln2; }))
+      continue;
+    taken.push_back(r->ln_f);
+    out.emplace_back(std::exp(r->ln_f), std::exp(r->ln_q));
+  }
+  return out;
 }
 
 }  // namespace
@@ -148,7 +230,7 @@ std::vector<double> resonance_curve(const Resonance& r, const Curve& cv, const L
 // shift; q moves the curve smoothly. A frequency within a grid step of either end of its range, a q
 // within 5 % of either end of its, is marked as a bound.
 Fit search_resonance(std::vector<Component> comps, std::size_t idx, const Curve& cv, const Bases& b,
-                     bool grid) {
+                     bool grid, std::vector<std::pair<double, double>>* others) {
   const auto eval = [&](double ln_f, double ln_q) {
     comps[idx].nl = std::exp(ln_f);
     comps[idx].q = std::clamp(std::exp(ln_q), kQLo, kQHi);  // exp(log(x)) may round past x
@@ -167,17 +249,22 @@ Fit search_resonance(std::vector<Component> comps, std::size_t idx, const Curve&
   double best_chi2 = std::numeric_limits<double>::infinity();
   if (grid) {
     const int n_f = static_cast<int>(std::ceil((f_hi - f_lo) / f_step)) + 1;
-    for (int i = 0; i < n_f; ++i)
-      for (int j = 0; q_lo + q_step * (j - 1) < q_top(std::min(f_lo + f_step * i, f_hi)); ++j) {
-        const double lf = std::min(f_lo + f_step * i, f_hi);
-        const double lq = std::min(q_lo + q_step * j, q_top(lf));
-        const double c = eval(lf, lq).chi2;
+    std::vector<GridRow> rows(static_cast<std::size_t>(n_f));
+    for (int i = 0; i < n_f; ++i) {
+      GridRow& row = rows[static_cast<std::size_t>(i)];
+      row.ln_f = std::min(f_lo + f_step * i, f_hi);
+      for (int j = 0; q_lo + q_step * (j - 1) < q_top(row.ln_f); ++j) {
+        const double lq = std::min(q_lo + q_step * j, q_top(row.ln_f));
+        const double c = eval(row.ln_f, lq).chi2;
+        if (c < row.chi2) std::tie(row.chi2, row.ln_q) = std::tuple(c, lq);
         if (c < best_chi2) {
           best_chi2 = c;
-          best_f = lf;
+          best_f = row.ln_f;
           best_q = lq;
         }
       }
+    }
+    if (others != nullptr) *others = other_minima(rows, best_f);
   }
   double chi2 = grid ? best_chi2 : eval(best_f, best_q).chi2;
   // Searched again (not `grid`), the values move only for a chi-square lower by more than 1, a
@@ -215,45 +302,58 @@ Fit search_resonance(std::vector<Component> comps, std::size_t idx, const Curve&
 // Lorentzian: the ADIS16405 z gyroscopes' wandering peak at 17-21 Hz has a broad pedestal about
 // 2 Hz above it (q 4-5).
 CandidateFit resonance_candidate(std::vector<Component> base, const Curve& cv, const Bases& b,
-                                 const Witnesses& seen) {
+                                 const Witnesses& seen, const std::function<double(int)>& penalty) {
   CandidateFit out = resonance_room(base);
   if (!out.info.note.empty()) return out;
   base.push_back(searched_component(Kind::Resonance));
   const std::size_t idx = base.size() - 1;
-  out.fit = search_resonance(std::move(base), idx, cv, b, true);
+  std::vector<std::pair<double, double>> others;
+  out.fit = search_resonance(std::move(base), idx, cv, b, true, &others);
   // The periodogram measures the peak's shape, which the curve sees only through its ripples: a
   // q at either end of its range on the curve is no estimate (beyond a few hundred, and for a
   // broad peak beside the sensor's filter, the curve's shape hardly depends on it: the ADIS16405
   // accelerometers' hump at 9.5-11 Hz, q about 10 in their periodograms, went to q > 79380 on the
   // curve as a line), and a peak whose frequency wanders is a Lorentzian to the curve (the
   // ADIS16405 z gyroscopes'). Where the periodogram shows no peak near a q at a bound, the
-  // curve's feature is no narrowband process and the candidate is withdrawn (an ADIS16405 z
-  // gyroscope's curve named one at 6.9 Hz with q > 51511 beside its real peak at 19.5 Hz).
-  if (Fit shaped = shaped_on_periodogram(out.fit, idx, cv, b, seen); !shaped.comps.empty()) {
+  // curve's feature is no narrowband process (an ADIS16405 z gyroscope's curve named one at
+  // 6.9 Hz with q > 51511 beside its real peak at 19.5 Hz). The other starts (other_starts:
+  // the curve's next minima and the periodogram's broad humps) are tried too, the periodogram's
+  // false alarm shared among them, and the one with the lowest chi-square replaces the curve's
+  // own when it fits better, its parameters charged (`penalty`: the criterion's threshold for
+  // k parameters in chi-square units), or the curve's was withdrawn: two humps' ripples can
+  // cancel on the
+  // curve, so that neither is its best (the ADIS16405 imu2 z accelerometer's at 10 and 35 Hz;
+  // the curve was best at 0.0012 Hz, q at 2, where its periodogram has nothing).
+  bool withdrawn = false;
+  const Fit searched = out.fit;
+  if (Fit shaped = shaped_on_periodogram(out.fit, idx, cv, b, seen, seen.line_false_alarm);
+      !shaped.comps.empty()) {
     out.fit = std::move(shaped);
   } else if (seen.periodogram != nullptr && out.fit.comps[idx].q_bound != 0) {
     const Component& c = out.fit.comps[idx];
     out.info.note = "q at a bound of its range on the curve (" + std::to_string(c.q) + " at " +
                     std::to_string(c.nl) + " Hz) and no peak near there in the periodogram";
-    out.fit = {};
+    withdrawn = true;
+  }
+  if (!withdrawn) out.info.note = overlap_note(out.fit.comps, idx);
+  withdrawn = withdrawn || !out.info.note.empty();
+  if (seen.periodogram == nullptr) {
+    if (withdrawn) out.fit = {};
     return out;
   }
-  const Component& r = out.fit.comps[idx];
-  for (std::size_t i = 0; i < idx; ++i) {
-    const Component& o = out.fit.comps[i];
-    if (o.kind != Kind::Resonance) continue;
-    const double wide = std::max(half_width(r), half_width(o));
-    const double narrow = std::min(half_width(r), half_width(o));
-    if (std::abs(r.nl - o.nl) <= half_width(r) + half_width(o) && wide < kPedestal * narrow) {
-      out.info.note = "its peak at " + std::to_string(r.nl) + " Hz (q " + std::to_string(r.q) +
-                      ") overlaps " + component_label(out.fit.comps, i) + "'s";
-      out.fit = {};
-      return out;
-    }
+  Fit next = other_start_shaped(searched, idx, cv, b, seen,
+                                other_starts(std::move(others), searched.comps, cv, seen));
+  if (!next.comps.empty() &&
+      (withdrawn || next.chi2 + penalty(resonance_parameters(next.comps[idx])) <
+                        out.fit.chi2 + penalty(resonance_parameters(out.fit.comps[idx])))) {
+    out.info.note += (out.info.note.empty() ? "" : "; ") + std::string("a peak at ") +
+                     std::to_string(next.comps[idx].nl) + " Hz from another start";
+    out.fit = std::move(next);
+  } else if (withdrawn) {
+    out.fit = {};
   }
   return out;
 }
-
 // Resonance named from its PSD witness, a periodogram peak wider than a line: f0, q and sigma as
 // the periodogram measured them (fit_narrowband), pinned like a witnessed line's. The peak is
 // seen through the sensor's filter; the model's resonance is the one before it, sigma divided by

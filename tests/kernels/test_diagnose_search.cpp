@@ -214,9 +214,55 @@ TEST(DiagnoseSearch, ResonanceAtABoundThePeriodogramDoesNotSeeIsWithdrawn) {
   const kernels::PsdResult psd = full_periodogram(y, kRate, 1);
   Witnesses seen;
   seen.periodogram = &psd;
-  const CandidateFit cf = resonance_candidate(components_of(white()), cv, b, seen);
+  const CandidateFit cf =
+      resonance_candidate(components_of(white()), cv, b, seen, [](int k) { return 2.0 * k; });
   EXPECT_TRUE(cf.fit.comps.empty());
   EXPECT_NE(cf.info.note.find("no peak"), std::string::npos) << cf.info.note;
+}
+
+// A broad hump (q 8) under a filter's roll-off: no bin of it stands out for the line search,
+// but its band does, and it is the first of the periodogram's broad peaks.
+TEST(DiagnoseSearch, BroadHumpIsTheFirstBroadPeak) {
+  auto truth = white();
+  truth.lowpass.taps = 1.15;
+  truth.resonances.push_back({0.022, 12.0, 8.0});
+  std::vector<double> y(static_cast<std::size_t>(kSamples));
+  kernels::simulate_channel(truth, 5, 0, y, 1);
+  const kernels::PsdResult psd = full_periodogram(y, kRate, 1);
+  const auto peaks = broad_peaks(psd, 0.01, 3);
+  ASSERT_FALSE(peaks.empty());
+  // Within a band (1/16 octave) of f0, and well beyond the start threshold.
+  EXPECT_LT(std::abs(std::log2(peaks.front().first / 12.0)), 1.0 / 16.0) << peaks.front().first;
+  EXPECT_GT(peaks.front().second, 3.0 * kBroadPeakZ);
+  for (const auto& [f, z] : peaks)
+    EXPECT_GE(z, kBroadPeakZ);
+}
+
+// The curve holds a narrow resonance at 5 Hz that the record does not (its curve's best: q 380,
+// inside its range, so the curve's own candidate stands without the periodogram) and the
+// record's broad hump at 12 Hz. The hump, from the periodogram's broad peaks and confirmed
+// there, fits the curve better, its fewer parameters charged, and is the candidate: before the
+// other starts, the candidate was the 5 Hz resonance the record does not have.
+TEST(DiagnoseSearch, ResonanceTheCurveMissesIsFoundFromTheBroadHump) {
+  auto hump = white();
+  hump.resonances.push_back({0.022, 12.0, 8.0});
+  auto truth = hump;
+  truth.resonances.push_back({0.05, 5.0, kernels::kResonanceMaxQ});
+  Bases b;
+  const Curve cv = exact_curve(truth, b);
+  std::vector<double> y(static_cast<std::size_t>(kSamples));
+  kernels::simulate_channel(hump, 5, 0, y, 1);
+  const kernels::PsdResult psd = full_periodogram(y, kRate, 1);
+  Witnesses seen;
+  seen.periodogram = &psd;
+  seen.record = y;
+  const CandidateFit cf =
+      resonance_candidate(components_of(white()), cv, b, seen, [](int k) { return 2.0 * k; });
+  ASSERT_FALSE(cf.fit.comps.empty()) << cf.info.note;
+  const Component& r = cf.fit.comps.back();
+  EXPECT_NEAR(r.nl, 12.0, 0.5);
+  EXPECT_TRUE(r.psd_shape) << r.nl << " Hz, q " << r.q << ": " << cf.info.note;
+  EXPECT_NE(cf.info.note.find("another start"), std::string::npos) << cf.info.note;
 }
 
 }  // namespace
