@@ -108,13 +108,14 @@ bool shape_on_periodogram(Fit& fit, std::size_t idx, const Witnesses& seen, doub
 // need not be one Lorentzian (the ADIS16405 z gyroscopes' has a broad shoulder 3-5 Hz above
 // it, q 4-6, which the curve's search, its ripples taken, does not find). Of the starts the
 // periodogram confirms, the one whose fit on the curve has the lowest chi-square; no components
-// when none.
+// when none. With `beside` false, from the given f0 alone (the other starts: the shoulders were
+// tried from the curve's). The wander is measured by the caller, on the start that wins.
 Fit shaped_on_periodogram(const Fit& searched, std::size_t idx, const Curve& cv, const Bases& b,
-                          const Witnesses& seen, double false_alarm) {
+                          const Witnesses& seen, double false_alarm, bool beside = true) {
   Fit best;
   if (seen.periodogram == nullptr) return best;
   std::vector<std::pair<double, double>> starts{{searched.comps[idx].nl, searched.comps[idx].q}};
-  for (std::size_t i = 0; i < idx; ++i)
+  for (std::size_t i = 0; i < idx && beside; ++i)
     if (const Component& o = searched.comps[i]; o.kind == Kind::Resonance && o.psd_shape)
       starts.insert(starts.end(), {{1.2 * o.nl, 4.0}, {o.nl / 1.2, 4.0}});
   for (std::size_t s = 0; s < starts.size(); ++s) {
@@ -125,7 +126,6 @@ Fit shaped_on_periodogram(const Fit& searched, std::size_t idx, const Curve& cv,
     trial = fit_components(std::move(trial.comps), cv, b);
     if (best.comps.empty() || trial.chi2 < best.chi2) best = std::move(trial);
   }
-  measure_wander(best.comps, seen);
   return best;
 }
 
@@ -158,7 +158,7 @@ Fit other_start_shaped(const Fit& searched, std::size_t idx, const Curve& cv, co
     Fit start = searched;
     Component& c = start.comps[idx];
     std::tie(c.nl, c.q, c.nl_bound, c.q_bound) = std::tuple(f0, q, 0, 0);
-    Fit shaped = shaped_on_periodogram(start, idx, cv, b, seen, alarm);
+    Fit shaped = shaped_on_periodogram(start, idx, cv, b, seen, alarm, false);
     if (shaped.comps.empty() || !overlap_note(shaped.comps, idx).empty()) continue;
     if (best.comps.empty() || shaped.chi2 < best.chi2) best = std::move(shaped);
   }
@@ -321,9 +321,8 @@ CandidateFit resonance_candidate(std::vector<Component> base, const Curve& cv, c
   // false alarm shared among them, and the one with the lowest chi-square replaces the curve's
   // own when it fits better, its parameters charged (`penalty`: the criterion's threshold for
   // k parameters in chi-square units), or the curve's was withdrawn: two humps' ripples can
-  // cancel on the
-  // curve, so that neither is its best (the ADIS16405 imu2 z accelerometer's at 10 and 35 Hz;
-  // the curve was best at 0.0012 Hz, q at 2, where its periodogram has nothing).
+  // cancel on the curve, so that neither is its best (the ADIS16405 imu2 z accelerometer's at
+  // 10 and 35 Hz; the curve was best at 0.0012 Hz, q at 2, where its periodogram has nothing).
   bool withdrawn = false;
   const Fit searched = out.fit;
   if (Fit shaped = shaped_on_periodogram(out.fit, idx, cv, b, seen, seen.line_false_alarm);
@@ -352,6 +351,7 @@ CandidateFit resonance_candidate(std::vector<Component> base, const Curve& cv, c
   } else if (withdrawn) {
     out.fit = {};
   }
+  measure_wander(out.fit.comps, seen);
   return out;
 }
 // Resonance named from its PSD witness, a periodogram peak wider than a line: f0, q and sigma as
