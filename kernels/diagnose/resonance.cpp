@@ -354,6 +354,7 @@ CandidateFit resonance_candidate(std::vector<Component> base, const Curve& cv, c
   measure_wander(out.fit.comps, seen);
   return out;
 }
+
 // Resonance named from its PSD witness, a periodogram peak wider than a line: f0, q and sigma as
 // the periodogram measured them (fit_narrowband), pinned like a witnessed line's. The peak is
 // seen through the sensor's filter; the model's resonance is the one before it, sigma divided by
