@@ -171,7 +171,8 @@ Fit other_start_shaped(const Fit& searched, std::size_t idx, const Curve& cv, co
 std::vector<std::pair<double, double>> other_starts(std::vector<std::pair<double, double>> curve,
                                                     const std::vector<Component>& comps,
                                                     const Curve& cv, const Witnesses& seen) {
-  for (const auto& [f, z] : broad_peaks(*seen.periodogram, 1.0 / cv.tau.back(), kOtherStarts)) {
+  for (const auto& peak : broad_peaks(*seen.periodogram, 1.0 / cv.tau.back(), kOtherStarts)) {
+    const double f = peak.first;
     const bool modelled = std::any_of(comps.begin(), comps.end() - 1, [&](const Component& o) {
       return o.kind == Kind::Resonance && (std::abs(f - o.nl) <= 2.0 * half_width(o) ||
                                            std::abs(std::log2(f / o.nl)) <= 1.0 / 16.0);
