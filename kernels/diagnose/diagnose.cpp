@@ -36,46 +36,6 @@ void check_options(const DiagnoseOptions& opt) {
                                 std::to_string(kMaxEffects));
 }
 
-// The significant candidate (evaluated, delta_ic > 0) with the largest criterion among those
-// `pick` accepts (the first of equals); cands.size() when there is none.
-template <class Pick>
-std::size_t strongest(const std::vector<CandidateFit>& cands, Pick pick) {
-  std::size_t best = cands.size();
-  for (std::size_t c = 0; c < cands.size(); ++c)
-    if (pick(cands[c].info.effect) && cands[c].info.evaluated && cands[c].info.delta_ic > 0.0 &&
-        (best == cands.size() || cands[c].info.delta_ic > cands[best].info.delta_ic))
-      best = c;
-  return best;
-}
-
-// A Gauss-Markov process is a random walk at taus well below its tau_c (K^2 = 2 sigma^2 /
-// tau_c, diagnose.hpp) and white noise well above it (N^2 = 2 sigma^2 tau_c): each is the
-// Gauss-Markov candidate in a limit of tau_c, so the hump is told apart from them by its
-// turnover (issue #23 item 4). When the markov candidate wins a round and the random walk or
-// white candidate is significant too, the hump is named only when its turnover is measured:
-// its peak, near 1.9 tau_c, has at least an octave of taus beyond it on the side of the
-// simpler process's limit (above it for a random walk, below it for white noise). Else the
-// simpler process is named. Before, a random walk whose longest taus fall low by chance was
-// named markov with its peak near the last tau in 1 of 10 records at every level of the study,
-// while real gyroscopes' humps (tau_c 85-520 s in 10^4 s records) turn over well inside.
-// A significance test of the turnover on top (the nested chi-square difference above its 95 %
-// quantile) was tried and dropped: it named a random walk on imu5 gyro_y, whose hump fits
-// within noise and the random walk does not (gap 1.13 against 1.29, replicas' p95 1.15-1.22).
-std::size_t prefer_nested(const std::vector<CandidateFit>& cands, std::size_t best, const Curve& cv,
-                          std::string& note) {
-  if (best == cands.size() || cands[best].info.effect != Effect::Markov) return best;
-  const std::size_t simpler =
-      strongest(cands, [](Effect e) { return e == Effect::RandomWalk || e == Effect::White; });
-  if (simpler == cands.size()) return best;
-  const double peak = 1.9 * cands[best].fit.comps[cands[best].added].nl;
-  const bool walk = cands[simpler].info.effect == Effect::RandomWalk;
-  if (walk ? 2.0 * peak <= cv.tau.back() : peak >= 2.0 * cv.tau.front()) return best;
-  note = "markov's turnover (peak near " + std::to_string(peak) + " s) is not within the taus " +
-         "measured, so it is not told from " +
-         std::string(effect_name(cands[simpler].info.effect)) + ", which is named";
-  return simpler;
-}
-
 // One diagnosis in progress: the measurement, the criterion and the model as it grows.
 struct Search {
   const DiagnoseOptions& opt;
@@ -93,6 +53,7 @@ struct Search {
   bool refit_taken = false;
   std::span<const double> rate;  // the record as measured, for the step's witness
   int threads = 1;
+  std::vector<Effect> removed;  // the effects the pruning took away, not named again
 
   SpectralLine focused_line(const Fit& ref, const std::vector<double>& known_f,
                             const std::vector<double>& known_wide,
@@ -111,12 +72,16 @@ struct Search {
                              const std::vector<Component>& fixed_now, double chi2_ref,
                              const TrendWitness& tr) const;
 
+  CandidateFit candidate(Effect e, const std::vector<Component>& fixed_now,
+                         const std::vector<Component>& free_now, const Witnesses& seen,
+                         double chi2_ref, double chi2_refit, int n_free) const;
   bool round(int& iter);
   Fit refit_final();
   std::vector<Component> given_fixed(std::vector<Component> comps) const;
   Fit fit_given_fixed(std::vector<Component> comps, const Curve& on) const;
   bool given_wrong(const Fit& base, const Fit& fixed);
   bool prune(Fit& base, bool free_given);
+  bool settle(Fit& base, Fit& fixed_fit);
   void finish();
 };
 
@@ -283,6 +248,29 @@ TrendWitness Search::trend_under(const ChannelSpec& model) const {
   return find_trend(record_without(model.steps), crit.rate_hz, model, opt.trend_false_alarm);
 }
 
+// Effect e's candidate in a round: (a) added with the current coefficients fixed, (b) added with
+// them re-estimated (when any are free), the better kept; not evaluated when the pruning removed
+// it (finish).
+CandidateFit Search::candidate(Effect e, const std::vector<Component>& fixed_now,
+                               const std::vector<Component>& free_now, const Witnesses& seen,
+                               double chi2_ref, double chi2_refit, int n_free) const {
+  if (std::find(removed.begin(), removed.end(), e) != removed.end()) {
+    CandidateFit gone;
+    gone.info.effect = e;
+    gone.info.note = "removed after the final refit, not named again";
+    return gone;
+  }
+  CandidateFit a = evaluate_candidate(e, fixed_now, seen, 0, chi2_ref, cv, bases, crit);
+  if (n_free > 0) {
+    CandidateFit b = evaluate_candidate(e, free_now, seen, 0, chi2_refit, cv, bases, crit);
+    b.info.note +=
+        (b.info.note.empty() ? "" : "; ") + std::string("with the coefficients re-estimated");
+    if (b.info.evaluated && (!a.info.evaluated || b.info.delta_ic > a.info.delta_ic))
+      a = std::move(b);
+  }
+  return a;
+}
+
 // One round of the add-and-repeat loop (see diagnose()): false when it adds nothing and the
 // loop ends; `iter` counts the effects added.
 bool Search::round(int& iter) {
@@ -328,17 +316,8 @@ bool Search::round(int& iter) {
   // ride on the refit's improvement.
   const Fit refit = fit_components(free_now, cv, bases);
   std::vector<CandidateFit> cands;
-  for (const Effect e : kAllEffects) {
-    CandidateFit a = evaluate_candidate(e, fixed_now, seen, 0, ref.chi2, cv, bases, crit);
-    if (n_free > 0) {
-      CandidateFit b = evaluate_candidate(e, free_now, seen, 0, refit.chi2, cv, bases, crit);
-      b.info.note +=
-          (b.info.note.empty() ? "" : "; ") + std::string("with the coefficients re-estimated");
-      if (b.info.evaluated && (!a.info.evaluated || b.info.delta_ic > a.info.delta_ic))
-        a = std::move(b);
-    }
-    cands.push_back(std::move(a));
-  }
+  for (const Effect e : kAllEffects)
+    cands.push_back(candidate(e, fixed_now, free_now, seen, ref.chi2, refit.chi2, n_free));
   std::size_t best = strongest(cands, [](Effect) { return true; });
   // The witnesses decide between look-alikes: an unexplained significant line is direct
   // evidence of a sinusoid, while a Gauss-Markov hump (no line) can mimic its Allan bump; a jump
@@ -535,6 +514,7 @@ bool Search::prune(Fit& base, bool free_given) {
   }
   if (worst_k == added_idx.size()) return false;
   const std::size_t idx = added_idx[worst_k];
+  removed.push_back(d.effects_named[worst_k]);
   d.notes.push_back(std::string(effect_name(d.effects_named[worst_k])) +
                     " removed after the final refit: not significant with the other effects in "
                     "place (criterion " +
@@ -549,13 +529,39 @@ bool Search::prune(Fit& base, bool free_given) {
   return true;
 }
 
-void Search::finish() {
-  Fit base = refit_final();
-  Fit fixed_fit = fit_given_fixed(base.comps, cv);
-  // The last test of the given coefficients is that of the final structure: prune ends by
-  // returning false after it.
-  while (prune(base, given_wrong(base, fixed_fit)))
+// The final refit and the pruning, until every added effect pays for itself; true when one was
+// removed. The last test of the given coefficients is that of the final structure: prune ends by
+// returning false after it.
+bool Search::settle(Fit& base, Fit& fixed_fit) {
+  base = refit_final();
+  fixed_fit = fit_given_fixed(base.comps, cv);
+  bool any = false;
+  while (prune(base, given_wrong(base, fixed_fit))) {
     fixed_fit = fit_given_fixed(base.comps, cv);
+    any = true;
+  }
+  return any;
+}
+
+void Search::finish() {
+  Fit base, fixed_fit;
+  // A removal changes what the rest leaves unexplained: the rounds resume once from the settled
+  // model (the removed effects not named again), and what they name is settled in turn. Without
+  // this, the corrected model of a real z accelerometer (imu6), re-diagnosed, named the 1.69 Hz
+  // resonance its own diagnosis had left once the pruning removed its quantization.
+  if (settle(base, fixed_fit)) {
+    current = base.comps;
+    const std::size_t before = d.iterations.size();
+    for (int iter = static_cast<int>(d.effects_named.size()); iter < opt.max_effects;)
+      if (!round(iter)) break;
+    if (d.iterations.size() > before) {
+      std::string named;
+      for (std::size_t i = before; i < d.iterations.size(); ++i)
+        named += (named.empty() ? "" : ", ") + std::string(effect_name(d.iterations[i].effect));
+      d.notes.push_back("the rounds resumed after the removal and named " + named);
+      settle(base, fixed_fit);
+    }
+  }
   const std::vector<double> cs = fill_sigmas(base, cv, bases, d.n_eff).coef;
   for (std::size_t c = 0; c < given.size(); ++c) {
     if (given[c].kind == Kind::Lowpass) continue;  // given filters are kept as they are
@@ -591,7 +597,7 @@ Diagnosis diagnose(std::span<const double> rate, double rate_hz, const ChannelSp
   validate(spec);
 
   Diagnosis d;
-  Search search{opt, spec, d, {}, {}, {}, 0.0, {}, {}, 0.0, {}, {}, {}, false, rate, threads};
+  Search search{opt, spec, d, {}, {}, {}, 0.0, {}, {}, 0.0, {}, {}, {}, false, rate, threads, {}};
   search.crit.rate_hz = rate_hz;
   // The given model's steps are removed from the record before anything is compared.
   search.cv = search.curve_without(spec.steps);

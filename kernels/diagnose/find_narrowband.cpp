@@ -124,8 +124,14 @@ struct Whittle {
 
 // Fisher scoring of every parameter from x (the step I^-1 J^T (P / S - 1) with I = J^T J, halved
 // until the likelihood improves) under layout l; the minimum found and its negative
-// log-likelihood.
+// log-likelihood. No parameter moves by more than 1 (a factor e) in one step: where the
+// likelihood is flat in a direction, I is nearly singular there and the step is huge. A
+// wandering peak's ln spread went to -2.6e6 in one step once a pedestal was fitted beside it,
+// the spread's column of J vanished and the fit had no covariance (its shapes none): the
+// pedestal was lost on 7 of 40 simulated records of a z gyroscope's peak, and on none with
+// the steps bounded (tests/kernels/test_find_narrowband.cpp).
 std::pair<Params, double> score(const Whittle& w, const Layout& l, Params x) {
+  constexpr double kMaxStep = 1.0;
   double now = w.nll(l, x);
   for (int it = 0; it < 60 && std::isfinite(now); ++it) {
     const Eigen::MatrixXd jac = w.jacobian(l, x);
@@ -134,7 +140,7 @@ std::pair<Params, double> score(const Whittle& w, const Layout& l, Params x) {
     for (Eigen::Index j = 0; j < r.size(); ++j)
       r(j) = w.p[static_cast<std::size_t>(j)] * std::exp(-ls[static_cast<std::size_t>(j)]) - 1.0;
     const Eigen::VectorXd step = (jac.transpose() * jac).ldlt().solve(jac.transpose() * r);
-    double scale = 1.0;
+    double scale = std::min(1.0, kMaxStep / step.cwiseAbs().maxCoeff());
     bool moved = false;
     for (int h = 0; h < 30 && !moved; ++h, scale *= 0.5) {
       Params y = x;

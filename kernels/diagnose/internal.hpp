@@ -159,6 +159,23 @@ CandidateFit hump_candidate(std::vector<Component> comps, const Curve& cv, const
 /// the free coefficients fitted at each trial; `b` unfiltered.
 Fit search_lowpass(std::vector<Component> comps, std::size_t idx, const Curve& cv, const Bases& b);
 
+// The significant candidate (evaluated, delta_ic > 0) with the largest criterion among those
+// `pick` accepts (the first of equals); cands.size() when there is none.
+template <class Pick>
+std::size_t strongest(const std::vector<CandidateFit>& cands, Pick pick) {
+  std::size_t best = cands.size();
+  for (std::size_t c = 0; c < cands.size(); ++c)
+    if (pick(cands[c].info.effect) && cands[c].info.evaluated && cands[c].info.delta_ic > 0.0 &&
+        (best == cands.size() || cands[c].info.delta_ic > cands[best].info.delta_ic))
+      best = c;
+  return best;
+}
+
+/// choose.cpp: the markov candidate `best` gives way to a significant random walk or white
+/// candidate when its turnover is not within the taus measured (`note` says so).
+std::size_t prefer_nested(const std::vector<CandidateFit>& cands, std::size_t best, const Curve& cv,
+                          std::string& note);
+
 // resonance.cpp: the resonance's curve and its search.
 /// The Allan variance of a resonance at the curve's taus under the filter lp.
 std::vector<double> resonance_curve(const Resonance& r, const Curve& cv, const Lowpass& lp,

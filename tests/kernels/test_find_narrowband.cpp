@@ -8,7 +8,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 namespace allanlot {
@@ -102,39 +104,51 @@ TEST(FindNarrowband, ABroadPeakIsMeasuredAroundTheCurvesFrequency) {
 
 // A peak like the ADIS16405 z gyroscopes' (docs/diagnose.md "Real sensors"): a resonance at
 // 20 Hz whose frequency wanders by 0.5 Hz (sd) with a correlation time of 30 s, and a broad
-// pedestal (q = 5) at 23 Hz under it, 3000 s at 100 Hz.
+// pedestal (q = 5) at 23 Hz under it, 3000 s at 100 Hz, on eight records.
 //  - Measured alone from 20 Hz, the peak is a wandering resonance; measured again with it
-//    present from the pedestal's neighbourhood, the pedestal is the new resonance and the
-//    peak's spread comes out near its truth: the record holds about T / (2 wander_s) = 50
-//    independent frequencies, so the spread measured has a relative sd of about
-//    1 / sqrt(2 50) = 10 % beyond the fit's own sigma; within 3 of both combined.
+//    present from the pedestal's neighbourhood, the pedestal is the new resonance (on every
+//    record: before the scoring's steps were bounded, the peak's spread collapsed in one step
+//    on 7 of 40 records and the pedestal was lost).
+//  - Each record holds its own draw of the wander (about T / (2 wander_s) = 50 frequencies),
+//    whose mean and spread, and the skirts the pedestal takes up, vary from record to record
+//    beyond the fits' Fisher sigmas (which know the periodogram's noise alone). The tolerances
+//    are 3.5 sd of that spread, measured over 35 records (seeds 1-40 with a wandering peak
+//    alone): the peak's frequency sd 0.10 Hz (0.07 from 50 independent draws), its spread sd
+//    0.058 Hz (10 %: 1 / sqrt(2 50)), the pedestal's frequency 22.88 +- 0.23 Hz and q 4.83 +-
+//    0.41 (the pedestal lies lower and broader than its truth by about half an sd).
 //  - The wander's correlation time from the frequency's track errs short by construction (the
-//    centroids' noise): between a third of and 1.5 times the truth.
+//    centroids' noise) and long where the wander's slow excursions outlast a piece: its median
+//    over the records within a third of and twice the truth.
 //  - A stationary peak (spread 0) is measured stationary.
 TEST(FindNarrowband, AWanderingPeakAndItsPedestalAreMeasured) {
   kernels::ChannelSpec truth = with_resonance(0.1, 20.0, 100.0);
   truth.resonances[0].spread_hz = 0.5;
   truth.resonances[0].wander_s = 30.0;
   truth.resonances.push_back({0.06, 23.0, 5.0});
-  std::vector<double> y(300000);
-  kernels::simulate_channel(truth, 21, 0, y, 1);
-  const kernels::PsdResult psd = full_periodogram(y, kRate, 1);
-  const auto alone = fit_peak_shapes(psd, {}, 20.0, {2.0, 8.0, 32.0, 128.0}, 1e-4);
-  ASSERT_EQ(alone.size(), 1u);
-  EXPECT_GT(alone[0].spread_hz, 0.0);
-  const auto both = fit_peak_shapes(psd, alone, 23.0 * 1.1, {4.0}, 1e-4);
-  ASSERT_EQ(both.size(), 2u);
-  ASSERT_TRUE(both[0].found);
-  const auto& peak = both[0];
-  const auto& pedestal = both[1];
-  EXPECT_NEAR(peak.frequency_hz, 20.0, 3.0 * std::hypot(peak.frequency_sigma, 0.5 / 7.0));
-  EXPECT_NEAR(peak.spread_hz / 0.5, 1.0, 3.0 * std::hypot(peak.spread_sigma / 0.5, 0.1));
-  EXPECT_EQ(pedestal.spread_hz, 0.0);
-  EXPECT_NEAR(pedestal.frequency_hz, 23.0, 3.0 * pedestal.frequency_sigma);
-  EXPECT_NEAR(pedestal.q, 5.0, 3.0 * pedestal.q_sigma);
-  const double wander = wander_time(y, kRate, peak.frequency_hz, peak.spread_hz, peak.q);
-  EXPECT_GT(wander, 10.0);
-  EXPECT_LT(wander, 45.0);
+  std::vector<double> wander;
+  for (std::uint64_t seed = 21; seed <= 28; ++seed) {
+    SCOPED_TRACE(seed);
+    std::vector<double> y(300000);
+    kernels::simulate_channel(truth, seed, 0, y, 1);
+    const kernels::PsdResult psd = full_periodogram(y, kRate, 1);
+    const auto alone = fit_peak_shapes(psd, {}, 20.0, {2.0, 8.0, 32.0, 128.0}, 1e-4);
+    ASSERT_EQ(alone.size(), 1u);
+    EXPECT_GT(alone[0].spread_hz, 0.0);
+    const auto both = fit_peak_shapes(psd, alone, 23.0 * 1.1, {4.0}, 1e-4);
+    ASSERT_EQ(both.size(), 2u);
+    ASSERT_TRUE(both[0].found);
+    const auto& peak = both[0];
+    const auto& pedestal = both[1];
+    EXPECT_NEAR(peak.frequency_hz, 20.0, 3.5 * 0.10);
+    EXPECT_NEAR(peak.spread_hz, 0.5, 3.5 * 0.058);
+    EXPECT_EQ(pedestal.spread_hz, 0.0);
+    EXPECT_NEAR(pedestal.frequency_hz, 22.88, 3.5 * 0.23);
+    EXPECT_NEAR(pedestal.q, 4.83, 3.5 * 0.41);
+    wander.push_back(wander_time(y, kRate, peak.frequency_hz, peak.spread_hz, peak.q));
+  }
+  std::nth_element(wander.begin(), wander.begin() + 4, wander.end());
+  EXPECT_GT(wander[4], 10.0);
+  EXPECT_LT(wander[4], 60.0);
   const std::vector<double> s = record(with_resonance(0.1, 20.0, 100.0), 22);
   const auto stationary =
       fit_peak_shapes(full_periodogram(s, kRate, 1), {}, 20.0, {2.0, 8.0, 32.0, 128.0}, 1e-4);
