@@ -76,6 +76,7 @@ struct Search {
                          const std::vector<Component>& free_now, const Witnesses& seen,
                          double chi2_ref, double chi2_refit, int n_free) const;
   bool round(int& iter);
+  void run_rounds();
   Fit refit_final();
   std::vector<Component> given_fixed(std::vector<Component> comps) const;
   Fit fit_given_fixed(std::vector<Component> comps, const Curve& on) const;
@@ -529,6 +530,12 @@ bool Search::prune(Fit& base, bool free_given) {
   return true;
 }
 
+// Rounds until none names an effect or max_effects are named, counting those named already.
+void Search::run_rounds() {
+  for (int iter = static_cast<int>(d.effects_named.size()); iter < opt.max_effects;)
+    if (!round(iter)) break;
+}
+
 // The final refit and the pruning, until every added effect pays for itself; true when one was
 // removed. The last test of the given coefficients is that of the final structure: prune ends by
 // returning false after it.
@@ -552,8 +559,7 @@ void Search::finish() {
   if (settle(base, fixed_fit)) {
     current = base.comps;
     const std::size_t before = d.iterations.size();
-    for (int iter = static_cast<int>(d.effects_named.size()); iter < opt.max_effects;)
-      if (!round(iter)) break;
+    run_rounds();
     if (d.iterations.size() > before) {
       std::string named;
       for (std::size_t i = before; i < d.iterations.size(); ++i)
@@ -639,8 +645,7 @@ Diagnosis diagnose(std::span<const double> rate, double rate_hz, const ChannelSp
   // actually explain.
   search.given = components_of(spec);
   search.current = search.given;
-  for (int iter = 0; iter < opt.max_effects;)
-    if (!search.round(iter)) break;
+  search.run_rounds();
   search.finish();
 
   // The replicas' gaps are of the records without their steps, as the curves compared are;
