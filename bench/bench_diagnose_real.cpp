@@ -17,6 +17,7 @@
 #include "kernels/allan/stats.hpp"
 #include "kernels/allan/tau_grid.hpp"
 #include "kernels/diagnose/diagnose.hpp"
+#include "kernels/diagnose/lot_noise.hpp"
 #include "kernels/model/fit.hpp"
 #include "kernels/simulate/lowpass.hpp"
 #include "kernels/simulate/simulate.hpp"
@@ -138,8 +139,20 @@ void inject_rows(const std::string& unit, const std::string& channel,
       const bool exact = named && g.effects_named.size() == 1;
       // A model that has a ramp already can only find its R wrong, not name a second ramp.
       const bool has_ramp = inj.effect == kernels::Effect::Ramp && d.model_after.terms.R > 0.0;
-      std::printf("| %s | %s | %s | %.0f sigma (%.3g) | %s | %s | %.3g (%.3g) |\n", unit.c_str(),
-                  channel.c_str(), inj.name, sigmas, a, names(g).c_str(),
+      // What the time-domain witnesses see of a ramp or a step: the slope's z under the
+      // corrected model (the injected slope over its sd, and the record's slope, z, as measured)
+      // and the largest jump's statistic (rms of the differences of adjacent means) and time.
+      char seen[96] = "";
+      if (inj.effect == kernels::Effect::Ramp)
+        std::snprintf(seen, sizeof seen, "; slope z %.2g injected, %.2g measured",
+                      a / std::sqrt(kernels::trend_slope_variance(d.model_after,
+                                                                  static_cast<double>(n) / rate)),
+                      g.trend.z);
+      if (inj.effect == kernels::Effect::Step)
+        std::snprintf(seen, sizeof seen, "; largest jump %.2g rms at %.0f s", g.step.statistic,
+                      g.step.time_s);
+      std::printf("| %s | %s | %s | %.0f sigma (%.3g%s) | %s | %s | %.3g (%.3g) |\n", unit.c_str(),
+                  channel.c_str(), inj.name, sigmas, a, seen, names(g).c_str(),
                   exact   ? "exact"
                   : named ? "named, with others"
                   : has_ramp
@@ -152,6 +165,38 @@ void inject_rows(const std::string& unit, const std::string& channel,
       std::fflush(stdout);
     }
 }
+
+// Whether the lot of channels is within noise as a whole (kernels/diagnose/lot_noise.hpp): how
+// many channels are beyond their replicas' p95, against the chance of that many when every
+// corrected model is complete.
+struct LotTally {
+  int channels = 0, beyond = 0;
+  std::string beyond_list;
+  void add(const std::string& name, const kernels::Diagnosis& d) {
+    ++channels;
+    if (d.gap_within_noise) return;
+    ++beyond;
+    // The channel's Monte Carlo p-value: the share of its replicas' gaps at or above its own.
+    const auto& g = d.mc_after.gaps;
+    const auto at_or_above =
+        std::count_if(g.begin(), g.end(), [&](double x) { return x >= d.after.gap; });
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%s%s %.3g (p95 %.3g, p %.2g)", beyond_list.empty() ? "" : "; ",
+                  name.c_str(), d.after.gap, d.mc_after.gap_p95,
+                  static_cast<double>(1 + at_or_above) / static_cast<double>(g.size() + 1));
+    beyond_list += buf;
+  }
+  void print(int replicas) const {
+    if (channels == 0 || replicas < 2) return;
+    const double q = kernels::beyond_p95_probability(replicas);
+    const std::vector<double> each(static_cast<std::size_t>(channels), q);
+    std::printf("\nWithin noise: %d of %d channels. Beyond their replicas' p95: %d (%s).\n"
+                "A complete model is beyond the p95 of %d replicas with probability %.3f: %.2g of "
+                "%d expected, %d or more with probability %.2g.\n",
+                channels - beyond, channels, beyond, beyond_list.c_str(), replicas, q, q * channels,
+                channels, beyond, kernels::at_least_probability(each, beyond));
+  }
+};
 
 }  // namespace
 
@@ -178,6 +223,7 @@ int main(int argc, char** argv) {
         "largest jump (rms, p) |\n"
         "|---|---|---|---|---|---|---|---|---|\n");
   const char* only_unit = std::getenv("BENCH_UNIT");
+  LotTally lot;
   for (const auto& file : files) {
     if (only_unit != nullptr && file.stem().string().find(only_unit) == std::string::npos) continue;
     const io::RecordingReader reader(file.string());
@@ -207,6 +253,7 @@ int main(int argc, char** argv) {
       const std::int64_t first = kernels::lowpass_first_m(d.model_after.lowpass, rate, n);
       const kernels::FitResult cut = eq3(oadev, rate, n, first);
       const kernels::Diagnosis again = kernels::diagnose(y, rate, d.model_after, opt);
+      lot.add(file.stem().string() + " " + ch.path, d);
       std::printf("| %s | %s | %.4g | %s | %.3g -> %.3g (%.3g) | %lld | %.4g | %s, gap %.3g | "
                   "%.3g at %.1f s (%.2g, %.2g) |\n",
                   file.stem().string().c_str(), ch.path.c_str(), all.chi2_dof, names(d).c_str(),
@@ -244,5 +291,6 @@ int main(int argc, char** argv) {
       std::fflush(stdout);
     }
   }
+  if (!inject) lot.print(replicas);
   return 0;
 }

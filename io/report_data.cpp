@@ -46,6 +46,9 @@ DiagnosisView diagnosis_view(const DiagnosisRecord& r) {
     d.attributes.emplace_back(k, attribute_number(v));
     if (k == "gap_before") d.gap_before = v;
     if (k == "gap_after") d.gap_after = v;
+    if (k == "gap_noise_p95") d.gap_noise_p95 = v;
+    if (k == "gap_within_noise" && (v == 0.0 || v == 1.0)) d.within_noise = static_cast<int>(v);
+    if (k == "mc_replicas" && v >= 0.0 && v <= 1e9) d.replicas = static_cast<int>(v);
   }
   for (const auto& [k, v] : r.string_attributes)
     d.attributes.emplace_back(k, v);

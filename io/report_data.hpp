@@ -30,6 +30,11 @@ struct DiagnosisView {
   std::vector<std::string> iteration_parameters;  // JSON per iteration
   /// The gap_before and gap_after attributes, else the first and last iteration's.
   double gap_before = nan(), gap_after = nan();
+  /// diagnose's verdict (attribute gap_within_noise: 1 within, 0 beyond; -1 when absent), the
+  /// p95 of the corrected model's replicas' gaps it was judged by, and their number.
+  int within_noise = -1;
+  double gap_noise_p95 = nan();
+  int replicas = 0;
   /// Every attribute of the group, as text (numbers with 6 significant digits), in name order:
   /// the models, the parameters and anything else diagnose records.
   std::vector<std::pair<std::string, std::string>> attributes;

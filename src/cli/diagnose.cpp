@@ -159,6 +159,7 @@ io::DiagnosisRecord make_record(const std::string& channel, const kernels::Diagn
   r.number_attributes = {{"gap_before", d.before.gap},
                          {"gap_after", d.after.gap},
                          {"gap_noise_p95", d.mc_after.gap_p95},
+                         {"gap_within_noise", d.gap_within_noise ? 1.0 : 0.0},
                          {"n_eff", d.n_eff},
                          {"z_threshold", d.z_threshold},
                          {"mc_replicas", static_cast<double>(d.mc_after.replicas)}};

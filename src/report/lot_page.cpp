@@ -263,6 +263,7 @@ std::string lot_section(const std::string& title, const std::vector<Unit>& units
     }
   }
   h << quality_section(units);
+  h << diagnoses_section(units);
   h << "<h2>Outlier units</h2>\n";
   if (without_terms.size() == groups.size()) {
     h << "<p>None: no fitted terms to compare.</p>\n";

@@ -158,6 +158,11 @@ std::string distribution_plot(const std::string& id, const std::string& title,
 std::string quality_line(const kernels::QualityReport& q, double rate_hz);
 std::string quality_section(const std::vector<Unit>& units);
 
+// The lot page's diagnoses (diagnoses.cpp): how many diagnosed channels are within noise, and
+// whether the count beyond it exceeds what chance gives a lot of complete models; "" when no
+// unit has a diagnosis.
+std::string diagnoses_section(const std::vector<Unit>& units);
+
 // Pages (unit_page.cpp, lot_page.cpp).
 std::string html_head(const std::string& title);
 std::string unit_section(const Unit& u, const ExtrasMap& extras, const std::string& lot_href);

@@ -220,7 +220,14 @@ TEST_F(Report, SplitsIntoLinkedUnitPages) {
 // attributes. The `malformed` variant has datasets the schema does not know (alternative names
 // such as avar_mc_lo, which are not read: no alias guessing), an effects attribute instead of a
 // dataset, only the per-iteration gaps after, and a curve of the wrong length.
-void write_diagnosis(const fs::path& path, const std::string& device, bool malformed) {
+// diagnose's verdict on a channel: its gap after, its replicas' p95 and their number.
+struct Verdict {
+  double gap_after = 1.05, p95 = 1.2;
+  int replicas = 30;
+};
+
+void write_diagnosis(const fs::path& path, const std::string& device, bool malformed,
+                     const Verdict& v = {}) {
   test::H5Fixture f(path);
   f.group("/imu/gyro_x/diagnosis");
   f.attr("/", "device_id", device);
@@ -255,7 +262,10 @@ void write_diagnosis(const fs::path& path, const std::string& device, bool malfo
     f.dataset(g + "gap_iteration_after", {1.9, 1.05}, H5T_IEEE_F64LE);
     f.dataset(g + "delta_ic", {-120, -14}, H5T_IEEE_F64LE);
     f.attr(g, "gap_before", 4.2);
-    f.attr(g, "gap_after", 1.05);
+    f.attr(g, "gap_after", v.gap_after);
+    f.attr(g, "gap_noise_p95", v.p95);
+    f.attr(g, "mc_replicas", static_cast<double>(v.replicas));
+    f.attr(g, "gap_within_noise", v.gap_after <= v.p95 ? 1.0 : 0.0);
     f.attr(g, "model_after", std::string(R"({"units": "deg/s"})"));
     f.attr(g, "report",
            std::string(R"({"notes": ["round 2: the record without its least-squares line )"
@@ -292,6 +302,44 @@ TEST_F(Report, ShowsADiagnosisWhenThereIsOne) {
   write_diagnosis(out / "unit_0002.diagnosis.h5", "unit_0002", false);
   report(out.string() + " -q");
   EXPECT_NE(read_file(out / "report.html").find("id=\"u-unit_0002-_imu_gyro_x-diag\""),
+            std::string::npos);
+}
+
+TEST_F(Report, CountsTheLotsDiagnosesBeyondNoiseAgainstChance) {
+  // Two channels judged against the p95 of 30 replicas, one beyond it, and one malformed
+  // diagnosis without a verdict. A complete model is beyond that p95 with probability
+  // 2.45 / 31 = 0.079 (kernels/diagnose/lot_noise.hpp), so one or more of two with probability
+  // 1 - (1 - 0.079)^2 = 0.15: no more than chance.
+  const fs::path d = test::fresh_dir("report_diag_lot");
+  write_diagnosis(d / "a.h5", "unit_0001", false, {1.5, 1.3, 30});
+  write_diagnosis(d / "b.h5", "unit_0002", false, {0.9, 1.3, 30});
+  write_diagnosis(d / "c.h5", "unit_0003", true);
+  report(results().string() + " -q --diagnosis " + (d / "a.h5").string() + " --diagnosis " +
+         (d / "b.h5").string() + " --diagnosis " + (d / "c.h5").string() + " -o " +
+         (d / "r.html").string());
+  const std::string s = read_file(d / "r.html");
+  EXPECT_NE(s.find("<h2>Diagnoses</h2>\n<p>3 channels diagnosed: 1 within statistical noise"),
+            std::string::npos);
+  EXPECT_NE(s.find("1 beyond. Were every model complete, a channel would be beyond with "
+                   "probability 0.079 (the quantile of 30 replicas is a draw too): 0.16 "
+                   "expected, 1 or more with probability 0.15. No more than chance"),
+            std::string::npos);
+  EXPECT_NE(s.find("1 diagnoses have no verdict to count"), std::string::npos);
+  EXPECT_NE(s.find("unit_0001</a></td><td class=\"l\">/imu/gyro_x</td><td>1.5</td><td>1.3</td>"
+                   "<td>30</td>"),
+            std::string::npos);
+  EXPECT_EQ(s.find("unit_0002</a></td><td class=\"l\">/imu/gyro_x</td><td>0.9</td>"),
+            std::string::npos);
+  // Both channels beyond is more than chance: 0.079^2 = 0.0062.
+  const fs::path m = test::fresh_dir("report_diag_lot_both");
+  write_diagnosis(m / "a.h5", "unit_0001", false, {1.5, 1.3, 30});
+  write_diagnosis(m / "b.h5", "unit_0002", false, {1.4, 1.3, 30});
+  report(results().string() + " -q --diagnosis " + (m / "a.h5").string() + " --diagnosis " +
+         (m / "b.h5").string() + " -o " + (m / "r.html").string());
+  EXPECT_NE(read_file(m / "r.html")
+                .find("2 or more with probability 0.0062. <span "
+                      "class=\"bad\">More than chance gives a lot of complete "
+                      "models"),
             std::string::npos);
 }
 
