@@ -10,6 +10,10 @@
 // sigma of the measured Allan variance where the effect's share is largest) and clear (20
 // sigma), and the record is diagnosed against the corrected model of its untouched samples.
 // BENCH_INJECT=ramp (any text but 1) keeps the injections whose name contains the text.
+// BENCH_INJECT_SIZE=witness sizes a ramp and a step by their time-domain witnesses instead:
+// the ramp's slope 5 and 20 times its sd under the corrected model (find_trend's z), the step
+// 5 and 20 times the rms of the witness's differences of adjacent means at its best scale
+// (find_step's statistic), which the Allan variance's sigma at the longest taus undersizes.
 //
 // Not a Google Benchmark: a table on stdout, one line per channel.
 #include "io/recording.hpp"
@@ -28,6 +32,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -102,6 +107,23 @@ double amplitude_for(const kernels::ChannelSpec& unit, const kernels::Diagnosis&
   return std::sqrt(sigmas / most);
 }
 
+// The size at which a ramp or a step is `sigmas` standard deviations of its time-domain witness
+// under the corrected model: the slope's sd (trend_slope_variance) for a ramp; for a step, the
+// rms of the differences of adjacent m-sample means, sqrt(2 avar(m)) (NIST SP1065 eq. (11)),
+// at its smallest over the witness's scales m = 1, 2, 4, ... while the record holds 16 pairs
+// of means (find_step.cpp), where a jump stands out most.
+double witness_size(const Injection& inj, const kernels::Diagnosis& d, std::int64_t n, double rate,
+                    double sigmas) {
+  kernels::ChannelSpec model = d.model_after;
+  model.steps.clear();
+  if (inj.effect == kernels::Effect::Ramp)
+    return sigmas * std::sqrt(kernels::trend_slope_variance(model, static_cast<double>(n) / rate));
+  double least = std::numeric_limits<double>::infinity();
+  for (std::int64_t m = 1; (n - 2 * m + 1) / (2 * m) >= 16; m *= 2)
+    least = std::min(least, 2.0 * kernels::model_avar_sampled(model, m, n));
+  return sigmas * std::sqrt(least);
+}
+
 kernels::ChannelSpec scaled(kernels::ChannelSpec s, double a) {
   s.terms.R *= a;
   for (auto& x : s.sinusoids)
@@ -123,13 +145,19 @@ void inject_rows(const std::string& unit, const std::string& channel,
   std::uint64_t stream = 0;
   const char* only = std::getenv("BENCH_INJECT");
   const bool all = only == nullptr || std::string(only) == "1";
+  const char* size_by = std::getenv("BENCH_INJECT_SIZE");
+  const bool witness = size_by != nullptr && std::string(size_by) == "witness";
   for (const Injection& inj : injections(rate, static_cast<double>(n) / rate))
     for (const double sigmas : {5.0, 20.0}) {
       // The stream is counted for every injection, so that one kept alone draws what it draws
       // beside the others.
       const std::uint64_t this_stream = stream++;
       if (!all && std::string(inj.name).find(only) == std::string::npos) continue;
-      const double a = amplitude_for(inj.unit, d, n, sigmas);
+      const bool by_witness =
+          witness && (inj.effect == kernels::Effect::Ramp || inj.effect == kernels::Effect::Step);
+      if (witness && !by_witness) continue;
+      const double a = by_witness ? witness_size(inj, d, n, rate, sigmas)
+                                  : amplitude_for(inj.unit, d, n, sigmas);
       kernels::simulate_channel(scaled(inj.unit, a), 4242, this_stream, add, 0);
       for (std::size_t i = 0; i < y.size(); ++i)
         z[i] = y[i] + add[i];
