@@ -176,6 +176,10 @@ struct Comparison {
   std::vector<Band> bands;
 };
 
+/// The quantile of a model's replicas' gaps that a measured gap is judged by ("within
+/// statistical noise" below it); lot_noise.hpp gives the chance a complete model exceeds it.
+inline constexpr double kGapNoiseQuantile = 0.95;
+
 /// Monte Carlo replicas of one model at the measurement's length and rate.
 struct McBand {
   int replicas = 0;

@@ -1,6 +1,8 @@
 // Whether a lot of diagnosed channels is within noise as a whole (lot_noise.hpp).
 #include "kernels/diagnose/lot_noise.hpp"
 
+#include "kernels/diagnose/diagnose.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -11,7 +13,7 @@ namespace allanlot::kernels {
 
 double beyond_p95_probability(int replicas) {
   if (replicas < 2) return std::numeric_limits<double>::quiet_NaN();
-  const double r = replicas, h = 0.95 * (r - 1.0), lo = std::floor(h);
+  const double r = replicas, h = kGapNoiseQuantile * (r - 1.0), lo = std::floor(h);
   return (r - lo - (h - lo)) / (r + 1.0);
 }
 

@@ -10,10 +10,11 @@
 
 namespace allanlot::kernels {
 
-/// The probability that a fresh draw lies beyond the interpolated 0.95 quantile of `replicas`
-/// draws of the same continuous distribution (quantile_sorted): with h = 0.95 (R - 1), lo =
-/// floor(h), the quantile lies between the sorted draws lo + 1 and lo + 2 (1-based), and the
-/// k-th of R sorted draws sits at the k / (R + 1) quantile on average, so the probability is
+/// The probability that a fresh draw lies beyond the interpolated kGapNoiseQuantile (0.95)
+/// quantile of `replicas` draws of the same continuous distribution (quantile_sorted): with
+/// h = 0.95 (R - 1), lo = floor(h), the quantile lies between the sorted draws lo + 1 and
+/// lo + 2 (1-based), and the k-th of R sorted draws sits at the k / (R + 1) quantile on
+/// average, so the probability is
 /// (R - lo - (h - lo)) / (R + 1) (0.0790 for R = 30; exact for a uniform distribution, and
 /// between (R - lo - 1) / (R + 1) and (R - lo) / (R + 1) for any continuous one). NaN for
 /// fewer than 2 replicas.

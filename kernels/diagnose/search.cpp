@@ -112,7 +112,7 @@ McBand monte_carlo(const ChannelSpec& spec, const Curve& cv, const std::vector<d
   std::vector<double> g = out.gaps;
   std::sort(g.begin(), g.end());
   out.gap_median = quantile_sorted(g, 0.5);
-  out.gap_p95 = quantile_sorted(g, 0.95);
+  out.gap_p95 = quantile_sorted(g, kGapNoiseQuantile);
   return out;
 }
 
