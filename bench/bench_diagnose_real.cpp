@@ -108,16 +108,15 @@ double amplitude_for(const kernels::ChannelSpec& unit, const kernels::Diagnosis&
 }
 
 // The size at which a ramp or a step is `sigmas` standard deviations of its time-domain witness
-// under the corrected model: the slope's sd (trend_slope_variance) for a ramp; for a step, the
-// rms of the differences of adjacent m-sample means, sqrt(2 avar(m)) (NIST SP1065 eq. (11)),
-// at its smallest over the witness's scales m = 1, 2, 4, ... while the record holds 16 pairs
-// of means (find_step.cpp), where a jump stands out most.
-double witness_size(const Injection& inj, const kernels::Diagnosis& d, std::int64_t n, double rate,
-                    double sigmas) {
+// under the corrected model: the slope's sd `slope_sd` (trend_slope_variance) for a ramp; for a
+// step, the rms of the differences of adjacent m-sample means, sqrt(2 avar(m)) (NIST SP1065 eq.
+// (11)), at its smallest over the witness's scales m = 1, 2, 4, ... while the record holds 16
+// pairs of means (find_step.cpp), where a jump stands out most.
+double witness_size(const Injection& inj, const kernels::Diagnosis& d, std::int64_t n,
+                    double slope_sd, double sigmas) {
+  if (inj.effect == kernels::Effect::Ramp) return sigmas * slope_sd;
   kernels::ChannelSpec model = d.model_after;
   model.steps.clear();
-  if (inj.effect == kernels::Effect::Ramp)
-    return sigmas * std::sqrt(kernels::trend_slope_variance(model, static_cast<double>(n) / rate));
   double least = std::numeric_limits<double>::infinity();
   for (std::int64_t m = 1; (n - 2 * m + 1) / (2 * m) >= 16; m *= 2)
     least = std::min(least, 2.0 * kernels::model_avar_sampled(model, m, n));
@@ -141,6 +140,9 @@ void inject_rows(const std::string& unit, const std::string& channel,
                  const kernels::LargeVector<double>& y, double rate, const kernels::Diagnosis& d,
                  const kernels::DiagnoseOptions& opt) {
   const auto n = static_cast<std::int64_t>(y.size());
+  // The sd of the record's slope under the corrected model (find_trend's yardstick).
+  const double slope_sd =
+      std::sqrt(kernels::trend_slope_variance(d.model_after, static_cast<double>(n) / rate));
   std::vector<double> add(y.size()), z(y.size());
   std::uint64_t stream = 0;
   const char* only = std::getenv("BENCH_INJECT");
@@ -156,7 +158,7 @@ void inject_rows(const std::string& unit, const std::string& channel,
       const bool by_witness =
           witness && (inj.effect == kernels::Effect::Ramp || inj.effect == kernels::Effect::Step);
       if (witness && !by_witness) continue;
-      const double a = by_witness ? witness_size(inj, d, n, rate, sigmas)
+      const double a = by_witness ? witness_size(inj, d, n, slope_sd, sigmas)
                                   : amplitude_for(inj.unit, d, n, sigmas);
       kernels::simulate_channel(scaled(inj.unit, a), 4242, this_stream, add, 0);
       for (std::size_t i = 0; i < y.size(); ++i)
@@ -172,9 +174,7 @@ void inject_rows(const std::string& unit, const std::string& channel,
       // and the largest jump's statistic (rms of the differences of adjacent means) and time.
       char seen[96] = "";
       if (inj.effect == kernels::Effect::Ramp)
-        std::snprintf(seen, sizeof seen, "; slope z %.2g injected, %.2g measured",
-                      a / std::sqrt(kernels::trend_slope_variance(d.model_after,
-                                                                  static_cast<double>(n) / rate)),
+        std::snprintf(seen, sizeof seen, "; slope z %.2g injected, %.2g measured", a / slope_sd,
                       g.trend.z);
       if (inj.effect == kernels::Effect::Step)
         std::snprintf(seen, sizeof seen, "; largest jump %.2g rms at %.0f s", g.step.statistic,

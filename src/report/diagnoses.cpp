@@ -5,6 +5,7 @@
 // in a lot of hundreds of channels some always are.
 #include "src/report/parts.hpp"
 
+#include "kernels/diagnose/diagnose.hpp"
 #include "kernels/diagnose/lot_noise.hpp"
 #include "src/report/svg.hpp"
 
@@ -52,7 +53,8 @@ std::string diagnoses_section(const std::vector<Unit>& units) {
       expected += p;
     const auto [lo, hi] = std::minmax_element(chance.begin(), chance.end());
     const double tail = kernels::at_least_probability(chance, beyond);
-    h << ": " << within << " within statistical noise (the gap below the 95 % quantile of the "
+    h << ": " << within << " within statistical noise (the gap below the "
+      << number(kernels::kGapNoiseQuantile * 100.0, 3) << " % quantile of the "
       << "corrected model's replicas' gaps), " << beyond << " beyond. Were every model complete, "
       << "a channel would be beyond with probability " << number(*lo, 2)
       << (*hi > *lo ? " to " + number(*hi, 2) + " (by its number of replicas)"
