@@ -310,6 +310,11 @@ int main(int argc, char** argv) {
               std::printf(" %s %+.1f", std::string(kernels::effect_name(c.effect)).c_str(),
                           c.delta_ic);
           std::printf("\n");
+          if (std::getenv("BENCH_NOTES"))
+            for (const auto& c : it.candidates)
+              if (!c.note.empty())
+                std::printf("      %s: %s\n", std::string(kernels::effect_name(c.effect)).c_str(),
+                            c.note.c_str());
         }
       if (std::getenv("BENCH_VERBOSE"))
         for (std::size_t i = 0; i < d.tau_s.size(); ++i)

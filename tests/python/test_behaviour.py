@@ -3,6 +3,7 @@ converted once), NaN as gaps, the GIL released during the kernels, threads= hono
 same bits for any count, and the command line's errors as ValueError and OSError."""
 import shutil
 import threading
+import time
 import tracemalloc
 
 import numpy as np
@@ -70,17 +71,31 @@ def Deviation_arrays():
 
 
 def test_the_gil_is_released_during_the_kernels():
-    y = rng.standard_normal(1_000_000)  # about 0.1 s of kernels, 1 s under AddressSanitizer
-    worker = threading.Thread(target=lambda: allanlot.deviation(y, "oadev", confidence=None,
-                                                                threads=1))
-    count = 0
+    y = rng.standard_normal(2_000_000)  # about 0.2 s of kernels, 2 s under AddressSanitizer
+    call = {}
+
+    def work():
+        call["start"] = time.perf_counter()
+        allanlot.deviation(y, "oadev", confidence=None, threads=1)
+        call["end"] = time.perf_counter()
+
+    worker = threading.Thread(target=work)
+    ran = []  # when this thread ran Python, at most one entry a millisecond
     worker.start()
     while worker.is_alive():
-        count += 1
+        now = time.perf_counter()
+        if not ran or now - ran[-1] > 1e-3:
+            ran.append(now)
     worker.join()
-    # With the GIL held for the whole call this loop would run only between Python's switch
-    # points before and after it (a few iterations); released, it spins millions of times.
-    assert count > 10000
+    # Held for the whole call, the GIL would let this thread run only at the call's edges: a
+    # switch (every 5 ms) between the worker's clock reading and the kernel's start, or between the
+    # kernel's return and the next reading. Released, this thread runs throughout. So it must have
+    # run in the middle half of the call. What is asserted is when it ran, not how often: a spin
+    # count depends on the share of the cores a loaded machine gives this thread.
+    quarter = (call["end"] - call["start"]) / 4
+    middle = [t for t in ran if call["start"] + quarter < t < call["end"] - quarter]
+    assert middle, (f"this thread never ran between {quarter:.3f} s and {3 * quarter:.3f} s "
+                    f"into a {4 * quarter:.3f} s call: the GIL was held")
 
 
 def test_errors_are_value_errors_with_the_reason():
