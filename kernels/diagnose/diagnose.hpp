@@ -177,7 +177,9 @@ struct Comparison {
 };
 
 /// The quantile of a model's replicas' gaps that a measured gap is judged by ("within
-/// statistical noise" below it); lot_noise.hpp gives the chance a complete model exceeds it.
+/// statistical noise" below it), at the plotting position that a fresh draw exceeds with
+/// probability 1 - kGapNoiseQuantile (exceedance_quantile_sorted); lot_noise.hpp gives that
+/// chance for a given number of replicas.
 inline constexpr double kGapNoiseQuantile = 0.95;
 
 /// Monte Carlo replicas of one model at the measurement's length and rate.
@@ -186,7 +188,8 @@ struct McBand {
   // per-tau 5 %, 50 %, 95 % quantiles (of the replicas with the model's steps added)
   std::vector<double> avar_lo, avar_median, avar_hi;
   std::vector<double> gaps;  // each replica's gap against the analytic model (measured edf)
-  double gap_median = 0, gap_p95 = 0;
+  double gap_median = 0;
+  double gap_p95 = 0;  // exceedance_quantile_sorted(gaps, kGapNoiseQuantile)
 };
 
 /// The strongest line of the full-record periodogram (the PSD witness).

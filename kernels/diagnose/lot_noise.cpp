@@ -12,8 +12,10 @@
 namespace allanlot::kernels {
 
 double beyond_p95_probability(int replicas) {
-  if (replicas < 2) return std::numeric_limits<double>::quiet_NaN();
-  const double r = replicas, h = kGapNoiseQuantile * (r - 1.0), lo = std::floor(h);
+  if (replicas < 1) return std::numeric_limits<double>::quiet_NaN();
+  const double r = replicas;
+  const double h = std::clamp(kGapNoiseQuantile * (r + 1.0) - 1.0, 0.0, r - 1.0);
+  const double lo = std::floor(h);
   return (r - lo - (h - lo)) / (r + 1.0);
 }
 

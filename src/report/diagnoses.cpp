@@ -58,7 +58,7 @@ std::string diagnoses_section(const std::vector<Unit>& units) {
       << "corrected model's replicas' gaps), " << beyond << " beyond. Were every model complete, "
       << "a channel would be beyond with probability " << number(*lo, 2)
       << (*hi > *lo ? " to " + number(*hi, 2) + " (by its number of replicas)"
-                    : " (the quantile of " + std::to_string(replicas) + " replicas is a draw too)")
+                    : " (its quantile from " + std::to_string(replicas) + " replicas)")
       << ": " << number(expected, 2) << " expected";
     if (beyond > 0)
       h << ", " << beyond << " or more with probability " << number(tail, 2) << ". "

@@ -308,8 +308,8 @@ TEST_F(Report, ShowsADiagnosisWhenThereIsOne) {
 TEST_F(Report, CountsTheLotsDiagnosesBeyondNoiseAgainstChance) {
   // Two channels judged against the p95 of 30 replicas, one beyond it, and one malformed
   // diagnosis without a verdict. A complete model is beyond that p95 with probability
-  // 2.45 / 31 = 0.079 (kernels/diagnose/lot_noise.hpp), so one or more of two with probability
-  // 1 - (1 - 0.079)^2 = 0.15: no more than chance.
+  // 1.55 / 31 = 0.05 (kernels/diagnose/lot_noise.hpp), so one or more of two with probability
+  // 1 - (1 - 0.05)^2 = 0.0975: no more than chance.
   const fs::path d = test::fresh_dir("report_diag_lot");
   write_diagnosis(d / "a.h5", "unit_0001", false, {1.5, 1.3, 30});
   write_diagnosis(d / "b.h5", "unit_0002", false, {0.9, 1.3, 30});
@@ -321,8 +321,8 @@ TEST_F(Report, CountsTheLotsDiagnosesBeyondNoiseAgainstChance) {
   EXPECT_NE(s.find("<h2>Diagnoses</h2>\n<p>3 channels diagnosed: 1 within statistical noise"),
             std::string::npos);
   EXPECT_NE(s.find("1 beyond. Were every model complete, a channel would be beyond with "
-                   "probability 0.079 (the quantile of 30 replicas is a draw too): 0.16 "
-                   "expected, 1 or more with probability 0.15. No more than chance"),
+                   "probability 0.05 (its quantile from 30 replicas): 0.1 expected, 1 or more "
+                   "with probability 0.098. No more than chance"),
             std::string::npos);
   EXPECT_NE(s.find("1 diagnoses have no verdict to count"), std::string::npos);
   EXPECT_NE(s.find("unit_0001</a></td><td class=\"l\">/imu/gyro_x</td><td>1.5</td><td>1.3</td>"
@@ -330,14 +330,14 @@ TEST_F(Report, CountsTheLotsDiagnosesBeyondNoiseAgainstChance) {
             std::string::npos);
   EXPECT_EQ(s.find("unit_0002</a></td><td class=\"l\">/imu/gyro_x</td><td>0.9</td>"),
             std::string::npos);
-  // Both channels beyond is more than chance: 0.079^2 = 0.0062.
+  // Both channels beyond is more than chance: 0.05^2 = 0.0025.
   const fs::path m = test::fresh_dir("report_diag_lot_both");
   write_diagnosis(m / "a.h5", "unit_0001", false, {1.5, 1.3, 30});
   write_diagnosis(m / "b.h5", "unit_0002", false, {1.4, 1.3, 30});
   report(results().string() + " -q --diagnosis " + (m / "a.h5").string() + " --diagnosis " +
          (m / "b.h5").string() + " -o " + (m / "r.html").string());
   EXPECT_NE(read_file(m / "r.html")
-                .find("2 or more with probability 0.0062. <span "
+                .find("2 or more with probability 0.0025. <span "
                       "class=\"bad\">More than chance gives a lot of complete "
                       "models"),
             std::string::npos);

@@ -9,16 +9,18 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <span>
 #include <stdexcept>
 #include <vector>
 
 namespace allanlot {
 namespace {
 
-// The share of simulated channels whose fresh draw lies beyond the p95 of `replicas` draws of
-// the same distribution (`draw` maps a uniform to it), as diagnose judges a gap.
-template <class Draw>
-double simulated_beyond(int replicas, int channels, Draw draw) {
+// The share of simulated channels whose fresh draw lies beyond the 95 % threshold of `replicas`
+// draws of the same distribution (`draw` maps a uniform to it), as diagnose judges a gap, the
+// threshold computed by `quantile` from the sorted draws.
+template <class Draw, class Quantile>
+double simulated_beyond(int replicas, int channels, Draw draw, Quantile quantile) {
   std::mt19937_64 rng(20261127);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   std::vector<double> g(static_cast<std::size_t>(replicas));
@@ -27,34 +29,81 @@ double simulated_beyond(int replicas, int channels, Draw draw) {
     for (double& x : g)
       x = draw(u(rng));
     std::sort(g.begin(), g.end());
-    beyond += draw(u(rng)) > kernels::quantile_sorted(g, 0.95) ? 1 : 0;
+    beyond += draw(u(rng)) > quantile(g, 0.95) ? 1 : 0;
   }
   return static_cast<double>(beyond) / channels;
 }
 
-TEST(LotNoise, AChannelIsBeyondItsReplicasP95MoreOftenThanFivePercent) {
-  // 30 replicas: the p95 lies between the 28th and 29th sorted draws (h = 27.55), so a fresh
-  // draw is beyond it with probability (30 - 27 - 0.55) / 31.
-  EXPECT_NEAR(kernels::beyond_p95_probability(30), 2.45 / 31.0, 1e-15);
-  EXPECT_NEAR(kernels::beyond_p95_probability(2), (2.0 - 0.0 - 0.95) / 3.0, 1e-15);
-  EXPECT_TRUE(std::isnan(kernels::beyond_p95_probability(1)));
-  // Against simulated channels: 200,000 of them give the share within sqrt(p (1 - p) / n) =
-  // 0.0006 (1 sd); 4 sd bound it. Exact for a uniform distribution; for a skewed one (gaps
-  // are, a chi-square-like tail) the interpolation between two draws is not that between
-  // their probabilities, so the share lies between the two neighbours' (R - lo - 1) / (R + 1)
-  // = 0.0645 and (R - lo) / (R + 1) = 0.0968, and near the formula (0.0757 for an
-  // exponential, 0.0753 for a chi-square of 8 degrees of freedom, in a numpy check).
-  constexpr int kChannels = 200000;
-  const double sd = std::sqrt(0.079 * 0.921 / kChannels);
+double verdict(std::span<const double> sorted, double p) {
+  return kernels::exceedance_quantile_sorted(sorted, p);
+}
+
+double sample_quantile(std::span<const double> sorted, double p) {
+  return kernels::quantile_sorted(sorted, p);
+}
+
+double uniform(double x) {
+  return x;
+}
+double exponential(double x) {
+  return -std::log1p(-x);
+}
+
+// 200,000 simulated channels give a share within sqrt(p (1 - p) / n) = 0.0005 to 0.0006 of its
+// expectation (1 sd); 4 sd bound it.
+constexpr int kChannels = 200000;
+const double kShareSd = std::sqrt(0.079 * 0.921 / kChannels);
+
+TEST(LotNoise, AChannelIsBeyondItsReplicasP95FivePercentOfTheTime) {
+  // 30 replicas: the threshold lies between the 29th and 30th sorted draws (h = 0.95 * 31 - 1 =
+  // 28.45), so a fresh draw is beyond it with probability (30 - 28 - 0.45) / 31 = 0.05; below
+  // 19 replicas the threshold is the largest draw, beyond which a fresh one lies 1 / (R + 1) of
+  // the time.
+  EXPECT_NEAR(kernels::beyond_p95_probability(30), 0.05, 1e-15);
+  EXPECT_NEAR(kernels::beyond_p95_probability(19), 0.05, 1e-15);
+  EXPECT_NEAR(kernels::beyond_p95_probability(10), 1.0 / 11.0, 1e-15);
+  EXPECT_NEAR(kernels::beyond_p95_probability(1), 0.5, 1e-15);
+  EXPECT_TRUE(std::isnan(kernels::beyond_p95_probability(0)));
   for (const int r : {10, 30, 100}) {
     SCOPED_TRACE(r);
-    const double p = kernels::beyond_p95_probability(r);
-    EXPECT_NEAR(simulated_beyond(r, kChannels, [](double x) { return x; }), p, 4.0 * sd);
+    EXPECT_NEAR(simulated_beyond(r, kChannels, uniform, verdict),
+                kernels::beyond_p95_probability(r), 4.0 * kShareSd);
   }
-  const double skewed = simulated_beyond(30, kChannels, [](double x) { return -std::log1p(-x); });
-  EXPECT_GT(skewed, 2.0 / 31.0);
-  EXPECT_LT(skewed, 3.0 / 31.0);
-  EXPECT_NEAR(skewed, kernels::beyond_p95_probability(30), 0.006);
+  // Where the position is whole (R = 39: the 38th of 39) the share is 0.05 for any continuous
+  // distribution; between positions (R = 30) the interpolation between two draws is not that
+  // between their probabilities, and for a skewed distribution (gaps are, a chi-square-like
+  // tail) the share lies between the neighbours' (R - lo - 1) / (R + 1) = 0.032 and
+  // (R - lo) / (R + 1) = 0.065, near 0.05 (0.0448 for an exponential and a chi-square of 8
+  // degrees of freedom, in a numpy check of 200,000 channels).
+  EXPECT_NEAR(simulated_beyond(39, kChannels, exponential, verdict), 0.05, 4.0 * kShareSd);
+  const double skewed = simulated_beyond(30, kChannels, exponential, verdict);
+  EXPECT_GT(skewed, 1.0 / 31.0);
+  EXPECT_LT(skewed, 2.0 / 31.0);
+  EXPECT_NEAR(skewed, 0.0448, 4.0 * kShareSd);
+}
+
+TEST(LotNoise, TheVerdictsThresholdSitsAtThePlottingPosition) {
+  // Sorted values 1 .. R: the 0.95 threshold is at position 0.95 (R + 1) (1-based), the value
+  // itself; clamped to the largest below R = 19 and to the smallest for a tiny p.
+  std::vector<double> v(30);
+  for (std::size_t i = 0; i < v.size(); ++i)
+    v[i] = static_cast<double>(i + 1);
+  EXPECT_NEAR(kernels::exceedance_quantile_sorted(v, 0.95), 0.95 * 31.0, 1e-12);
+  EXPECT_NEAR(kernels::exceedance_quantile_sorted(v, 0.5), 15.5, 1e-12);
+  EXPECT_EQ(kernels::exceedance_quantile_sorted(v, 0.01), 1.0);
+  v.resize(10);
+  EXPECT_EQ(kernels::exceedance_quantile_sorted(v, 0.95), 10.0);
+  v.resize(1);
+  EXPECT_EQ(kernels::exceedance_quantile_sorted(v, 0.95), 1.0);
+  EXPECT_TRUE(std::isnan(kernels::exceedance_quantile_sorted(std::vector<double>{}, 0.95)));
+}
+
+TEST(LotNoise, TheSamplesOwnP95IsExceededMoreOftenThanFivePercent) {
+  // Why the verdict does not use quantile_sorted (linear interpolation at h = 0.95 (R - 1),
+  // the sample's description): from 30 replicas it lies between the 28th and 29th draws, and a
+  // complete model's record exceeds it with probability (30 - 27.55) / 31 = 0.079.
+  EXPECT_NEAR(simulated_beyond(30, kChannels, uniform, sample_quantile), 2.45 / 31.0,
+              4.0 * kShareSd);
 }
 
 long double choose(int n, int k) {
@@ -78,8 +127,10 @@ TEST(LotNoise, AtLeastProbabilityIsTheBinomialAndPoissonBinomialTail) {
                 1e-14)
         << k;
   }
-  // 4 or more of 30 complete channels beyond their p95: about one lot in five.
-  EXPECT_NEAR(kernels::at_least_probability(ps, 4), 0.2096, 5e-4);
+  // 4 or more of 30 complete channels beyond their p95: about one lot in 16 (scipy's
+  // binom.sf(3, 30, 0.05) = 0.06077); none beyond: 0.95^30 = 0.2146.
+  EXPECT_NEAR(kernels::at_least_probability(ps, 4), 0.06077, 5e-5);
+  EXPECT_NEAR(1.0 - kernels::at_least_probability(ps, 1), 0.21464, 5e-5);
   // Unequal probabilities (channels with different replica counts): every subset of 12 trials
   // enumerated in long double.
   const std::vector<double> q = {0.02, 0.5,  0.079, 0.11, 0.3,  0.0,
