@@ -1,6 +1,6 @@
 // The one sample quantile of the project: linear interpolation between order statistics
 // (Hyndman & Fan, Am. Stat. 50(4), 1996, definition 7; R's and NumPy's default). Used by the
-// diagnosis's Monte Carlo bands and, through src/lot/statistics, by the lot statistics and the
+// diagnosis's Monte Carlo medians and, through src/lot/statistics, by the lot statistics and the
 // outlier rule, so that every median and percentile allanlot prints is computed alike. The one
 // threshold for a fresh draw (exceedance_quantile_sorted) is a different question: below.
 #pragma once
@@ -28,8 +28,9 @@ inline double quantile_sorted(std::span<const double> sorted, double p) {
 /// k / (n + 1) quantile on average, so at an integer position the probability is exactly 1 - p
 /// for any continuous distribution, and between positions it is exact for a uniform one
 /// (0.045 to 0.050 for skewed ones at n = 30, p = 0.95, in 200,000 simulated draws). This is a
-/// verdict's threshold (diagnose's replicas' p95); quantile_sorted describes a sample, and its
-/// 0.95-quantile of 30 draws is exceeded 7.9 % of the time. NaN when there are no values.
+/// verdict's threshold (diagnose's replicas' p95 and Monte Carlo band); quantile_sorted describes
+/// a sample, and its 0.95-quantile of 30 draws is exceeded 7.9 % of the time. NaN when there are
+/// no values.
 inline double exceedance_quantile_sorted(std::span<const double> sorted, double p) {
   if (sorted.empty()) return std::numeric_limits<double>::quiet_NaN();
   const double last = static_cast<double>(sorted.size() - 1);
