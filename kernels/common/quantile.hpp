@@ -13,13 +13,24 @@
 
 namespace allanlot::kernels {
 
-/// The p-quantile (0 <= p <= 1) of the ascending values `sorted`; NaN when there are none.
-inline double quantile_sorted(std::span<const double> sorted, double p) {
-  if (sorted.empty()) return std::numeric_limits<double>::quiet_NaN();
-  const double h = p * static_cast<double>(sorted.size() - 1);
+/// The value at the 0-based position h (0 <= h <= size - 1) of the ascending values `sorted`,
+/// linear between the two values beside it.
+inline double at_position_sorted(std::span<const double> sorted, double h) {
   const auto lo = static_cast<std::size_t>(std::floor(h));
   const std::size_t hi = std::min(lo + 1, sorted.size() - 1);
   return sorted[lo] + (h - static_cast<double>(lo)) * (sorted[hi] - sorted[lo]);
+}
+
+/// The p-quantile (0 <= p <= 1) of the ascending values `sorted`; NaN when there are none.
+inline double quantile_sorted(std::span<const double> sorted, double p) {
+  if (sorted.empty()) return std::numeric_limits<double>::quiet_NaN();
+  return at_position_sorted(sorted, p * static_cast<double>(sorted.size() - 1));
+}
+
+/// The 0-based position of exceedance_quantile_sorted among n >= 1 sorted values.
+inline double exceedance_position(std::size_t n, double p) {
+  const double last = static_cast<double>(n - 1);
+  return std::clamp(p * static_cast<double>(n + 1) - 1.0, 0.0, last);
 }
 
 /// The threshold that a fresh draw of the values' distribution exceeds with probability 1 - p:
@@ -33,11 +44,7 @@ inline double quantile_sorted(std::span<const double> sorted, double p) {
 /// no values.
 inline double exceedance_quantile_sorted(std::span<const double> sorted, double p) {
   if (sorted.empty()) return std::numeric_limits<double>::quiet_NaN();
-  const double last = static_cast<double>(sorted.size() - 1);
-  const double h = std::clamp(p * static_cast<double>(sorted.size() + 1) - 1.0, 0.0, last);
-  const auto lo = static_cast<std::size_t>(std::floor(h));
-  const std::size_t hi = std::min(lo + 1, sorted.size() - 1);
-  return sorted[lo] + (h - static_cast<double>(lo)) * (sorted[hi] - sorted[lo]);
+  return at_position_sorted(sorted, exceedance_position(sorted.size(), p));
 }
 
 }  // namespace allanlot::kernels

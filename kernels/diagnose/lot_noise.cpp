@@ -1,6 +1,7 @@
 // Whether a lot of diagnosed channels is within noise as a whole (lot_noise.hpp).
 #include "kernels/diagnose/lot_noise.hpp"
 
+#include "kernels/common/quantile.hpp"
 #include "kernels/diagnose/diagnose.hpp"
 
 #include <algorithm>
@@ -14,7 +15,7 @@ namespace allanlot::kernels {
 double beyond_p95_probability(int replicas) {
   if (replicas < 1) return std::numeric_limits<double>::quiet_NaN();
   const double r = replicas;
-  const double h = std::clamp(kGapNoiseQuantile * (r + 1.0) - 1.0, 0.0, r - 1.0);
+  const double h = exceedance_position(static_cast<std::size_t>(replicas), kGapNoiseQuantile);
   const double lo = std::floor(h);
   return (r - lo - (h - lo)) / (r + 1.0);
 }
