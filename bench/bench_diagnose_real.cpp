@@ -215,7 +215,7 @@ struct LotTally {
     beyond_list += buf;
   }
   void print(int replicas) const {
-    if (channels == 0 || replicas < 2) return;
+    if (channels == 0 || replicas < 1) return;
     const double q = kernels::beyond_p95_probability(replicas);
     const std::vector<double> each(static_cast<std::size_t>(channels), q);
     std::printf("\nWithin noise: %d of %d channels. Beyond their replicas' p95: %d (%s).\n"

@@ -5,7 +5,6 @@
 #include "kernels/diagnose/diagnose.hpp"
 
 #include <algorithm>
-#include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <vector>
@@ -15,9 +14,8 @@ namespace allanlot::kernels {
 double beyond_p95_probability(int replicas) {
   if (replicas < 1) return std::numeric_limits<double>::quiet_NaN();
   const double r = replicas;
-  const double h = exceedance_position(static_cast<std::size_t>(replicas), kGapNoiseQuantile);
-  const double lo = std::floor(h);
-  return (r - lo - (h - lo)) / (r + 1.0);
+  return (r - exceedance_position(static_cast<std::size_t>(replicas), kGapNoiseQuantile)) /
+         (r + 1.0);
 }
 
 double at_least_probability(std::span<const double> p, int k) {

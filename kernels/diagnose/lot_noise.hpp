@@ -13,7 +13,7 @@ namespace allanlot::kernels {
 /// `replicas` draws of the same continuous distribution (exceedance_quantile_sorted): with
 /// h = 0.95 (R + 1) - 1 clamped to 0 .. R - 1, lo = floor(h), the threshold lies between the
 /// sorted draws lo + 1 and lo + 2 (1-based), and the k-th of R sorted draws sits at the
-/// k / (R + 1) quantile on average, so the probability is (R - lo - (h - lo)) / (R + 1): 0.05
+/// k / (R + 1) quantile on average, so the probability is (R - h) / (R + 1): 0.05
 /// from R = 19 up (exact for any continuous distribution where h is whole, R = 19, 39, 59, ...;
 /// else exact for a uniform one and between (R - lo - 1) / (R + 1) and (R - lo) / (R + 1)), and
 /// 1 / (R + 1) below 19, where the threshold is the largest draw. NaN for no replicas.

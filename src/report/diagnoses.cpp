@@ -1,8 +1,8 @@
 // The lot page's diagnoses (docs/reports.md "Diagnoses"): each diagnosed channel's verdict, and
 // whether the lot's count of channels beyond noise exceeds what chance gives when every
-// corrected model is complete (kernels/diagnose/lot_noise.hpp): the p95 a channel is judged by
-// comes from a few dozen replicas, so a complete model is beyond it about 8 % of the time, and
-// in a lot of hundreds of channels some always are.
+// corrected model is complete (kernels/diagnose/lot_noise.hpp): a complete model is beyond the
+// p95 a channel is judged by 5 % of the time (from 19 replicas up), so in a lot of hundreds of
+// channels some always are.
 #include "src/report/parts.hpp"
 
 #include "kernels/diagnose/diagnose.hpp"

@@ -9,7 +9,6 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
-#include <span>
 #include <stdexcept>
 #include <vector>
 
@@ -32,14 +31,6 @@ double simulated_beyond(int replicas, int channels, Draw draw, Quantile quantile
     beyond += draw(u(rng)) > quantile(g, 0.95) ? 1 : 0;
   }
   return static_cast<double>(beyond) / channels;
-}
-
-double verdict(std::span<const double> sorted, double p) {
-  return kernels::exceedance_quantile_sorted(sorted, p);
-}
-
-double sample_quantile(std::span<const double> sorted, double p) {
-  return kernels::quantile_sorted(sorted, p);
 }
 
 double uniform(double x) {
@@ -66,7 +57,7 @@ TEST(LotNoise, AChannelIsBeyondItsReplicasP95FivePercentOfTheTime) {
   EXPECT_TRUE(std::isnan(kernels::beyond_p95_probability(0)));
   for (const int r : {10, 30, 100}) {
     SCOPED_TRACE(r);
-    EXPECT_NEAR(simulated_beyond(r, kChannels, uniform, verdict),
+    EXPECT_NEAR(simulated_beyond(r, kChannels, uniform, kernels::exceedance_quantile_sorted),
                 kernels::beyond_p95_probability(r), 4.0 * kShareSd);
   }
   // Where the position is whole (R = 39: the 38th of 39) the share is 0.05 for any continuous
@@ -75,8 +66,10 @@ TEST(LotNoise, AChannelIsBeyondItsReplicasP95FivePercentOfTheTime) {
   // tail) the share lies between the neighbours' (R - lo - 1) / (R + 1) = 0.032 and
   // (R - lo) / (R + 1) = 0.065, near 0.05 (0.0448 for an exponential and a chi-square of 8
   // degrees of freedom, in a numpy check of 200,000 channels).
-  EXPECT_NEAR(simulated_beyond(39, kChannels, exponential, verdict), 0.05, 4.0 * kShareSd);
-  const double skewed = simulated_beyond(30, kChannels, exponential, verdict);
+  EXPECT_NEAR(simulated_beyond(39, kChannels, exponential, kernels::exceedance_quantile_sorted),
+              0.05, 4.0 * kShareSd);
+  const double skewed =
+      simulated_beyond(30, kChannels, exponential, kernels::exceedance_quantile_sorted);
   EXPECT_GT(skewed, 1.0 / 31.0);
   EXPECT_LT(skewed, 2.0 / 31.0);
   EXPECT_NEAR(skewed, 0.0448, 4.0 * kShareSd);
@@ -102,7 +95,7 @@ TEST(LotNoise, TheSamplesOwnP95IsExceededMoreOftenThanFivePercent) {
   // Why the verdict does not use quantile_sorted (linear interpolation at h = 0.95 (R - 1),
   // the sample's description): from 30 replicas it lies between the 28th and 29th draws, and a
   // complete model's record exceeds it with probability (30 - 27.55) / 31 = 0.079.
-  EXPECT_NEAR(simulated_beyond(30, kChannels, uniform, sample_quantile), 2.45 / 31.0,
+  EXPECT_NEAR(simulated_beyond(30, kChannels, uniform, kernels::quantile_sorted), 2.45 / 31.0,
               4.0 * kShareSd);
 }
 
