@@ -13,7 +13,10 @@
 // BENCH_INJECT_SIZE=witness sizes a ramp and a step by their time-domain witnesses instead:
 // the ramp's slope 5 and 20 times its sd under the corrected model (find_trend's z), the step
 // 5 and 20 times the rms of the witness's differences of adjacent means at its best scale
-// (find_step's statistic), which the Allan variance's sigma at the longest taus undersizes.
+// (find_step's statistic), which the Allan variance's sigma at the longest taus undersizes;
+// the sinusoid and the Gauss-Markov process stay sized by the Allan variance.
+// BENCH_INJECT_SIGMAS=5,7,10,20 sets the sizes (default 5,20) for a sweep: then every size of an
+// injection scales one draw, so that a larger size differs from a smaller one only in size.
 //
 // Not a Google Benchmark: a table on stdout, one line per channel.
 #include "io/recording.hpp"
@@ -65,6 +68,24 @@ std::string names(const kernels::Diagnosis& d) {
     if (!args.empty()) s += "(" + args + ")";
   }
   return s.empty() ? "-" : s;
+}
+
+// Each round's choice and its candidates' criteria (BENCH_VERBOSE), with their notes
+// (BENCH_NOTES).
+void print_rounds(const kernels::Diagnosis& d) {
+  for (const auto& it : d.iterations) {
+    std::printf("    round: %s, gap %.3g ->%.3g; criteria:",
+                std::string(kernels::effect_name(it.effect)).c_str(), it.gap_before, it.gap_after);
+    for (const auto& c : it.candidates)
+      if (c.evaluated)
+        std::printf(" %s %+.1f", std::string(kernels::effect_name(c.effect)).c_str(), c.delta_ic);
+    std::printf("\n");
+    if (std::getenv("BENCH_NOTES"))
+      for (const auto& c : it.candidates)
+        if (!c.note.empty())
+          std::printf("      %s: %s\n", std::string(kernels::effect_name(c.effect)).c_str(),
+                      c.note.c_str());
+  }
 }
 
 // One injected effect of unit size: a spec holding only it.
@@ -123,6 +144,25 @@ double witness_size(const Injection& inj, const kernels::Diagnosis& d, std::int6
   return sigmas * std::sqrt(least);
 }
 
+// The sizes of BENCH_INJECT_SIGMAS, "5,7,10,20"; a bad list ends the bench.
+std::vector<double> parse_sizes(const char* text) {
+  std::vector<double> out;
+  const std::string s(text);
+  for (std::size_t at = 0; at <= s.size();) {
+    const std::size_t comma = std::min(s.find(',', at), s.size());
+    char* end = nullptr;
+    const std::string item = s.substr(at, comma - at);
+    const double v = std::strtod(item.c_str(), &end);
+    if (item.empty() || *end != '\0' || !(v > 0.0) || !std::isfinite(v)) {
+      std::fprintf(stderr, "BENCH_INJECT_SIGMAS: '%s' is not a positive number\n", item.c_str());
+      std::exit(2);
+    }
+    out.push_back(v);
+    at = comma + 1;
+  }
+  return out;
+}
+
 kernels::ChannelSpec scaled(kernels::ChannelSpec s, double a) {
   s.terms.R *= a;
   for (auto& x : s.sinusoids)
@@ -145,19 +185,23 @@ void inject_rows(const std::string& unit, const std::string& channel,
       std::sqrt(kernels::trend_slope_variance(d.model_after, static_cast<double>(n) / rate));
   std::vector<double> add(y.size()), z(y.size());
   std::uint64_t stream = 0;
+  const char* sweep = std::getenv("BENCH_INJECT_SIGMAS");
+  const std::vector<double> sizes = sweep != nullptr ? parse_sizes(sweep) : std::vector{5.0, 20.0};
   const char* only = std::getenv("BENCH_INJECT");
   const bool all = only == nullptr || std::string(only) == "1";
   const char* size_by = std::getenv("BENCH_INJECT_SIZE");
   const bool witness = size_by != nullptr && std::string(size_by) == "witness";
   for (const Injection& inj : injections(rate, static_cast<double>(n) / rate))
-    for (const double sigmas : {5.0, 20.0}) {
-      // The stream is counted for every injection, so that one kept alone draws what it draws
-      // beside the others.
-      const std::uint64_t this_stream = stream++;
+    for (std::size_t j = 0; j < sizes.size(); ++j) {
+      const double sigmas = sizes[j];
+      // Two streams per injection, counted for every injection, so that one kept alone draws
+      // what it draws beside the others; a sweep scales the first.
+      const std::uint64_t this_stream = stream + (sweep != nullptr ? 0 : j);
+      if (j + 1 == sizes.size()) stream += 2;
       if (!all && std::string(inj.name).find(only) == std::string::npos) continue;
       const bool by_witness =
           witness && (inj.effect == kernels::Effect::Ramp || inj.effect == kernels::Effect::Step);
-      if (witness && !by_witness) continue;
+      if (witness && !by_witness && sweep == nullptr) continue;
       const double a = by_witness ? witness_size(inj, d, n, slope_sd, sigmas)
                                   : amplitude_for(inj.unit, d, n, sigmas);
       kernels::simulate_channel(scaled(inj.unit, a), 4242, this_stream, add, 0);
@@ -187,9 +231,11 @@ void inject_rows(const std::string& unit, const std::string& channel,
                       ? (g.coefficients_wrong ? "model's ramp found wrong" : "model has a ramp")
                       : "missed",
                   g.after.gap, g.mc_after.gap_p95);
-      if (std::getenv("BENCH_VERBOSE"))
+      if (std::getenv("BENCH_VERBOSE")) {
         for (const auto& note : g.notes)
           std::printf("    note: %s\n", note.c_str());
+        print_rounds(g);
+      }
       std::fflush(stdout);
     }
 }
@@ -300,22 +346,7 @@ int main(int argc, char** argv) {
           std::printf("; resonance %.3g %.4g Hz q %.4g", r.sigma, r.frequency_hz, r.q);
         std::printf("\n");
       }
-      if (std::getenv("BENCH_VERBOSE"))
-        for (const auto& it : d.iterations) {
-          std::printf("    round: %s, gap %.3g ->%.3g; criteria:",
-                      std::string(kernels::effect_name(it.effect)).c_str(), it.gap_before,
-                      it.gap_after);
-          for (const auto& c : it.candidates)
-            if (c.evaluated)
-              std::printf(" %s %+.1f", std::string(kernels::effect_name(c.effect)).c_str(),
-                          c.delta_ic);
-          std::printf("\n");
-          if (std::getenv("BENCH_NOTES"))
-            for (const auto& c : it.candidates)
-              if (!c.note.empty())
-                std::printf("      %s: %s\n", std::string(kernels::effect_name(c.effect)).c_str(),
-                            c.note.c_str());
-        }
+      if (std::getenv("BENCH_VERBOSE")) print_rounds(d);
       if (std::getenv("BENCH_VERBOSE"))
         for (std::size_t i = 0; i < d.tau_s.size(); ++i)
           std::printf("    tau %.4g  meas/before %.4f  meas/after %.4f  z_after %.2f  edf %.4g\n",
