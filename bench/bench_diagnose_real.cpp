@@ -14,7 +14,8 @@
 // the ramp's slope 5 and 20 times its sd under the corrected model (find_trend's z), the step
 // 5 and 20 times the rms of the witness's differences of adjacent means at its best scale
 // (find_step's statistic), which the Allan variance's sigma at the longest taus undersizes;
-// the sinusoid and the Gauss-Markov process stay sized by the Allan variance.
+// the sinusoid and the Gauss-Markov process, which have no time-domain witness, stay sized by
+// the Allan variance.
 // BENCH_INJECT_SIGMAS=5,7,10,20 sets the sizes (default 5,20) for a sweep: then every size of an
 // injection scales one draw, so that a larger size differs from a smaller one only in size.
 //
@@ -201,7 +202,6 @@ void inject_rows(const std::string& unit, const std::string& channel,
       if (!all && std::string(inj.name).find(only) == std::string::npos) continue;
       const bool by_witness =
           witness && (inj.effect == kernels::Effect::Ramp || inj.effect == kernels::Effect::Step);
-      if (witness && !by_witness && sweep == nullptr) continue;
       const double a = by_witness ? witness_size(inj, d, n, slope_sd, sigmas)
                                   : amplitude_for(inj.unit, d, n, sigmas);
       kernels::simulate_channel(scaled(inj.unit, a), 4242, this_stream, add, 0);
