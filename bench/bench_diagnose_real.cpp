@@ -185,20 +185,20 @@ void inject_rows(const std::string& unit, const std::string& channel,
   const double slope_sd =
       std::sqrt(kernels::trend_slope_variance(d.model_after, static_cast<double>(n) / rate));
   std::vector<double> add(y.size()), z(y.size());
-  std::uint64_t stream = 0;
   const char* sweep = std::getenv("BENCH_INJECT_SIGMAS");
   const std::vector<double> sizes = sweep != nullptr ? parse_sizes(sweep) : std::vector{5.0, 20.0};
   const char* only = std::getenv("BENCH_INJECT");
   const bool all = only == nullptr || std::string(only) == "1";
   const char* size_by = std::getenv("BENCH_INJECT_SIZE");
   const bool witness = size_by != nullptr && std::string(size_by) == "witness";
-  for (const Injection& inj : injections(rate, static_cast<double>(n) / rate))
+  const std::vector<Injection> list = injections(rate, static_cast<double>(n) / rate);
+  for (std::size_t k = 0; k < list.size(); ++k)
     for (std::size_t j = 0; j < sizes.size(); ++j) {
+      const Injection& inj = list[k];
       const double sigmas = sizes[j];
-      // Two streams per injection, counted for every injection, so that one kept alone draws
-      // what it draws beside the others; a sweep scales the first.
-      const std::uint64_t this_stream = stream + (sweep != nullptr ? 0 : j);
-      if (j + 1 == sizes.size()) stream += 2;
+      // Two streams per injection, from its place in the list, so that one kept alone draws what
+      // it draws beside the others; a sweep scales the first.
+      const std::uint64_t this_stream = 2 * k + (sweep != nullptr ? 0 : j);
       if (!all && std::string(inj.name).find(only) == std::string::npos) continue;
       const bool by_witness =
           witness && (inj.effect == kernels::Effect::Ramp || inj.effect == kernels::Effect::Step);
@@ -334,10 +334,9 @@ int main(int argc, char** argv) {
                   d.before.gap, d.after.gap, d.mc_after.gap_p95, static_cast<long long>(first),
                   cut.chi2_dof, names(again).c_str(), again.after.gap, d.step.size, d.step.time_s,
                   d.step.statistic, d.step.p_value);
-      if (std::getenv("BENCH_VERBOSE"))
+      if (std::getenv("BENCH_VERBOSE")) {
         for (const auto& note : d.notes)
           std::printf("    note: %s\n", note.c_str());
-      if (std::getenv("BENCH_VERBOSE")) {
         const auto& t = d.model_after.terms;
         std::printf("    model after: R %.3g K %.3g B %.3g N %.3g Q %.3g", t.R, t.K, t.B, t.N, t.Q);
         for (const auto& g : d.model_after.markovs)
@@ -345,13 +344,12 @@ int main(int argc, char** argv) {
         for (const auto& r : d.model_after.resonances)
           std::printf("; resonance %.3g %.4g Hz q %.4g", r.sigma, r.frequency_hz, r.q);
         std::printf("\n");
-      }
-      if (std::getenv("BENCH_VERBOSE")) print_rounds(d);
-      if (std::getenv("BENCH_VERBOSE"))
+        print_rounds(d);
         for (std::size_t i = 0; i < d.tau_s.size(); ++i)
           std::printf("    tau %.4g  meas/before %.4f  meas/after %.4f  z_after %.2f  edf %.4g\n",
                       d.tau_s[i], d.avar_measured[i] / d.before.avar_model[i],
                       d.avar_measured[i] / d.after.avar_model[i], d.after.z[i], d.edf_after[i]);
+      }
       std::fflush(stdout);
     }
   }
