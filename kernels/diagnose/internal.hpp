@@ -1,5 +1,5 @@
-// The types and functions the three sources of diagnose share (candidates.cpp, search.cpp,
-// diagnose.cpp); not part of the interface (diagnose.hpp).
+// The types and functions diagnose's sources share (candidates.cpp, search.cpp, diagnose.cpp,
+// conclude.cpp and the others of this folder); not part of the interface (diagnose.hpp).
 #pragma once
 
 #include "kernels/diagnose/diagnose.hpp"

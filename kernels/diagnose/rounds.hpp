@@ -1,0 +1,72 @@
+// One diagnosis in progress (diagnose.cpp: the rounds and the driver; conclude.cpp: the final
+// refit, the pruning, the test of the given coefficients and the verdict); not part of the
+// interface (diagnose.hpp).
+#pragma once
+
+#include "kernels/diagnose/internal.hpp"
+
+#include <cstddef>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace allanlot::kernels::diagnose_detail {
+
+// The measurement, the criterion and the model as it grows.
+struct Search {
+  const DiagnoseOptions& opt;
+  const ChannelSpec& spec;
+  Diagnosis& d;
+  Curve cv;
+  Bases bases;
+  Criterion crit;
+  double alpha_tau = 0.0;
+  std::optional<PsdResult> periodogram;
+  std::vector<double> line_medians;  // line_backgrounds(*periodogram)
+  double t_record = 0.0;
+  std::vector<Component> given, current;
+  std::vector<std::size_t> added_idx;
+  bool refit_taken = false;
+  std::span<const double> rate;  // the record as measured, for the step's witness
+  int threads = 1;
+  std::vector<Effect> removed;  // the effects the pruning took away, not named again
+  bool witnessed_only = false;  // the verdict's round (verdict_round): witnessed effects alone
+  std::string last_criteria;    // the criteria of a round that named nothing
+
+  SpectralLine focused_line(const Fit& ref, const std::vector<double>& known_f,
+                            const std::vector<double>& known_wide,
+                            const SpectralLine& global) const;
+  std::vector<double> record_without(const std::vector<Step>& steps) const;
+  Curve curve_without(const std::vector<Step>& steps) const;
+  std::optional<Curve> curve_without_jump(const StepWitness& jump) const;
+  double random_walk_without_line(const std::vector<Component>& fixed_now,
+                                  const std::vector<Component>& free_now) const;
+  std::size_t ramp_or_random_walk(std::vector<CandidateFit>& cands, std::size_t best,
+                                  const std::vector<Component>& fixed_now,
+                                  const std::vector<Component>& free_now, double chi2_ref,
+                                  const TrendWitness& trend, std::string& note) const;
+  TrendWitness trend_under(const ChannelSpec& model) const;
+  std::size_t witnessed_ramp(std::vector<CandidateFit>& cands,
+                             const std::vector<Component>& fixed_now, double chi2_ref,
+                             const TrendWitness& tr) const;
+
+  CandidateFit candidate(Effect e, const std::vector<Component>& fixed_now,
+                         const std::vector<Component>& free_now, const Witnesses& seen,
+                         double chi2_ref, double chi2_refit, int n_free) const;
+  void keep_witnessed(std::vector<CandidateFit>& cands, const TrendWitness& trend) const;
+  bool round(int& iter);
+  void run_rounds();
+  Fit refit_final();
+  std::vector<Component> given_fixed(std::vector<Component> comps) const;
+  Fit fit_given_fixed(std::vector<Component> comps, const Curve& on) const;
+  bool given_wrong(const Fit& base, const Fit& fixed);
+  bool prune(Fit& base, bool free_given);
+  bool settle(Fit& base, Fit& fixed_fit);
+  void finish();
+  void conclude(Fit& base, Fit& fixed_fit);
+  void judge();
+  void verdict_round();
+};
+
+}  // namespace allanlot::kernels::diagnose_detail
