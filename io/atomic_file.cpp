@@ -84,6 +84,12 @@ void AtomicFile::commit() {
   try {
     sync();
     std::error_code ec;
+    // A device, pipe or directory under the final name is never replaced: renamed over as
+    // root, `-o /dev/null` had made /dev/null a regular file in /dev, which then filled up.
+    const auto st = std::filesystem::status(final_, ec);
+    if (!ec && st.type() != std::filesystem::file_type::regular)
+      throw Error(final_.string(), "", "not a regular file, so not replaced");
+    ec.clear();
     std::filesystem::rename(temp_, final_, ec);
     if (ec) throw Error(final_.string(), "", "rename from temporary file: " + ec.message());
     committed_ = true;
@@ -132,6 +138,19 @@ void write_text(const AtomicFile& f, const std::string& text) {
 }
 
 void write_text_atomic(const std::filesystem::path& path, const std::string& text) {
+  // A character device or a pipe (`-o /dev/null`, `-o /dev/stdout`, a named pipe) is written
+  // through: it holds no file to leave half-written.
+  std::error_code ec;
+  const auto type = std::filesystem::status(path, ec).type();
+  if (!ec &&
+      (type == std::filesystem::file_type::character || type == std::filesystem::file_type::fifo)) {
+    std::ofstream out(path, std::ios::binary);
+    if (!out) throw Error(path.string(), "", "cannot open: " + std::string(std::strerror(errno)));
+    out << text;
+    out.close();
+    if (!out) throw Error(path.string(), "", std::string("write: ") + std::strerror(errno));
+    return;
+  }
   AtomicFile f(path);
   write_text(f, text);
   f.commit();

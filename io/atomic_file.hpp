@@ -25,7 +25,8 @@ public:
   /// naming the final path on failure.
   void sync();
   /// fsyncs the temporary file, renames it to the final path and fsyncs the directory.
-  /// Throws io::Error naming the final path on failure (the temporary is then removed).
+  /// Throws io::Error naming the final path on failure (the temporary is then removed), also
+  /// when the final path is a device, pipe or directory, which is never replaced.
   void commit();
 
 private:
@@ -65,7 +66,8 @@ std::string host_tag();
 /// final path with the system's reason.
 void write_text(const AtomicFile& f, const std::string& text);
 
-/// Writes `text` to `path` atomically (model files, exports).
+/// Writes `text` to `path` atomically (model files, exports); a character device or a pipe
+/// (`-o /dev/null`, `-o /dev/stdout`) is written through instead.
 void write_text_atomic(const std::filesystem::path& path, const std::string& text);
 
 }  // namespace allanlot::io
