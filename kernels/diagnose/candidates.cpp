@@ -352,6 +352,27 @@ Fit fit_components(std::vector<Component> comps, const Curve& cv, const Bases& r
   return f;
 }
 
+Eigen::MatrixXd free_columns(const std::vector<Component>& comps, std::span<const double> model,
+                             const Curve& cv, const Bases& raw) {
+  const Bases b = bases_for(comps, cv, raw);
+  const auto p = static_cast<Eigen::Index>(cv.size());
+  std::vector<Eigen::VectorXd> cols;
+  for (const Component& c : comps) {
+    if (!c.free || c.kind == Kind::Lowpass || c.kind == Kind::Step) continue;
+    const std::vector<double> g = basis_of(c, cv, b);
+    Eigen::VectorXd col(p);
+    for (Eigen::Index i = 0; i < p; ++i) {
+      const auto u = static_cast<std::size_t>(i);
+      col(i) = g[u] / (std::sqrt(cv.var_ln[u]) * std::max(model[u], 1e-300));
+    }
+    cols.push_back(std::move(col));
+  }
+  Eigen::MatrixXd a(p, static_cast<Eigen::Index>(cols.size()));
+  for (std::size_t j = 0; j < cols.size(); ++j)
+    a.col(static_cast<Eigen::Index>(j)) = cols[j];
+  return a;
+}
+
 // Uncertainties of the free parameters of a fit, from the log-space Fisher information
 // F = J^T diag(1 / var_ln) J with J_ij = d ln avar_model_i / d p_j (p: the coefficients
 // themselves, and tau_c, a resonance's frequency and q where they were searched), inflated by

@@ -4,7 +4,12 @@
 // round when the model ends beyond noise.
 #include "kernels/diagnose/internal.hpp"
 #include "kernels/diagnose/rounds.hpp"
+#include "kernels/uncertainty/chi2.hpp"
 
+#include <Eigen/Core>
+#include <Eigen/QR>
+
+#include <algorithm>
 #include <cstddef>
 #include <limits>
 #include <string>
@@ -54,15 +59,51 @@ Fit Search::fit_given_fixed(std::vector<Component> comps, const Curve& on) const
   return fit_components(given_fixed(std::move(comps)), on, bases);
 }
 
+Eigen::MatrixXd projector(Eigen::MatrixXd a) {
+  if (a.cols() == 0) return Eigen::MatrixXd::Zero(a.rows(), a.rows());
+  for (Eigen::Index j = 0; j < a.cols(); ++j)
+    if (const double n = a.col(j).norm(); n > 0.0) a.col(j) /= n;
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(a);
+  qr.setThreshold(1e-10);
+  const Eigen::MatrixXd u =
+      qr.householderQ() * Eigen::MatrixXd::Identity(a.rows(), std::max<Eigen::Index>(qr.rank(), 0));
+  return u * u.transpose();
+}
+
+ScaledChi2 satterthwaite(const Eigen::MatrixXd& q, const Eigen::MatrixXd& corr) {
+  const Eigen::MatrixXd qr = q * corr;
+  const double t1 = qr.trace(), t2 = (qr * qr).trace();
+  if (!(t1 > 1e-9 && t2 > 0.0)) return {};
+  return {t2 / t1, t1 * t1 / t2};
+}
+
+// The test of the given coefficients: the chi-square gain of re-estimating them, with the added
+// effects fitted either way. To first order the gain is u' Q u, u the whitened residuals (of
+// correlation R, tau_correlation) and Q the projector onto what the given coefficients change
+// that the added effects cannot; Satterthwaite's match (Box 1954, as effective_taus) takes it as
+// c chi2_nu (satterthwaite). The rounds' one scale,
+// n_eff / P for the whole curve, understates a smooth change's spread: the white and flicker
+// levels of a complete model were found wrong on 21 of 200 records (10.5 %) at a nominal 5 %.
+// Without the correlation, the rounds' scale.
+double Search::revision_criterion(const Fit& base, const Fit& fixed, int n_given) const {
+  const double gain = fixed.chi2 - base.chi2;
+  const double global = gain * crit.scale - threshold(n_given, opt.select_alpha);
+  if (tau_corr.rows() != static_cast<Eigen::Index>(cv.size())) return global;
+  const ScaledChi2 m =
+      satterthwaite(projector(free_columns(base.comps, base.model, cv, bases)) -
+                        projector(free_columns(fixed.comps, base.model, cv, bases)),
+                    tau_corr);
+  if (!(m.nu > 0.0)) return global;
+  return gain / m.c - chi2_quantile(1.0 - opt.select_alpha, m.nu);
+}
+
 // Were the given coefficients wrong? The final structure with them fixed against all
-// re-estimated; the same criterion as a round's, with one parameter per given coefficient.
+// re-estimated (revision_criterion).
 bool Search::given_wrong(const Fit& base, const Fit& fixed) {
   int n_given = 0;
   for (const Component& c : given)
     n_given += c.kind == Kind::Lowpass ? 0 : 1;
-  d.revision_delta_ic =
-      n_given > 0 ? (fixed.chi2 - base.chi2) * crit.scale - threshold(n_given, opt.select_alpha)
-                  : 0.0;
+  d.revision_delta_ic = n_given > 0 ? revision_criterion(base, fixed, n_given) : 0.0;
   d.coefficients_wrong = n_given > 0 && d.revision_delta_ic > 0.0;
   return d.coefficients_wrong;
 }

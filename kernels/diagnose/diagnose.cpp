@@ -397,7 +397,7 @@ Diagnosis diagnose(std::span<const double> rate, double rate_hz, const ChannelSp
 
   Diagnosis d;
   Search search{opt, spec, d,  {},    {},   {},      0.0, {},    {}, 0.0,
-                {},  {},   {}, false, rate, threads, {},  false, {}};
+                {},  {},   {}, false, rate, threads, {},  false, {}, {}};
   search.crit.rate_hz = rate_hz;
   // The given model's steps are removed from the record before anything is compared.
   search.cv = search.curve_without(spec.steps);
@@ -406,7 +406,8 @@ Diagnosis diagnose(std::span<const double> rate, double rate_hz, const ChannelSp
   d.n = cv.n;
   d.tau_s = cv.tau;
   d.avar_measured = cv.y;
-  d.n_eff = effective_taus(cv);
+  search.tau_corr = tau_correlation(cv);
+  d.n_eff = effective_taus(cv, search.tau_corr);
   // Selection threshold for a candidate of k parameters: the chi-square quantile at
   // select_alpha / kNumEffects (Bonferroni over the candidates of a round), so that a round adds
   // an effect to a complete model with probability about select_alpha.

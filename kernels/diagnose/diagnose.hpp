@@ -78,8 +78,12 @@
 // nothing added is a hypothesis of its own, taken only when no effect is significant
 // (incomplete before wrong: a raised flicker floor can mimic two hidden effects at once). At
 // the end the given coefficients are tested, fixed at their given values versus re-estimated
-// with every added effect in place; when re-estimating is significant the given coefficients
-// were wrong (reported with given and estimated values), otherwise the given values are kept.
+// with every added effect in place (the chi-square gain matched to c chi2_nu by its own
+// Satterthwaite match of the change it tests, at select_alpha); when re-estimating is
+// significant the given coefficients were wrong (reported with given and estimated values),
+// otherwise the given values are kept. A model that ends beyond its replicas' p95 (with 19
+// replicas or more) gets one more round at the verdict's 5 % among the effects a witness beside
+// the curve attests, kept only if the model then ends within noise (docs/diagnose.md).
 //
 // Simulation vs measurement. The model before and after is simulated mc_replicas times at the
 // measurement's length and rate (SimulationPlan; replica r is stream r of mc_seed, so the result

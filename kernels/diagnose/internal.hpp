@@ -6,6 +6,8 @@
 #include "kernels/model/terms.hpp"
 #include "kernels/spectral/psd.hpp"
 
+#include <Eigen/Core>
+
 #include <array>
 #include <cstdint>
 #include <functional>
@@ -142,6 +144,19 @@ struct Sigmas {
   std::vector<double> coef, nl, q;
 };
 Sigmas fill_sigmas(const Fit& f, const Curve& cv, const Bases& b, double n_eff);
+/// conclude.cpp: the orthogonal projector onto the span of a's columns (zero without columns).
+Eigen::MatrixXd projector(Eigen::MatrixXd a);
+/// A quadratic form u' Q u of u ~ N(0, corr) matched to c chi2_nu with its mean and variance
+/// (Satterthwaite; Box 1954): c = tr((Q corr)^2) / tr(Q corr), nu = tr(Q corr)^2 / tr((Q corr)^2).
+struct ScaledChi2 {
+  double c = 1.0, nu = 0.0;  // nu = 0: no match (the form has no trace)
+};
+ScaledChi2 satterthwaite(const Eigen::MatrixXd& q, const Eigen::MatrixXd& corr);
+/// The whitened columns of the free components of `comps` with a basis on the curve (a filter or
+/// a step has none): each basis curve over sqrt(var_ln) times `model`, the derivative of the log
+/// chi-square's residuals in the component's squared coefficient (P x k).
+Eigen::MatrixXd free_columns(const std::vector<Component>& comps, std::span<const double> model,
+                             const Curve& cv, const Bases& raw);
 /// The parameters of component idx of a fit under the model file's keys, with their sigmas.
 std::vector<Parameter> parameters_of(const Component& c, const Sigmas& sigmas, std::size_t idx);
 std::string component_label(const std::vector<Component>& comps, std::size_t idx);
@@ -227,6 +242,12 @@ Comparison compare(const Curve& cv, std::vector<double> model, const std::vector
 McBand monte_carlo(const ChannelSpec& spec, const Curve& cv, const std::vector<double>& model,
                    const std::vector<double>& edf, int replicas, std::uint64_t seed, int threads);
 double effective_taus(const Curve& cv);
+/// The same from `corr`, the correlation of the curve's estimates (tau_correlation; empty: the
+/// fallback of one tau per octave).
+double effective_taus(const Curve& cv, const Eigen::MatrixXd& corr);
+/// The correlation of the curve's estimates under the eq. (3) fit to it (the model covariance
+/// OavarCovariance, kernels/model/fit.hpp); empty when that fit has no terms.
+Eigen::MatrixXd tau_correlation(const Curve& cv);
 // Each bin's background median for the line search (NaN where it has none).
 std::vector<double> line_backgrounds(const PsdResult& psd);
 // The line search of find_spectral_line over the bins from f_lo_hz to f_hi_hz (all by default),

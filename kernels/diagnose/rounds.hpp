@@ -33,6 +33,7 @@ struct Search {
   std::vector<Effect> removed;  // the effects the pruning took away, not named again
   bool witnessed_only = false;  // the verdict's round (verdict_round): witnessed effects alone
   std::string last_criteria;    // the criteria of a round that named nothing
+  Eigen::MatrixXd tau_corr;     // tau_correlation(cv): the correlation of the curve's estimates
 
   SpectralLine focused_line(const Fit& ref, const std::vector<double>& known_f,
                             const std::vector<double>& known_wide,
@@ -60,6 +61,7 @@ struct Search {
   Fit refit_final();
   std::vector<Component> given_fixed(std::vector<Component> comps) const;
   Fit fit_given_fixed(std::vector<Component> comps, const Curve& on) const;
+  double revision_criterion(const Fit& base, const Fit& fixed, int n_given) const;
   bool given_wrong(const Fit& base, const Fit& fixed);
   bool prune(Fit& base, bool free_given);
   bool settle(Fit& base, Fit& fixed_fit);

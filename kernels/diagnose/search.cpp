@@ -120,9 +120,7 @@ McBand monte_carlo(const ChannelSpec& spec, const Curve& cv, const std::vector<d
   return out;
 }
 
-// Satterthwaite's effective number of independent taus from the model covariance of the
-// estimates (see the header). The eq. (3) fit to the measurement supplies the covariance.
-double effective_taus(const Curve& cv) {
+Eigen::MatrixXd tau_correlation(const Curve& cv) {
   const std::size_t p = cv.size();
   Eq3Fit fit(p);
   FitInput in;
@@ -133,11 +131,25 @@ double effective_taus(const Curve& cv) {
   in.tau0_s = cv.tau0;
   in.n_samples = cv.n_samples;
   const FitResult r = fit.fit(in);
-  if (has_terms(r.status) && fit.covariance().rows() == static_cast<Eigen::Index>(p))
-    if (const double n_eff = effective_taus_of(fit.covariance()); n_eff > 0.0) return n_eff;
+  if (!has_terms(r.status) || fit.covariance().rows() != static_cast<Eigen::Index>(p)) return {};
+  const Eigen::MatrixXd& s = fit.covariance();
+  const Eigen::VectorXd sd = s.diagonal().cwiseMax(0.0).cwiseSqrt();
+  if (!s.allFinite() || !(sd.minCoeff() > 0.0)) return {};
+  return sd.cwiseInverse().asDiagonal() * s * sd.cwiseInverse().asDiagonal();
+}
+
+// Satterthwaite's effective number of independent taus from the model covariance of the
+// estimates (see the header). The eq. (3) fit to the measurement supplies the covariance.
+double effective_taus(const Curve& cv) {
+  return effective_taus(cv, tau_correlation(cv));
+}
+
+double effective_taus(const Curve& cv, const Eigen::MatrixXd& corr) {
+  if (const double n_eff = effective_taus_of(corr); n_eff > 0.0) return n_eff;
   // Fallback: one independent estimate per octave of tau (overlapping estimates an octave or
   // more apart are correlated well below 0.5 for the common noises).
-  return std::clamp(std::log2(cv.tau.back() / cv.tau.front()) + 1.0, 1.0, static_cast<double>(p));
+  return std::clamp(std::log2(cv.tau.back() / cv.tau.front()) + 1.0, 1.0,
+                    static_cast<double>(cv.size()));
 }
 
 double ring_median(const PsdResult& psd, std::int64_t k, std::int64_t lo, std::int64_t hi,
