@@ -267,7 +267,7 @@ void Search::judge() {
                    ? d.mc_before
                    : monte_carlo(d.model_after, cv, d.after.avar_model, d.edf_after,
                                  opt.mc_replicas, opt.mc_seed, threads);
-  d.gap_within_noise = opt.mc_replicas > 0 ? d.after.gap <= d.mc_after.gap_p95 : d.after.gap <= 1.0;
+  d.gap_within_noise = within_noise(d.after.gap, d.mc_after);
 }
 
 // A model that ends beyond noise has failed the verdict's test at 1 - kGapNoiseQuantile (5 %).

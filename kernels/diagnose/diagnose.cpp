@@ -13,6 +13,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace allanlot::kernels {
 
@@ -230,6 +231,9 @@ CandidateFit Search::candidate(Effect e, const std::vector<Component>& fixed_now
   return a;
 }
 
+// The note's opening for a candidate keep_witnessed sets aside (verdict_round lists them).
+constexpr std::string_view kNoWitness = "no witness beside the curve";
+
 // The verdict's round (verdict_round) names only an effect whose existence a witness beside the
 // Allan curve attests at its own false alarm: a periodogram line (sinusoid), a jump (step), a
 // periodogram peak's shape (a resonance shaped there, fit_peak_shapes' likelihood ratio at
@@ -246,9 +250,8 @@ void Search::keep_witnessed(std::vector<CandidateFit>& cands, const TrendWitness
         (e == Effect::Resonance && (c.fit.comps[c.added].psd_shape || c.fit.comps[c.added].pinned));
     if (seen) continue;
     c.info.evaluated = false;
-    c.info.note =
-        "no witness beside the curve: not a candidate at the verdict's level (criterion " +
-        std::to_string(c.info.delta_ic) + ")";
+    c.info.note = std::string(kNoWitness) + ": not a candidate at the verdict's level (criterion " +
+                  std::to_string(c.info.delta_ic) + ")";
   }
 }
 
@@ -334,7 +337,7 @@ bool Search::round(int& iter) {
   if (best == cands.size()) {
     last_criteria.clear();
     for (const CandidateFit& c : cands)
-      if (c.info.evaluated || c.info.note.starts_with("no witness"))
+      if (witnessed_only && (c.info.evaluated || c.info.note.starts_with(kNoWitness)))
         last_criteria +=
             (last_criteria.empty() ? "" : ", ") + std::string(effect_name(c.info.effect)) + " " +
             std::to_string(c.info.delta_ic) + (c.info.evaluated ? "" : " (no witness)");

@@ -196,6 +196,12 @@ struct McBand {
   double gap_p95 = 0;  // exceedance_quantile_sorted(gaps, kGapNoiseQuantile)
 };
 
+/// The verdict (Diagnosis::gap_within_noise): a model's gap is within the noise of its
+/// replicas when it is at most their gap_p95; without replicas, when it is at most 1.
+inline bool within_noise(double gap, const McBand& mc) {
+  return mc.replicas > 0 ? gap <= mc.gap_p95 : gap <= 1.0;
+}
+
 /// The strongest line of the full-record periodogram (the PSD witness).
 struct SpectralLine {
   bool searched = false;       // false when the record has gaps or is too short

@@ -32,7 +32,7 @@ struct Search {
   int threads = 1;
   std::vector<Effect> removed;  // the effects the pruning took away, not named again
   bool witnessed_only = false;  // the verdict's round (verdict_round): witnessed effects alone
-  std::string last_criteria;    // the criteria of a round that named nothing
+  std::string last_criteria;    // the criteria of a verdict's round that named nothing
   Eigen::MatrixXd tau_corr;     // tau_correlation(cv): the correlation of the curve's estimates
 
   SpectralLine focused_line(const Fit& ref, const std::vector<double>& known_f,

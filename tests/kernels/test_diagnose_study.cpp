@@ -94,7 +94,7 @@ TEST(DiagnoseStudy, DISABLED_DetectionAndFalseAlarmRates) {
       exact += names_exactly(d, s.hidden) ? 1 : 0;
       // The given model's own verdict, before anything is named or re-estimated: the calibration
       // of the verdict where the given model is the truth (null case).
-      given_beyond += d.before.gap > d.mc_before.gap_p95 ? 1 : 0;
+      given_beyond += kernels::within_noise(d.before.gap, d.mc_before) ? 0 : 1;
       within += d.gap_within_noise ? 1 : 0;
       wrong_flag += d.coefficients_wrong ? 1 : 0;
       gaps.push_back(d.after.gap);
