@@ -59,11 +59,13 @@ struct Search {
   bool round(int& iter);
   void run_rounds();
   Fit refit_final();
+  Fit search_added(Fit base) const;
+  Fit refit_given_fixed(const std::vector<Component>& comps) const;
   std::vector<Component> given_fixed(std::vector<Component> comps) const;
   Fit fit_given_fixed(std::vector<Component> comps, const Curve& on) const;
   double revision_criterion(const Fit& base, const Fit& fixed, int n_given) const;
   bool given_wrong(const Fit& base, const Fit& fixed);
-  bool prune(Fit& base, bool free_given);
+  bool prune(Fit& base, const Fit& fixed_fit, bool free_given);
   bool settle(Fit& base, Fit& fixed_fit);
   void finish();
   void conclude(Fit& base, Fit& fixed_fit);
