@@ -55,7 +55,8 @@ kernels::FitResult eq3(const kernels::StatResult& oadev, double rate_hz, std::in
 std::string names(const kernels::Diagnosis& d) {
   std::string s;
   for (std::size_t i = 0; i < d.effects_named.size(); ++i) {
-    s += (s.empty() ? "" : ",") + std::string(kernels::effect_name(d.effects_named[i]));
+    if (!s.empty()) s += ',';
+    s += kernels::effect_name(d.effects_named[i]);
     std::string args;
     for (const auto& p : d.effect_parameters[i])
       if (p.name == "cutoff_hz" || p.name == "taps" || p.name == "tau_c_s" || p.name == "q" ||
@@ -215,14 +216,14 @@ void inject_rows(const std::string& unit, const std::string& channel,
       const bool has_ramp = inj.effect == kernels::Effect::Ramp && d.model_after.terms.R > 0.0;
       // What the time-domain witnesses see of a ramp or a step: the slope's z under the
       // corrected model (the injected slope over its sd, and the record's slope, z, as measured)
-      // and the largest jump's statistic (rms of the differences of adjacent means) and time.
+      // and the largest jump's statistic (rms of the differences of adjacent means), time and p.
       char seen[96] = "";
       if (inj.effect == kernels::Effect::Ramp)
         std::snprintf(seen, sizeof seen, "; slope z %.2g injected, %.2g measured", a / slope_sd,
                       g.trend.z);
       if (inj.effect == kernels::Effect::Step)
-        std::snprintf(seen, sizeof seen, "; largest jump %.2g rms at %.0f s", g.step.statistic,
-                      g.step.time_s);
+        std::snprintf(seen, sizeof seen, "; largest jump %.2g rms at %.0f s, p %.2g",
+                      g.step.statistic, g.step.time_s, g.step.p_value);
       std::printf("| %s | %s | %s | %.0f sigma (%.3g%s) | %s | %s | %.3g (%.3g) |\n", unit.c_str(),
                   channel.c_str(), inj.name, sigmas, a, seen, names(g).c_str(),
                   exact   ? "exact"

@@ -52,6 +52,12 @@ struct Search {
                              const std::vector<Component>& fixed_now, double chi2_ref,
                              const TrendWitness& tr) const;
 
+  std::size_t lookalike_step(std::vector<CandidateFit>& cands, std::size_t best,
+                             const std::vector<Component>& fixed_now,
+                             const std::vector<Component>& free_now, const Witnesses& seen,
+                             double chi2_ref, double chi2_refit, int n_free,
+                             std::string& note) const;
+  SpectralLine line_witness(const Fit& ref) const;
   CandidateFit candidate(Effect e, const std::vector<Component>& fixed_now,
                          const std::vector<Component>& free_now, const Witnesses& seen,
                          double chi2_ref, double chi2_refit, int n_free) const;
