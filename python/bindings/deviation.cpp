@@ -28,8 +28,10 @@ kernels::DataType parse_data_type(const std::string& t) {
 kernels::Stat parse_stat(const std::string& name) {
   if (const auto s = kernels::parse_stat(name)) return *s;
   std::string known;
-  for (const kernels::Stat s : kernels::all_stats())
-    known += (known.empty() ? "" : ", ") + std::string(kernels::stat_name(s));
+  for (const kernels::Stat s : kernels::all_stats()) {
+    if (!known.empty()) known += ", ";
+    known += kernels::stat_name(s);
+  }
   throw std::invalid_argument("unknown statistic '" + name + "' (known: " + known + ")");
 }
 
