@@ -151,9 +151,10 @@ std::size_t Search::ramp_or_random_walk(std::vector<CandidateFit>& cands, std::s
   return ramp;
 }
 
-// A jump the change-point test sees below its own level, at the level of the verdict (p below
-// 1 - kGapNoiseQuantile), neither a spike nor at a known step's time: not evidence of a step by
-// itself, but enough to tell a step from a random walk or a ramp the curve names (lookalike_step).
+// A jump the change-point test sees short of its own level (step_false_alarm) but at the
+// verdict's (p below 1 - kGapNoiseQuantile), neither a spike nor at a known step's time: not
+// evidence of a step by itself, but enough to tell a step from a random walk or a ramp the curve
+// names (lookalike_step).
 static bool lookalike_jump(const StepWitness& jump) {
   return jump.searched && !jump.found && jump.note.empty() &&
          jump.p_value < 1.0 - kGapNoiseQuantile;
@@ -174,7 +175,7 @@ std::optional<Curve> Search::curve_without_jump(const StepWitness& jump) const {
 
 // When the curve names a random walk or a ramp, something rises at the longest taus; a step
 // rises there too (step_avar_sampled grows as m), and the curve cannot tell them apart. A jump
-// below the witness's own level (lookalike_jump) then decides: the step of that jump, judged on
+// short of the witness's own level (lookalike_jump) then decides: the step of that jump, judged on
 // the curve without it with its size charged as the walk's K is, is named instead when its
 // criterion is short of the winner's by less than the 95 % quantile of chi2(1), a difference
 // the curve does not resolve. Steps of 6.4 rms of the witness's differences at the study's
@@ -209,7 +210,7 @@ std::size_t Search::lookalike_step(std::vector<CandidateFit>& cands, std::size_t
       step.info.delta_ic + tie < cands[best].info.delta_ic)
     return best;
   note = "the record's largest jump (p = " + std::to_string(seen.step.p_value) +
-         ", below the change-point test's level) explains the curve's rise as well as " +
+         ", short of the change-point test's level) explains the curve's rise as well as " +
          std::string(effect_name(winner)) + " (criterion " + std::to_string(step.info.delta_ic) +
          " against " + std::to_string(cands[best].info.delta_ic) + "): step named";
   for (std::size_t i = 0; i < cands.size(); ++i)
@@ -311,8 +312,6 @@ void Search::keep_witnessed(std::vector<CandidateFit>& cands, const TrendWitness
   }
 }
 
-// One round of the add-and-repeat loop (see diagnose()): false when it adds nothing and the
-// loop ends; `iter` counts the effects added.
 // The round's periodogram witness: a line the model does not explain yet, over the whole record
 // and, failing that, where the curve says a line may be (focused_line); none with gaps.
 SpectralLine Search::line_witness(const Fit& ref) const {
@@ -327,6 +326,8 @@ SpectralLine Search::line_witness(const Fit& ref) const {
   return line.found ? line : focused_line(ref, known_f, known_wide, line);
 }
 
+// One round of the add-and-repeat loop (see diagnose()): false when it adds nothing and the
+// loop ends; `iter` counts the effects added.
 bool Search::round(int& iter) {
   std::vector<Component> fixed_now = current, free_now = current;
   for (Component& c : fixed_now)

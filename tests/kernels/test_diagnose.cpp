@@ -125,17 +125,17 @@ TEST(Diagnose, ARandomWalksTrendIsNotARamp) {
 }
 
 // Seed 1004's weak step (6.4 rms of the witness's differences) is seen by the change-point test
-// at p = 0.004, below its own level of 1e-3, and the curve alone scores a random walk (+36.6)
+// at p = 0.004, short of its own level of 1e-3, and the curve alone scores a random walk (+36.6)
 // about as high as the step (+37.3, its size charged as the walk's K): named random_walk before
 // session 23. The jump decides between the two look-alikes, and the step is named.
-TEST(Diagnose, AJumpBelowTheWitnesssLevelTellsAStepFromAWalk) {
+TEST(Diagnose, AJumpShortOfTheWitnesssLevelTellsAStepFromAWalk) {
   const test::Scenario s = scenario_at("step", "weak");
   const auto d = test::run_scenario(s.truth, s.given, 1004, 0, 2);
   EXPECT_FALSE(d.step.found);
   EXPECT_GT(d.step.p_value, 1e-3);
   EXPECT_LT(d.step.p_value, 0.05);
   EXPECT_EQ(d.effects_named, std::vector<Effect>{Effect::Step});
-  EXPECT_TRUE(has_note(d, "below the change-point test's level"));
+  EXPECT_TRUE(has_note(d, "short of the change-point test's level"));
   ASSERT_EQ(d.model_after.steps.size(), 1u);
   EXPECT_NEAR(d.model_after.steps[0].time_s, 250.3, 1.0);
 }
