@@ -41,8 +41,8 @@ struct Search {
   std::vector<double> record_without(const std::vector<Step>& steps) const;
   Curve curve_without(const std::vector<Step>& steps) const;
   std::optional<Curve> curve_without_jump(const StepWitness& jump) const;
-  double random_walk_without_line(const std::vector<Component>& fixed_now,
-                                  const std::vector<Component>& free_now) const;
+  CandidateFit random_walk_without_line(const std::vector<Component>& fixed_now,
+                                        const std::vector<Component>& free_now) const;
   std::size_t ramp_or_random_walk(std::vector<CandidateFit>& cands, std::size_t best,
                                   const std::vector<Component>& fixed_now,
                                   const std::vector<Component>& free_now, double chi2_ref,
@@ -55,12 +55,12 @@ struct Search {
   std::size_t lookalike_step(std::vector<CandidateFit>& cands, std::size_t best,
                              const std::vector<Component>& fixed_now,
                              const std::vector<Component>& free_now, const Witnesses& seen,
-                             double chi2_ref, double chi2_refit, int n_free,
-                             std::string& note) const;
+                             std::optional<Curve>& without_jump, double chi2_ref, double chi2_refit,
+                             int n_free, std::string& note) const;
   SpectralLine line_witness(const Fit& ref) const;
   CandidateFit candidate(Effect e, const std::vector<Component>& fixed_now,
                          const std::vector<Component>& free_now, const Witnesses& seen,
-                         double chi2_ref, double chi2_refit, int n_free) const;
+                         double chi2_ref, double chi2_refit, int n_free, int charged = 0) const;
   void keep_witnessed(std::vector<CandidateFit>& cands, const TrendWitness& trend) const;
   bool round(int& iter);
   void run_rounds();
