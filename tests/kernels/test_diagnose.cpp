@@ -140,6 +140,21 @@ TEST(Diagnose, AJumpShortOfTheWitnesssLevelTellsAStepFromAWalk) {
   EXPECT_NEAR(d.model_after.steps[0].time_s, 250.3, 1.0);
 }
 
+// A ramp of R = 1e-4 over a walk of K = `k` that `seed` does not name alone: the ramp is named,
+// for the reason the round's note gives.
+void expect_ramp_over_unnamed_walk(double k, std::uint64_t seed, const std::string& note) {
+  SCOPED_TRACE(note);
+  const kernels::ChannelSpec given = test::base_model();
+  kernels::ChannelSpec walk = given;
+  walk.terms.K = k;
+  kernels::ChannelSpec truth = walk;
+  truth.terms.R = 1e-4;
+  const auto d = test::run_scenario(truth, given, seed, 0, 2);
+  EXPECT_EQ(d.effects_named, std::vector<Effect>{Effect::Ramp});
+  EXPECT_TRUE(has_note(d, note));
+  EXPECT_TRUE(test::run_scenario(walk, given, seed, 0, 2).effects_named.empty());
+}
+
 TEST(Diagnose, ARampTheCurveTakesForAWalkIsNamedByItsSlope) {
   // The other way round: seed 1006's ramp (R = 1e-4) over a walk too small to be named alone
   // (K = 2.5e-4, a thirty-second of the weak level's variance) is fitted better by a random
@@ -147,20 +162,13 @@ TEST(Diagnose, ARampTheCurveTakesForAWalkIsNamedByItsSlope) {
   // the chi-square by less than its 95 % quantile under no walk, and the slope is far outside
   // the model's spread: the ramp is named, with a note (a 20-sigma ramp injected into the real
   // imu3 x gyroscope was named random_walk before).
-  const kernels::ChannelSpec given = test::base_model();
-  kernels::ChannelSpec walk = given;
-  walk.terms.K = 2.5e-4;
-  kernels::ChannelSpec truth = walk;
-  truth.terms.R = 1e-4;
-  const auto d = test::run_scenario(truth, given, 1006, 0, 2);
-  EXPECT_EQ(d.effects_named, std::vector<Effect>{Effect::Ramp});
-  EXPECT_TRUE(has_note(d, "no longer shows the random walk"));
-  EXPECT_TRUE(test::run_scenario(walk, given, 1006, 0, 2).effects_named.empty());
+  expect_ramp_over_unnamed_walk(2.5e-4, 1006, "no longer shows the random walk");
   // In doubt the walk keeps its name: seed 1008's walk of K = 1e-3 holds a trend (slope z = 7
   // under the base model) and, without its line, still improves the chi-square by 6.8, which no
   // walk at all gives 1 time in 100. Named ramp when any criterion below the round's took it.
+  kernels::ChannelSpec walk = test::base_model();
   walk.terms.K = 1e-3;
-  const auto w = test::run_scenario(walk, given, 1008, 0, 2);
+  const auto w = test::run_scenario(walk, test::base_model(), 1008, 0, 2);
   EXPECT_EQ(w.effects_named, std::vector<Effect>{Effect::RandomWalk});
 }
 
@@ -171,15 +179,7 @@ TEST(Diagnose, ARampBeyondTheSpreadOfTheWalkBesideItIsNamed) {
   // that walk's K the slope stands at z 3.2 (p 0.0015), beyond the round's level (0.005): a trend
   // the walk does not explain, and the ramp is named (random_walk before, as a ramp of 10 witness
   // sigma injected into the real imu4 gyro_x was).
-  const kernels::ChannelSpec given = test::base_model();
-  kernels::ChannelSpec walk = given;
-  walk.terms.K = 3e-4;
-  kernels::ChannelSpec truth = walk;
-  truth.terms.R = 1e-4;
-  const auto d = test::run_scenario(truth, given, 1010, 0, 2);
-  EXPECT_EQ(d.effects_named, std::vector<Effect>{Effect::Ramp});
-  EXPECT_TRUE(has_note(d, "beyond that walk's spread"));
-  EXPECT_TRUE(test::run_scenario(walk, given, 1010, 0, 2).effects_named.empty());
+  expect_ramp_over_unnamed_walk(3e-4, 1010, "beyond that walk's spread");
 }
 
 TEST(Diagnose, ARampTooSmallForTheCurveIsSeenInTheSlope) {
