@@ -152,8 +152,9 @@ std::size_t Search::ramp_or_random_walk(std::vector<CandidateFit>& cands, std::s
   // which of the two look-alikes the slope belongs to, not whether a trend exists at all
   // (trend_false_alarm). A ramp of 10 witness sigma injected into imu4 gyro_x, whose record
   // without its line shows a walk at 5 %, has z = 3.7 beside that walk's K (p 2.4e-4); it was
-  // named random_walk. Should the walk be real, it is named next round beside the ramp, and the
-  // final pruning removes the ramp when the walk then explains the slope at trend_false_alarm.
+  // named random_walk. A walk still significant beside the ramp is named next round, and the
+  // final pruning removes the ramp when the walk then explains the slope at trend_false_alarm
+  // (a ramp beside a walk is named as one of the two: docs/diagnose.md, "Known limits, measured").
   TrendWitness beside;
   if (walk_stays) {
     beside = trend_under(spec_of(flat.fit.comps, spec));
