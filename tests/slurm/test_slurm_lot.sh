@@ -6,9 +6,10 @@
 # Installs munge and Slurm (Debian packages) when missing and running as root; otherwise, if they
 # are missing, skips (exit 77). Starts munged, slurmctld and slurmd from a temporary directory
 # (free ports, own sockets, state and logs; nothing under /etc or /run), simulates a small lot,
-# submits it with a corrupt and an absent recording in the manifest, and checks the results files,
-# the merged summary, the report of what is missing, and that a resubmission redoes only what is
-# missing. Stops exactly the daemons it started, by pid, on every exit path, and removes the
+# submits it with a corrupt and an absent recording in the manifest and a spec, and checks the
+# results files, the merged summary with the spec's verdicts, the report of what is missing, that
+# a spec with errors is refused before anything is submitted, and that a resubmission redoes only
+# what is missing. Stops exactly the daemons it started, by pid, on every exit path, and removes the
 # temporary directory (kept with ALLANLOT_SLURM_TEST_KEEP=1).
 #
 # ALLANLOT_SLURM_TEST_RESUME=0 skips the last step, which resubmits every recording (--all) and
@@ -231,6 +232,15 @@ cat >"$tmp/model.json" <<'EOF'
 EOF
 "$allanlot" simulate -q --model "$tmp/model.json" --lot 5 --duration 120 -o "$tmp/lot"
 head -c 4096 /dev/urandom >"$tmp/lot/corrupt.h5"
+# The spec: gyro N = 0.005 deg/s*s^0.5 = 0.3 deg/sqrt(h) (units.hpp) +- 10 % passes 1 deg/sqrt(h);
+# accel N = 0.0003 m/s^2*s^0.5 = 0.018 m/s/sqrt(h) fails 0.005 m/s/sqrt(h): every unit fails on
+# its accelerometer, and the verdicts quote each value in the spec's own unit.
+cat >"$tmp/spec.json" <<'JSON'
+{"name": "slurm test grade",
+ "channels": {"gyro_*": {"N": {"max": 1, "unit": "deg/sqrt(h)"}},
+              "accel_*": {"N": {"max": 0.005, "unit": "m/s/sqrt(h)"}}}}
+JSON
+echo '{"channels": {"gyro_*": {"N": {"max": -1, "unit": "deg/sqrt(h)"}}}}' >"$tmp/bad_spec.json"
 # relative paths (relative to the manifest), a comment, a blank line; shards of 2:
 # [1 2] [corrupt absent] [3 4] [5]: the second task fails entirely
 cat >"$tmp/lot/lot.txt" <<'EOF'
@@ -267,6 +277,32 @@ job_state() { scontrol show job "$1" | sed -n 's/.*JobState=\([A-Z_]*\).*/\1/p' 
 task_states() { squeue -h -t all -j "$1" -o '%K %T' | sort -n | awk '{printf "%s%s=%s", sep, $1, $2; sep=" "}'; }
 stamp() { stat -c '%i %y' "$1"; }
 csv_rows() { tail -n +2 "$out/lot_summary.csv"; }
+csv_column() { # args: column name; prints that column of every ok row as "device,channel,value"
+  awk -v want="$1" -F, '
+    NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
+    $5 == "ok" { print $1 "," $2 "," $col[want] }' "$out/lot_summary.csv"
+}
+check_verdicts() { # args: device ids judged against spec.json by the merge job
+  # The verdict columns carry no ',' here (no quoting): the channel verdicts, the detail in the
+  # spec's units, and the unit's verdict on every row of the unit.
+  local id want status
+  head -n 1 "$out/lot_summary.csv" | grep -q ',spec_status,spec_detail,' ||
+    fail "lot_summary.csv has no verdicts (was the spec given to the merge job?): $(head -n 1 "$out/lot_summary.csv")"
+  for id in "$@"; do
+    for ch in gyro_x accel_x; do
+      want=pass
+      [ "$ch" = accel_x ] && want=fail
+      status="$(csv_column spec_status | grep "^$id,/imu/$ch," | cut -d, -f3)"
+      [ "$status" = "$want" ] || fail "$id /imu/$ch: spec_status '$status', expected $want"
+    done
+    csv_column spec_detail | grep -q "^$id,/imu/accel_x,N 0\.0[0-9]*±[0-9.e-]* > 0\.005 m/s/sqrt(h)$" ||
+      fail "$id accel_x: the detail does not quote N in m/s/sqrt(h): $(csv_column spec_detail | grep "^$id,")"
+    csv_column spec_detail | grep -q "^$id,/imu/gyro_x,N 0\.[0-9]*±[0-9.e-]* <= 1 deg/sqrt(h)$" ||
+      fail "$id gyro_x: the detail does not quote N in deg/sqrt(h): $(csv_column spec_detail | grep "^$id,")"
+    [ "$(csv_column unit_spec_status | grep -c "^$id,.*,fail$")" -eq 2 ] ||
+      fail "$id: unit_spec_status is not fail on both rows: $(csv_column unit_spec_status | grep "^$id,")"
+  done
+}
 
 check_results() { # args: device ids expected to have a valid results file
   local id f
@@ -308,9 +344,22 @@ check_summary() { # args: device ids expected in the summary, in order
     fail "lot_summary.h5 /summary does not have $n_expected rows"
 }
 
+# ---- 0. a spec with errors is refused before anything is submitted -------------------------------
+rc=0
+refused="$("${submit[@]}" -- --spec "$tmp/bad_spec.json" 2>&1)" || rc=$?
+[ "$rc" -eq 2 ] || fail "submit-lot with a bad spec exited with $rc, expected 2: $refused"
+grep -qF "bad_spec.json: channels.gyro_*.N.max: must be >= 0" <<<"$refused" ||
+  fail "submit-lot does not name the spec's problem: $refused"
+! compgen -G "$out/.slurm/*/" >/dev/null || fail "submit-lot made a submission with a bad spec"
+[ -z "$(squeue -h -o %A)" ] || fail "submit-lot submitted jobs with a bad spec"
+log "0. ok: a bad spec refused (exit 2), nothing submitted"
+
 # ---- 1. first submission --------------------------------------------------------------------------
-log "1. submitting 7 recordings (2 bad) in shards of 2"
-submit_and_wait
+# The spec as a user passes it, among analyze's options: it must reach the merge job's summarize.
+log "1. submitting 7 recordings (2 bad) in shards of 2, with a spec after --"
+submit_and_wait -- --spec "$tmp/spec.json"
+grep -q "the merge job judges the lot against the spec" <<<"$submit_out" ||
+  fail "submit-lot does not say that the merge job applies the spec"
 [ -n "$array_id" ] || fail "submit-lot named no array job"
 log "array $array_id: $(task_states "$array_id"); merge $merge_id: $(job_state "$merge_id")"
 [ "$(task_states "$array_id")" = "0=COMPLETED 1=FAILED 2=COMPLETED 3=COMPLETED" ] ||
@@ -332,7 +381,11 @@ grep -q "^$tmp/lot/corrupt.h5	.*not an HDF5 file" "$out/.slurm/missing.txt" ||
   fail "missing.txt does not name corrupt.h5 with its reason: $(cat "$out/.slurm/missing.txt")"
 grep -q "^$tmp/lot/absent.h5	.*no such file" "$out/.slurm/missing.txt" ||
   fail "missing.txt does not name absent.h5 with its reason: $(cat "$out/.slurm/missing.txt")"
-log "1. ok: 5 results files, summary of 10 rows, corrupt.h5 and absent.h5 reported missing"
+[ -f "$sub/spec.json" ] || fail "no copy of the spec in $sub"
+grep -qF "against the spec $sub/spec.json" "$sub/logs/merge-$merge_id.log" ||
+  fail "the merge log does not name the spec: $(cat "$sub/logs/merge-$merge_id.log")"
+check_verdicts unit_0001 unit_0002 unit_0003 unit_0004 unit_0005
+log "1. ok: 5 results files, summary of 10 rows with the spec's verdicts, corrupt.h5 and absent.h5 reported missing"
 
 # ---- 2. resubmission redoes only what is missing --------------------------------------------------
 # a results file lost (as if its node had crashed before the rename), and the corrupt recording
@@ -344,7 +397,7 @@ rm "$out/unit_0003.allan.h5"
 cp "$tmp/lot6/unit_0006.h5" "$tmp/lot/corrupt.h5"
 
 log "2. resubmitting the same command"
-submit_and_wait
+submit_and_wait -- --spec "$tmp/spec.json"
 grep -q "7 recording(s) in .*, 3 to analyse: 2 task(s)" <<<"$submit_out" ||
   fail "resubmission should submit 3 recordings in 2 tasks"
 log "array $array_id: $(task_states "$array_id"); merge $merge_id: $(job_state "$merge_id")"
@@ -356,6 +409,7 @@ for id in "${!before[@]}"; do
 done
 check_results unit_0001 unit_0002 unit_0003 unit_0004 unit_0005 unit_0006
 check_summary unit_0001 unit_0002 unit_0003 unit_0004 unit_0005 unit_0006
+check_verdicts unit_0001 unit_0002 unit_0003 unit_0004 unit_0005 unit_0006
 [ "$(cut -f1 "$out/.slurm/missing.txt")" = "$tmp/lot/absent.h5" ] ||
   fail "missing.txt should list only absent.h5: $(cat "$out/.slurm/missing.txt")"
 log "2. ok: only unit_0003, the repaired recording and absent.h5 resubmitted; others untouched"
@@ -363,13 +417,14 @@ log "2. ok: only unit_0003, the repaired recording and absent.h5 resubmitted; ot
 # ---- 3. nothing missing but absent.h5: its task fails again, the merge still runs -----------------
 rm -f "$tmp/lot/absent.h5"
 sed -i '/absent.h5/d' "$tmp/lot/lot.txt"
-log "3. resubmitting with the absent recording removed from the manifest"
-submit_and_wait
+log "3. resubmitting with the absent recording removed from the manifest (the spec as submit-lot's option)"
+submit_and_wait --spec="$tmp/spec.json"
 grep -q "every recording has its results file; submitting only the merge job" <<<"$submit_out" ||
   fail "a complete lot should submit only the merge job"
 [ "$(job_state "$merge_id")" = COMPLETED ] || fail "merge job state $(job_state "$merge_id"), expected COMPLETED"
 [ ! -s "$out/.slurm/missing.txt" ] || fail "missing.txt not empty: $(cat "$out/.slurm/missing.txt")"
 check_summary unit_0001 unit_0002 unit_0003 unit_0004 unit_0005 unit_0006
+check_verdicts unit_0001 unit_0002 unit_0003 unit_0004 unit_0005 unit_0006
 # a recording changed after its analysis counts as missing again
 touch -d '+1 minute' "$tmp/lot/unit_0002.h5"
 [ "$("$repo/slurm/lot-status" --missing "$tmp/lot/lot.txt" "$out")" = "$tmp/lot/unit_0002.h5" ] ||
