@@ -199,8 +199,8 @@ QualityLimits parse_quality(const Checker& c, const Json& j, const std::string& 
 }
 
 // The detail prints values to 3 significant digits and half-widths to 2 (the half-width's
-// leading digits decide how many of the value's mean anything), limits to 4 (a limit converted
-// from the other datasheet form, 0.029 m/s/sqrt(h) = 0.04929 mg/sqrt(Hz), must not look moved).
+// leading digits decide how many of the value's mean anything), limits as the spec wrote them
+// up to 4 (a limit of 0.04929 mg/sqrt(Hz) must not look moved).
 std::string number(double v, int digits) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.*g", digits, v);
@@ -395,6 +395,18 @@ Outcome decide(const Estimate& e, std::optional<double> min, std::optional<doubl
 
 namespace {
 
+// The estimate as the detail quotes it: in the unit the spec wrote the limit in, beside the
+// limit as written, so that a limit on ARW in deg/sqrt(h) reads against N in deg/sqrt(h). The
+// datasheet forms of a term differ by exact factors (kernels/model/units.hpp): one spec unit is
+// `f` row units.
+std::string quoted_estimate(const TermLimit& l, const Estimate& e, double k,
+                            const std::string& row_unit, const std::string& channel_units) {
+  const double f = convert(l.term, 1.0, l.unit, row_unit, channel_units);
+  return e.detected || !std::isfinite(e.upper)
+             ? number(e.value / f, 3) + "±" + number(k * e.sigma / f, 2)
+             : "<" + number(e.upper / f, 3);
+}
+
 Verdict judge_terms(const Spec& spec, const io::SummaryRow& row) {
   const bool any_value =
       std::any_of(row.value.begin(), row.value.end(), [](double v) { return std::isfinite(v); });
@@ -416,8 +428,8 @@ Verdict judge_terms(const Spec& spec, const io::SummaryRow& row) {
       v.term_status[i] = outcome_name(Outcome::Undecided);
       continue;
     }
-    // The limits are brought to the row's datasheet unit (not the other way round), so that
-    // the detail quotes the value exactly as the summary's columns do.
+    // The decision is made in the row's datasheet unit, on the values exactly as the summary's
+    // columns hold them; only the detail is quoted in the spec's unit.
     std::optional<double> min, max;
     try {
       if (l.min) min = convert(l.term, *l.min, l.unit, row.unit[i], row.units);
@@ -437,14 +449,12 @@ Verdict judge_terms(const Spec& spec, const io::SummaryRow& row) {
     const bool min_side = !max || (min && (o == Outcome::Fail        ? !(lo > *max)
                                            : o == Outcome::Undecided ? !(hi > *max)
                                                                      : false));
-    const double lim = min_side ? *min : *max;
     const char* rel = o == Outcome::Pass   ? (min_side ? ">=" : "<=")
                       : o == Outcome::Fail ? (min_side ? "<" : ">")
                                            : "~";
-    const std::string est = e.detected || !std::isfinite(e.upper)
-                                ? number(e.value, 3) + "±" + number(spec.k * e.sigma, 2)
-                                : "<" + number(e.upper, 3);
-    terms.emplace_back(o, name + " " + est + " " + rel + " " + number(lim, 4) + " " + row.unit[i]);
+    terms.emplace_back(o, name + " " + quoted_estimate(l, e, spec.k, row.unit[i], row.units) + " " +
+                              rel + " " + number(min_side ? *l.min : *l.max, 4) + " " +
+                              units::normalize_spelling(l.unit));
   }
   if (!unit_errors.empty()) throw combined_error(spec.source, std::move(unit_errors));
   Outcome worst = Outcome::Pass;

@@ -90,7 +90,8 @@ TEST(Spec, UndetectedTermUsesItsUpperBound) {
 
 TEST(Spec, JudgesRowsWithLimitsInEitherDatasheetForm) {
   // The paper's unit has N = 18 deg/h/sqrt(Hz) = 0.3 deg/sqrt(h); a limit given as ARW is
-  // converted to the row's unit before comparing.
+  // converted to the row's unit before comparing, and the detail quotes the estimate in the
+  // limit's own unit: 18.3 deg/h/sqrt(Hz) = 18.3 / 60 deg/sqrt(h), k sigma = 1.96 * 0.02 / 60.
   const auto sp = parse(
       R"j({"confidence": 0.95, "channels": {"gyro_*": {
         "N": {"max": 0.3, "unit": "deg/sqrt(h)"}, "B": {"max": 10, "unit": "deg/h"}}}})j");
@@ -98,16 +99,16 @@ TEST(Spec, JudgesRowsWithLimitsInEitherDatasheetForm) {
   // N interval [18.3 - k 0.02, 18.3 + k 0.02] lies above 18: fail, whatever B does.
   auto v = spec::judge(sp, gyro_row(18.3, 0.02, 4.5, 0.1));
   EXPECT_EQ(v.status, "fail");
-  EXPECT_EQ(v.detail, "N 18.3±0.039 > 18 deg/h/sqrt(Hz)");
+  EXPECT_EQ(v.detail, "N 0.305±0.00065 > 0.3 deg/sqrt(h)");
   EXPECT_EQ(v.term_status, (std::array<std::string, 5>{"", "", "pass", "fail", ""}));
   // Straddling 18: undecided.
   v = spec::judge(sp, gyro_row(17.99, 0.02, 4.5, 0.1));
   EXPECT_EQ(v.status, "undecided");
-  EXPECT_NE(v.detail.find("N 18±0.039 ~ 18 deg/h/sqrt(Hz)"), std::string::npos) << v.detail;
+  EXPECT_NE(v.detail.find("N 0.3±0.00065 ~ 0.3 deg/sqrt(h)"), std::string::npos) << v.detail;
   // Both well inside: pass, and the detail lists both terms.
   v = spec::judge(sp, gyro_row(17.0, 0.02, 4.5, 0.1));
   EXPECT_EQ(v.status, "pass");
-  EXPECT_EQ(v.detail, "N 17±0.039 <= 18 deg/h/sqrt(Hz); B 4.5±0.2 <= 10 deg/h");
+  EXPECT_EQ(v.detail, "N 0.283±0.00065 <= 0.3 deg/sqrt(h); B 4.5±0.2 <= 10 deg/h");
   // The boundary at exactly value + k sigma == limit passes.
   v = spec::judge(sp, gyro_row(18.0 - k * 0.02, 0.02, 4.5, 0.1));
   EXPECT_EQ(v.status, "pass") << v.detail;
@@ -133,6 +134,38 @@ TEST(Spec, JudgesRowsWithLimitsInEitherDatasheetForm) {
   auto no_b = gyro_row(17.0, 0.02, kNaN, kNaN);
   EXPECT_EQ(spec::judge(sp, no_b).status, "undecided");
   EXPECT_EQ(spec::judge(sp, no_b).detail, "B no estimate");
+}
+
+TEST(Spec, DetailQuotesTheEstimateInTheUnitOfItsLimit) {
+  // The same row and the same limit (0.3 deg/sqrt(h) = 18 deg/h/sqrt(Hz)) written in either
+  // datasheet form, or as a spelling of it: the decision is the same, and the detail quotes the
+  // estimate beside the limit in the form the spec used (one normalized spelling).
+  const auto row = gyro_row(18.3, 0.02, 4.5, 0.1);
+  const auto in = [&](const std::string& n_limit) {
+    return spec::judge(parse(R"j({"channels": {"gyro_*": {"N": )j" + n_limit + "}}}"), row);
+  };
+  const auto arw = in(R"j({"max": 0.3, "unit": "deg/sqrt(h)"})j");
+  const auto density = in(R"j({"max": 18, "unit": "deg/h/sqrt(Hz)"})j");
+  const auto spelled = in(R"j({"max": 0.3, "unit": "°/√hr"})j");
+  const auto own = in(R"j({"max": 0.005, "unit": "deg/s*s^0.5"})j");
+  EXPECT_EQ(arw.detail, "N 0.305±0.00065 > 0.3 deg/sqrt(h)");
+  EXPECT_EQ(density.detail, "N 18.3±0.039 > 18 deg/h/sqrt(Hz)");
+  EXPECT_EQ(spelled.detail, arw.detail);
+  // 18.3 / 3600 = 0.0050833 deg/s*s^0.5 (units.hpp: deg/h/sqrt(Hz) = 3600 deg/s*s^0.5).
+  EXPECT_EQ(own.detail, "N 0.00508±1.1e-05 > 0.005 deg/s*s^0.5");
+  for (const auto* v : {&arw, &density, &spelled, &own}) {
+    EXPECT_EQ(v->status, "fail");
+    EXPECT_EQ(v->term_status, arw.term_status);
+  }
+  // An undetected term's bound is quoted in the limit's unit too: 12 deg/h = 12 / 3600 deg/s.
+  auto undetected = gyro_row(17.0, 0.02, 0.0, 3.0);
+  undetected.detected[2] = 0;
+  undetected.upper[2] = 12.0;
+  EXPECT_EQ(
+      spec::judge(parse(R"j({"channels": {"gyro_*": {"B": {"max": 0.0025, "unit": "deg/s"}}}})j"),
+                  undetected)
+          .detail,
+      "B <0.00333 ~ 0.0025 deg/s");
 }
 
 TEST(Spec, FirstMatchingRuleWinsOnPathOrName) {
