@@ -18,8 +18,11 @@ std::string distribution_plot(const std::string& id, const std::string& title,
   p.id = id;
   p.title = title;
   p.x_scale = svg::Scale::Categorical;
-  p.y_label = "value / lot median";
-  p.height = 300;
+  // Each term in its own datasheet unit: the axis is the ratio to the term's lot median, and the
+  // median itself is printed with its unit under the term.
+  p.y_label = "value / lot median (ratio)";
+  p.x_label = "term, lot median and its unit";
+  p.height = 330;
   p.width = 460;
   p.legend = false;
   svg::Series normal, out;
@@ -56,7 +59,8 @@ std::string distribution_plot(const std::string& id, const std::string& title,
     std::sort(sorted.begin(), sorted.end());
     const double med = lot::quantile_sorted(sorted, 0.5);
     const double median_value = std::pow(10.0, med);
-    p.categories.push_back(label + "\n" + number(median_value, 3));
+    p.categories.push_back(label + "\n" + number(median_value, 3) + "\n" +
+                           (unit_ds.empty() ? std::string("no units") : unit_ds));
     const double q1 = lot::quantile_sorted(sorted, 0.25), q3 = lot::quantile_sorted(sorted, 0.75);
     const double iqr = q3 - q1;
     double wlo = q1, whi = q3;

@@ -68,7 +68,7 @@ std::string summary_table(const std::string& channel, const std::vector<Member>&
       << "</span></th>";
   h << "<th>&chi;&sup2;/dof</th><th>eq. (2)<br><span class=\"small\">max |log&#8321;&#8320; "
        "ratio|</span></th>";
-  if (any_spec) h << "<th>spec</th>";
+  if (any_spec) h << "<th class=\"l\">spec verdict</th>";
   if (any_agree) h << "<th>fits agree</th>";
   h << "</tr>\n";
   for (const Member& m : members) {
@@ -88,7 +88,7 @@ std::string summary_table(const std::string& channel, const std::vector<Member>&
       h << "<td" << (cls.empty() ? "" : " class=\"" + cls + "\"") << ">";
       if (t) {
         h << (t->detected ? value_pm(t->value_datasheet, t->sigma_datasheet)
-                          : "&lt; " + number(t->upper_datasheet, 2));
+                          : "&lt; " + cell_number(t->upper_datasheet, 2));
         if (t->unit_datasheet != header_unit[j])
           h << " <span class=\"small\">" << escape(t->unit_datasheet) << "</span>";
       } else {
@@ -100,8 +100,8 @@ std::string summary_table(const std::string& channel, const std::vector<Member>&
       << (m.ch->crosscheck ? number(m.ch->crosscheck->max_abs_log10_ratio, 2) : "&ndash;")
       << "</td>";
     if (any_spec)
-      h << "<td" << (x && !x->spec.empty() ? " class=\"" + x->spec + "\">" + spec_cell(*x) : ">")
-        << "</td>";
+      h << "<td class=\"verdict" << (x && !x->spec.empty() ? " " + x->spec : std::string()) << "\">"
+        << (x ? spec_cell_terms(*x) : std::string()) << "</td>";
     if (any_agree)
       h << "<td" << (x && x->agree == "no" ? " class=\"bad\"" : "") << ">" << (x ? x->agree : "")
         << "</td>";
@@ -170,6 +170,34 @@ std::string units_nav(const std::vector<Unit>& units, const ExtrasMap& extras) {
   return h.str();
 }
 
+// The lot's verdict as the lot summary's overview counts it: units, not channels. A unit passes
+// when every channel a rule covers passes, fails when any fails, and is undecided otherwise
+// (spec::judge_units, the one rule; its unit_spec_status is on every row of the unit). Units
+// without a verdict (no rule covers them, or no data, a failed input among them) are counted
+// apart. "" when the lot summary has no spec.
+std::string unit_verdicts(const ExtrasMap& extras, const std::vector<FailedInput>& failed_inputs) {
+  std::set<std::string> devices;
+  for (const auto& [key, x] : extras)
+    devices.insert(key.first);
+  for (const FailedInput& f : failed_inputs)
+    devices.insert(f.device_id);
+  std::size_t pass = 0, fail = 0, undecided = 0, other = 0;
+  for (const std::string& d : devices) {
+    const RowExtras* x = unit_extras(extras, d);
+    const std::string v = x ? x->unit_spec : "";
+    (v == "pass" ? pass : v == "fail" ? fail : v == "undecided" ? undecided : other) += 1;
+  }
+  if (pass + fail + undecided == 0) return "";
+  std::ostringstream h;
+  h << "<p class=\"verdicts\"><b>Units against the spec:</b> <span class=\"pass\">" << pass
+    << " pass</span> <span class=\"fail\">" << fail << " fail</span> <span class=\"undecided\">"
+    << undecided << " undecided</span>";
+  if (other > 0) h << " <span>" << other << " no spec or no data</span>";
+  h << " <span class=\"small\">(a unit passes when every channel a rule covers passes, fails when "
+       "any fails, and is undecided otherwise)</span></p>\n";
+  return h.str();
+}
+
 }  // namespace
 
 std::string lot_section(const std::string& title, const std::vector<Unit>& units,
@@ -194,12 +222,6 @@ std::string lot_section(const std::string& title, const std::vector<Unit>& units
       n_failed += ch.status.is_ok() ? 0 : 1;
     }
   }
-  std::array<std::size_t, 3> spec_count{};
-  for (const auto& [key, x] : extras) {
-    if (x.spec == "pass") ++spec_count[0];
-    if (x.spec == "fail") ++spec_count[1];
-    if (x.spec == "undecided") ++spec_count[2];
-  }
   h << "<section id=\"lot\">\n<h1>" << escape(title) << "</h1>\n<p>" << units.size() << " units, "
     << n_channels << " channels (" << n_failed << " failed)";
   if (!failed_inputs.empty()) h << ", " << failed_inputs.size() << " inputs that failed";
@@ -210,12 +232,8 @@ std::string lot_section(const std::string& title, const std::vector<Unit>& units
     h << (first ? "" : ", ") << "allanlot " << escape(v);
     first = false;
   }
-  h << "; report by allanlot " << escape(kVersion) << ".";
-  if (spec_count[0] + spec_count[1] + spec_count[2] > 0)
-    h << " Spec: <span class=\"pass\">" << spec_count[0] << " pass</span> <span class=\"fail\">"
-      << spec_count[1] << " fail</span> <span class=\"undecided\">" << spec_count[2]
-      << " undecided</span>.";
-  h << "</p>\n";
+  h << "; report by allanlot " << escape(kVersion) << ".</p>\n"
+    << unit_verdicts(extras, failed_inputs);
   if (!problems.empty() || !failed_inputs.empty()) {
     h << "<h2>Problems</h2>\n<ul>\n";
     for (const auto& p : problems)
@@ -241,8 +259,8 @@ std::string lot_section(const std::string& title, const std::vector<Unit>& units
                                                g.channel, g.members, outliers);
     if (plot.empty()) without_terms.push_back(g.label());
     dists << plot;
-    tables << "<div><h3 id=\"lot-" << sanitize(g.channel) << suffix << "\">" << escape(g.label())
-           << "</h3>\n"
+    tables << "<div class=\"scroll\"><h3 id=\"lot-" << sanitize(g.channel) << suffix << "\">"
+           << escape(g.label()) << "</h3>\n"
            << summary_table(g.channel, g.members, extras) << "</div>\n";
   }
   h << "<h2>Distributions across units</h2>\n";

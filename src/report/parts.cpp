@@ -1,6 +1,7 @@
 #include "src/report/parts.hpp"
 
 #include "kernels/model/units.hpp"
+#include "src/lot/spec.hpp"
 #include "src/report/svg.hpp"
 
 #include <algorithm>
@@ -55,6 +56,19 @@ std::string spec_cell(const RowExtras& x) {
   return escape(x.spec_detail.empty() ? x.spec : x.spec + ": " + x.spec_detail);
 }
 
+std::string spec_cell_terms(const RowExtras& x) {
+  if (x.spec.empty()) return "";
+  std::string out = "<b>" + escape(x.spec) + "</b>";
+  std::size_t start = 0;
+  for (bool first = true; start < x.spec_detail.size(); first = false) {
+    const std::size_t end = std::min(x.spec_detail.find("; ", start), x.spec_detail.size());
+    out += std::string(first ? ": " : "; ") + "<span class=\"term\">" +
+           escape(x.spec_detail.substr(start, end - start)) + "</span>";
+    start = end + 2;
+  }
+  return out;
+}
+
 const RowExtras* unit_extras(const ExtrasMap& extras, const std::string& device_id) {
   for (auto it = extras.lower_bound({device_id, ""});
        it != extras.end() && it->first.first == device_id; ++it)
@@ -67,6 +81,33 @@ namespace {
 // fits_agree as read_summary_columns prints the stored i8: 1 agree, 0 not, -1 not compared.
 std::string agree_value(const std::string& v) {
   return v == "1" ? "yes" : v == "0" ? "no" : "";
+}
+
+// A lot summary written before the unit columns (read with them empty) still has every
+// channel's spec_status and term statuses: the units' verdicts are judged from those by the one
+// rule, spec::judge_units.
+void judge_units_of(const io::SummaryColumns& c, int dev, int chan, int spec,
+                    const std::array<int, 5>& tspec, ExtrasMap& map) {
+  const auto cell = [&](int column, std::size_t r) {
+    return column < 0 ? std::string() : c.values[static_cast<std::size_t>(column)][r];
+  };
+  std::vector<io::SummaryRow> rows;
+  for (std::size_t r = 0; r < c.rows; ++r) {
+    io::SummaryRow row;
+    row.device_id = cell(dev, r);
+    row.channel = cell(chan, r);
+    row.spec_status = cell(spec, r);
+    if (row.channel.empty() && row.spec_status.empty()) row.spec_status = "no data";
+    for (std::size_t t = 0; t < 5; ++t)
+      row.spec_term_status[t] = cell(tspec[t], r);
+    rows.push_back(std::move(row));
+  }
+  spec::judge_units(rows);
+  for (const io::SummaryRow& row : rows)
+    if (const auto it = map.find({row.device_id, row.channel}); it != map.end()) {
+      it->second.unit_spec = spec_class(row.unit_spec_status);
+      it->second.unit_spec_detail = row.unit_spec_detail;
+    }
 }
 
 }  // namespace
@@ -86,7 +127,10 @@ void read_lot_extras(const io::SummaryColumns& c, ExtrasMap& map,
   std::array<int, 5> tspec{};
   for (std::size_t t = 0; t < 5; ++t)
     tspec[t] = col(std::string(kTerms[t].name) + "_spec_status");
+  bool any_spec = false, any_unit_spec = false;
   for (std::size_t r = 0; r < c.rows; ++r) {
+    any_spec = any_spec || !cell(spec, r).empty();
+    any_unit_spec = any_unit_spec || !cell(unit_spec, r).empty();
     const std::string& d = c.values[static_cast<std::size_t>(dev)][r];
     const std::string& ch = c.values[static_cast<std::size_t>(chan)][r];
     if (ch.empty()) {
@@ -106,6 +150,7 @@ void read_lot_extras(const io::SummaryColumns& c, ExtrasMap& map,
         x.term_spec[t] = spec_class(c.values[static_cast<std::size_t>(tspec[t])][r]);
     map[{d, ch}] = x;
   }
+  if (any_spec && !any_unit_spec) judge_units_of(c, dev, chan, spec, tspec, map);
 }
 
 std::string channel_anchor(const Unit& u, const std::string& channel) {
@@ -124,10 +169,21 @@ std::string channel_href(const Unit& u, const std::string& channel) {
 // ---------------------------------------------------------------------------------------------
 // Numbers in tables.
 
+std::string cell_number(double v, int digits) {
+  std::string t = number(v, digits);
+  // %g writes 130 as "1.3e+02" at 2 digits: below a million the plain integer reads better and
+  // says the same (the value rounded to `digits` significant digits).
+  if (t.find("e+") != std::string::npos && std::fabs(v) < 1e6) {
+    const double step = std::pow(10.0, std::floor(std::log10(std::fabs(v))) - (digits - 1));
+    t = number(std::round(v / step) * step, 7);
+  }
+  return t;
+}
+
 std::string value_pm(double v, double s) {
   if (std::isnan(v)) return "&ndash;";
-  std::string t = number(v, 3);
-  if (std::isfinite(s) && s > 0) t += " &plusmn; " + number(s, 2);
+  std::string t = cell_number(v, 3);
+  if (std::isfinite(s) && s > 0) t += " &plusmn; " + cell_number(s, 2);
   return t;
 }
 

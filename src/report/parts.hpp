@@ -102,6 +102,9 @@ std::string spec_class(const std::string& v);
 // The verdict cell of a channel: "fail: N 0.21±0.02 > 0.15 deg/sqrt(h)", the status and the
 // terms behind it with their limits, escaped; "" without a spec status.
 std::string spec_cell(const RowExtras& x);
+// The same for a table cell: the status in bold, then each term with its limit kept on one
+// line ("N 0.305±0.00065 > 0.3 deg/sqrt(h)"), lines breaking only between terms.
+std::string spec_cell_terms(const RowExtras& x);
 // The unit's verdict from any of its channels' extras, nullptr when the lot summary has none.
 const RowExtras* unit_extras(const ExtrasMap& extras, const std::string& device_id);
 // The spec and fits_agree columns of a lot summary by (device, channel), and its failed inputs.
@@ -112,7 +115,8 @@ std::string channel_anchor(const Unit& u, const std::string& channel);
 std::string unit_href(const Unit& u);
 std::string channel_href(const Unit& u, const std::string& channel);
 
-// Numbers in tables.
+// Numbers in tables: `digits` significant digits, without an exponent from 1 to a million.
+std::string cell_number(double v, int digits);
 std::string value_pm(double v, double s);
 const io::TermRecord* find_term(const io::FitRecord& f, const std::string& name);
 std::array<double, kernels::kNumTerms> theta_of(const io::FitRecord& f);

@@ -297,7 +297,12 @@ Frame frame_of(const Plot& p) {
   for (const Band& b : p.bands)
     f.any_legend = f.any_legend || !b.label.empty();
   f.any_legend = f.any_legend && p.legend;
-  const double bottom = 50;
+  // Room under the plot for the tick labels (categorical ones may have several lines, 1.2em of
+  // the 12 px font each) and the axis label.
+  std::size_t lines = 1;
+  for (const std::string& c : p.categories)
+    lines = std::max<std::size_t>(lines, 1 + std::count(c.begin(), c.end(), '\n'));
+  const double bottom = 50 + 14.4 * static_cast<double>(lines - 1);
   f.left = 78;
   f.top = p.title.empty() ? 14 : 34;
   // The legend column is as wide as its longest entry, up to 40 % of the plot; entries longer

@@ -19,18 +19,22 @@ using svg::number;
 
 namespace {
 
-// Every table fits its column or wraps (nothing scrolls, nothing is cut); plots sit in a
-// grid of at least 520 px columns, the tables below them. A table of words and short numbers
-// beside a plot (the diagnosis's rounds) breaks only between words: broken anywhere, its
-// narrow column split "round" and "resonance" in two.
+// Plots sit in a grid of at least 520 px columns, the tables below them. A table cell never
+// breaks inside a number, a unit or a name ("unit_00" over "01", "mg/sqrt(" over "h)" read as
+// other values): data cells do not wrap at all, headings and the verdict's sentences wrap only
+// between words, and only the free-text cells of a diagnosis (JSON attributes) may break a word
+// too long for their 900 px. The lot's summary tables, the widest, sit in a box that scrolls
+// sideways rather than widen the page in a window narrower than they are (they fit from
+// 1280 px: tests/browser/check_report.py).
 const char* kCss =
     R"(body{font:14px/1.45 Helvetica,Arial,sans-serif;color:#222;margin:0 auto;max-width:1600px;padding:0 18px 40px}
 h1{font-size:24px;margin:18px 0 6px}h2{font-size:19px;border-bottom:2px solid #ccc;padding-bottom:3px;margin-top:28px}
 h3{font-size:16px;margin:22px 0 6px}h4{font-size:14px;margin:12px 0 4px}
 table{border-collapse:collapse;margin:6px 0 14px;font-size:13px;max-width:100%}
-th,td{border:1px solid #ccc;padding:2px 7px;text-align:right;vertical-align:top;overflow-wrap:anywhere}
-table.words th,table.words td{overflow-wrap:break-word}
+th,td{border:1px solid #ccc;padding:2px 7px;text-align:right;vertical-align:top}td{white-space:nowrap}
 th{background:#f1f1f1}td.l,th.l{text-align:left}td.wrap{white-space:normal;max-width:900px;word-break:break-word;font-size:12px}
+td.verdict{white-space:normal;text-align:left;min-width:16em;max-width:30em}.verdict .term{white-space:nowrap}
+.scroll{overflow-x:auto;max-width:100%}
 .pass{background:#cdeccf}.fail{background:#f6c4c4}.undecided{background:#fbeab5}
 .nd{color:#999}.bad{color:#b00;font-weight:bold}.small{font-size:12px;color:#555}
 .plots{display:grid;grid-template-columns:repeat(auto-fill,minmax(520px,1fr));gap:10px;margin:6px 0}
@@ -78,14 +82,15 @@ std::string coefficient_table(const io::ChannelResult& ch, const io::FitRecord* 
       << escape(t->unit_datasheet);
     // The other common datasheet form (ARW in deg/sqrt(h), Q in deg) under the primary one.
     if (!t->unit_datasheet_alt.empty() && t->detected)
-      h << "<br><span class=\"small\">= " << number(t->value_datasheet_alt, 3) << " "
+      h << "<br><span class=\"small\">= " << cell_number(t->value_datasheet_alt, 3) << " "
         << escape(t->unit_datasheet_alt) << "</span>";
     h << "</td><td>";
     if (t->detected)
       h << "yes";
     else
       h << "<span class=\"nd\">no, &lt; "
-        << (std::isfinite(t->upper_datasheet) ? number(t->upper_datasheet, 2) : "?") << "</span>";
+        << (std::isfinite(t->upper_datasheet) ? cell_number(t->upper_datasheet, 2) : "?")
+        << "</span>";
     h << "</td>";
     if (psd_fit) {
       const io::TermRecord* q = find_term(*psd_fit, kTerms[j].name);
@@ -152,7 +157,7 @@ std::string diagnosis_section(const std::string& id, const io::DiagnosisView& d,
       std::max({d.effects_named.size(), d.iteration_gap_before.size(), d.iteration_gap_after.size(),
                 d.iteration_delta_ic.size(), d.iteration_parameters.size()});
   if (iterations > 0) {
-    h << "<table class=\"words\"><tr><th>round</th><th class=\"l\">effect</th><th>gap before</th>"
+    h << "<table><tr><th>round</th><th class=\"l\">effect</th><th>gap before</th>"
          "<th>gap after</th><th>&Delta;IC</th><th class=\"l\">parameters</th></tr>\n";
     const auto num = [](const std::vector<double>& v, std::size_t i) {
       return i < v.size() ? number(v[i], 3) : std::string("&ndash;");
@@ -197,10 +202,10 @@ std::string readout_table(const io::FitRecord& fit) {
                         : r.name == "bias_instability" ? "B: min / 0.664"
                                                        : "K at 3 s";
     h << "<tr><td class=\"l\">" << label << "</td><td" << (r.valid ? "" : " class=\"nd\"") << ">"
-      << number(alt ? r.value_datasheet_alt : r.value_datasheet, 3) << " &plusmn; "
-      << number(alt ? r.sigma_datasheet_alt : r.sigma_datasheet, 2) << (r.valid ? "" : " *")
+      << cell_number(alt ? r.value_datasheet_alt : r.value_datasheet, 3) << " &plusmn; "
+      << cell_number(alt ? r.sigma_datasheet_alt : r.sigma_datasheet, 2) << (r.valid ? "" : " *")
       << "</td><td>" << escape(alt ? r.unit_datasheet_alt : r.unit_datasheet) << "</td><td>"
-      << number(r.tau_s, 3) << " s</td></tr>\n";
+      << cell_number(r.tau_s, 3) << " s</td></tr>\n";
   }
   h << "</table>\n<p class=\"small\">* the fit does not detect this term: the read-out reads a "
        "branch the curve may not have.</p>\n";
@@ -223,7 +228,7 @@ std::string deviation_tables(const std::string& id, const io::ChannelResult& ch)
       << "<th>&alpha;</th>" << (ci ? "<th>lower</th>" : "") << "<th>" << escape(name) << "</th>"
       << (ci ? "<th>upper</th>" : "") << "</tr>\n";
     for (std::size_t i = 0; i < s.size() && i < s.dev.size(); ++i) {
-      h << "<tr><td>" << number(s.tau_s[i], 4) << "</td><td>"
+      h << "<tr><td>" << cell_number(s.tau_s[i], 4) << "</td><td>"
         << (i < s.n.size() ? std::to_string(s.n[i]) : "") << "</td><td>"
         << (i < s.alpha.size() ? std::to_string(s.alpha[i]) : "") << "</td>";
       if (ci) h << "<td>" << number(s.dev_lo[i] * u.factor, 4) << "</td>";

@@ -1,6 +1,8 @@
 #!/usr/bin/env python3
-"""Renders `allanlot report` in a real browser (headless Chromium) at 1280 and 1920 px and
-checks what a reader would see (issue #21): nothing clipped, scrolled or overflowing; legends
+"""Renders `allanlot report` in a real browser (headless Chromium) at 1280, 1400 and 1920 px and
+checks what a reader would see: nothing clipped, scrolled or overflowing; no table cell broken
+inside a number, a unit or a name (the lot judged against a spec, so that its verdict cells,
+the longest, are measured too); legends
 whole; slope labels off the curves; per channel an Allan deviation panel with OADEV, the fit
 and its terms (the other statistics behind tick boxes that work), a TDEV panel, both in the
 units of the coefficient table (dimensionless for a clock's phase data), and a collapsible
@@ -30,7 +32,7 @@ import zlib
 SKIP = 77
 HERE = os.path.dirname(os.path.abspath(__file__))
 PHASE_DAT = os.path.join(HERE, "..", "data", "stable32", "phasedat", "PHASE.DAT")
-WIDTHS = (1280, 1920)
+WIDTHS = (1280, 1400, 1920)
 
 # A lot small enough to simulate and analyse in seconds, even under ASan: five units of two
 # channels at 100 Hz.
@@ -38,6 +40,12 @@ MODEL = """{"sample_rate_hz": 100, "lot_spread": {"N": 0.1},
  "channels": {"gyro_x": {"units": "deg/s", "terms": {"N": 0.005, "B": 0.001, "K": 1e-4}},
               "accel_x": {"units": "m/s^2", "terms": {"N": 0.002, "B": 0.0005}}}}"""
 UNITS = 5
+# Limits the lot straddles (gyro N = 0.005 deg/s*s^0.5 = 0.3 deg/sqrt(h), B = 3.6 deg/h; accel
+# N = 0.002 m/s^2*s^0.5 = 0.12 m/s/sqrt(h), B = 0.051 mg; 10 % spread in N): verdicts of every
+# kind, each quoting two terms in the spec's units.
+SPEC = """{"channels": {
+ "gyro_*": {"N": {"max": 0.3, "unit": "deg/sqrt(h)"}, "B": {"max": 5, "unit": "deg/h"}},
+ "accel_*": {"N": {"max": 0.12, "unit": "m/s/sqrt(h)"}, "B": {"max": 0.05, "unit": "mg"}}}}"""
 CHANNELS = ["accel_x", "gyro_x"]
 # analyze's default statistics: OADEV shown, the others behind tick boxes; TDEV on its own.
 DEFAULT_STAT = "oadev"
@@ -205,7 +213,7 @@ def check_channel(c, fit, fail):
                                                               sorted(STATS)))
 
 
-def check_page(m, label, fail, fit=True, channels=None, dists=None, tables=None):
+def check_page(m, label, fail, fit=True, channels=None, dists=None, tables=None, verdicts=False):
     """The checks every page gets, and the per-channel and lot ones asked for."""
     where = "%s at %d px" % (label, m["width"])
     f = lambda msg: fail("%s: %s" % (where, msg))
@@ -219,6 +227,12 @@ def check_page(m, label, fail, fit=True, channels=None, dists=None, tables=None)
         f("legend entry cut: " + o)
     for o in m["empty"]:
         f("empty panel: " + o)
+    if not m["probe_caught"]:
+        f("the measuring script does not see a token broken over two lines (its probe)")
+    if m["cells"] == 0:
+        f("no table cell measured")
+    for o in m["token_breaks"]:
+        f("a table cell breaks inside a token: " + o)
     if not fit:
         for text in m["plot_texts"] + m["headings"]:
             if "eq. (3) fit" in text or "the fit" in text.lower():
@@ -232,6 +246,8 @@ def check_page(m, label, fail, fit=True, channels=None, dists=None, tables=None)
         got = sorted(d["title"] for d in m["dists"])
         if len(got) != len(dists) or any(not g.startswith(e) for g, e in zip(got, sorted(dists))):
             f("distribution plots %s, expected one per channel and units: %s" % (got, dists))
+    if verdicts and m["verdict_cells"] == 0:
+        f("no spec verdict cell (the lot summary's spec columns)")
     if tables is not None:
         got = sorted(m["summary_tables"])
         if len(got) != len(tables) or any(not g.startswith(e) for g, e in zip(got, sorted(tables))):
@@ -262,6 +278,9 @@ def make_lots(allanlot, work):
          str(UNITS), "--duration", "600", "--seed", "5", "-o", os.path.join(work, "lot")])
     results = os.path.join(work, "results")
     run([allanlot, "analyze", "-q", "-o", results, os.path.join(work, "lot")])
+    with open(os.path.join(work, "spec.json"), "w") as f:
+        f.write(SPEC)
+    run([allanlot, "summarize", "-q", "--spec", os.path.join(work, "spec.json"), results])
     report = os.path.join(work, "report", "report.html")
     os.makedirs(os.path.dirname(report))
     run([allanlot, "report", "-q", "--unit-pages", "always", results, "-o", report])
@@ -320,7 +339,8 @@ def main():
 
     for width in WIDTHS:
         check_page(measure(chromium, profile, lot_page, width), "lot page", fail,
-                   dists=["/imu/accel_x", "/imu/gyro_x"], tables=["/imu/accel_x", "/imu/gyro_x"])
+                   dists=["/imu/accel_x", "/imu/gyro_x"], tables=["/imu/accel_x", "/imu/gyro_x"],
+                   verdicts=True)
         check_page(measure(chromium, profile, unit_page, width), "unit page", fail,
                    channels=len(CHANNELS))
         check_page(measure(chromium, profile, clock_page, width), "clock lot", fail,

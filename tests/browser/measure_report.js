@@ -1,6 +1,7 @@
 (function () {
   var out = {width: window.innerWidth, overflow: [], text_out: [], truncated: [], empty: [],
-             channels: [], dists: [], summary_tables: [], headings: [], plot_texts: [], error: ""};
+             channels: [], dists: [], summary_tables: [], headings: [], plot_texts: [], error: "",
+             token_breaks: [], cells: 0, verdict_cells: 0, probe_caught: false};
   function name(e) {
     var s = e.tagName.toLowerCase();
     if (e.id) s += "#" + e.id;
@@ -9,6 +10,26 @@
     return s + (sec && sec.id ? " in #" + sec.id : "");
   }
   function shown(e) { return e.getClientRects().length > 0; }
+  // The tokens of a table cell (runs of non-blank characters within one text node: a number, a
+  // unit, a name) that the browser laid out over more than one line: a range over each token
+  // has boxes at different heights when the line breaks inside it.
+  function brokenTokens(cell) {
+    var broken = [], walker = document.createTreeWalker(cell, NodeFilter.SHOW_TEXT), node;
+    while ((node = walker.nextNode())) {
+      var text = node.textContent, re = /\S+/g, m;
+      while ((m = re.exec(text))) {
+        var range = document.createRange();
+        range.setStart(node, m.index);
+        range.setEnd(node, m.index + m[0].length);
+        var tops = {};
+        Array.prototype.forEach.call(range.getClientRects(), function (r) {
+          if (r.width > 0) tops[Math.round(r.top)] = true;
+        });
+        if (Object.keys(tops).length > 1) broken.push(m[0]);
+      }
+    }
+    return broken;
+  }
   function unitOf(label) { var m = /\(([^()]*)\)\s*$/.exec(label || ""); return m ? m[1] : null; }
   try {
     var details = Array.prototype.slice.call(document.querySelectorAll("details"));
@@ -23,6 +44,24 @@
     if (document.documentElement.scrollWidth > window.innerWidth)
       out.overflow.push("page: " + document.documentElement.scrollWidth + " px wide in a " +
                         window.innerWidth + " px window");
+    // 1b. No table cell breaks inside a token, but the free-text cells of a diagnosis (td.wrap,
+    // JSON that must break somewhere). First a probe that must be caught: a name in a cell too
+    // narrow for it, allowed to break anywhere.
+    var probe = document.createElement("table");
+    probe.innerHTML = '<tr><td style="white-space:normal;overflow-wrap:anywhere;width:20px;' +
+                      'max-width:20px">unit_0001234567</td></tr>';
+    document.body.appendChild(probe);
+    out.probe_caught = brokenTokens(probe.querySelector("td")).length > 0;
+    document.body.removeChild(probe);
+    document.querySelectorAll("table td, table th").forEach(function (c) {
+      if (!shown(c) || c.classList.contains("wrap")) return;
+      out.cells++;
+      if (c.classList.contains("verdict") && c.textContent.trim()) out.verdict_cells++;
+      brokenTokens(c).forEach(function (t) {
+        var table = c.closest("table"), h = table.closest("div") && table.closest("div").querySelector("h3");
+        out.token_breaks.push("'" + t + "' in " + name(c) + (h ? " under '" + h.textContent + "'" : ""));
+      });
+    });
     // 2. Every text of every plot inside its plot; no legend entry cut.
     document.querySelectorAll("svg.plot").forEach(function (svg) {
       var box = svg.getBoundingClientRect();

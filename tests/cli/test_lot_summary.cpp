@@ -214,7 +214,9 @@ TEST(LotSummary, WriteLotWritesSpecColumnsStatisticsAndOverview) {
   ASSERT_EQ(back.size(), 7u);
   EXPECT_EQ(back[0].spec_status, "pass");
   EXPECT_EQ(back[3].spec_status, "fail");
-  EXPECT_EQ(back[3].spec_detail.rfind("N 18.5±", 0), 0u) << back[3].spec_detail;
+  // In the spec's unit: 18.5 deg/h/sqrt(Hz) = 18.5 / 60 deg/sqrt(h) against 0.3 deg/sqrt(h).
+  EXPECT_EQ(back[3].spec_detail.rfind("N 0.308±", 0), 0u) << back[3].spec_detail;
+  EXPECT_TRUE(back[3].spec_detail.ends_with(" > 0.3 deg/sqrt(h)")) << back[3].spec_detail;
   EXPECT_EQ(back[4].spec_status, "undecided");
   EXPECT_EQ(back[5].outlier, 1);
   EXPECT_EQ(io::to_string(back[6].status), "failed: no results file");
@@ -362,10 +364,13 @@ TEST(LotSummary, EndToEndThroughTheBinary) {
   const std::string html = test::file_bytes(dir / "out" / "report.html");
   EXPECT_NE(html.find(">unit_0001 <span class=\"fail\">fail: accel_x (N)</span></a>"),
             std::string::npos);
-  EXPECT_NE(html.find("<td class=\"fail\">fail: N "), std::string::npos);
-  EXPECT_NE(html.find(" &gt; 0.01 mg/sqrt(Hz)</td>"), std::string::npos);
-  EXPECT_NE(html.find("<td class=\"pass\">pass: N "), std::string::npos);
-  EXPECT_NE(html.find(" &lt;= 36 deg/h/sqrt(Hz)</td>"), std::string::npos);  // 0.6 deg/sqrt(h)
+  EXPECT_NE(html.find("<td class=\"verdict fail\"><b>fail</b>: <span class=\"term\">N "),
+            std::string::npos);
+  EXPECT_NE(html.find(" &gt; 0.01 mg/sqrt(Hz)</span></td>"), std::string::npos);
+  EXPECT_NE(html.find("<td class=\"verdict pass\"><b>pass</b>: <span class=\"term\">N "),
+            std::string::npos);
+  // In the spec's unit, not the column's deg/h/sqrt(Hz).
+  EXPECT_NE(html.find(" &lt;= 0.6 deg/sqrt(h)</span></td>"), std::string::npos);
   EXPECT_EQ(io::read_lot_statistics(dir / "out" / "lot_summary.h5").size() % 2, 0u);
 
   // summarize from the results alone gives the same rows; a manifest line without results is

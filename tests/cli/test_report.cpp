@@ -388,17 +388,107 @@ TEST_F(Report, ColoursSpecStatusFromTheLotSummary) {
   write_summary_with_spec(d / "lot_summary.h5");
   report(d.string() + " -q");
   const std::string s = read_file(d / "report.html");
-  EXPECT_NE(s.find("<td class=\"pass\">pass</td>"), std::string::npos);
-  EXPECT_NE(s.find("<td class=\"fail\">fail</td>"), std::string::npos);
-  EXPECT_NE(s.find("<td class=\"undecided\">undecided</td>"), std::string::npos);
+  EXPECT_NE(s.find("<td class=\"verdict pass\"><b>pass</b></td>"), std::string::npos);
+  EXPECT_NE(s.find("<td class=\"verdict fail\"><b>fail</b></td>"), std::string::npos);
+  EXPECT_NE(s.find("<td class=\"verdict undecided\"><b>undecided</b></td>"), std::string::npos);
   EXPECT_NE(s.find("<td class=\"bad\">no</td>"), std::string::npos);  // fits disagree
-  EXPECT_NE(s.find("1 pass</span>"), std::string::npos);
+  // A summary without the unit columns: the units' verdicts judged from the channels' by the one
+  // rule (one channel each here), the failed input without a verdict.
+  EXPECT_NE(s.find("<b>Units against the spec:</b> <span class=\"pass\">1 pass</span> <span "
+                   "class=\"fail\">1 fail</span> <span class=\"undecided\">1 undecided</span> "
+                   "<span>1 no spec or no data</span>"),
+            std::string::npos);
+  EXPECT_NE(s.find("unit_0002 <span class=\"fail\">fail: gyro_x (N)</span>"), std::string::npos);
   EXPECT_NE(s.find("lost_unit"), std::string::npos);  // a failed input of the lot summary
   // Without spec columns (the analysed lot's own summary): no colouring.
   report(results().string() + " -q -o " + (d / "plain.html").string());
   const std::string plain = read_file(d / "plain.html");
   EXPECT_EQ(plain.find("class=\"pass\""), std::string::npos);
   EXPECT_EQ(plain.find("class=\"fail\""), std::string::npos);
+}
+
+// The lot's header counts units, not channels (a unit passes when every channel a rule covers
+// passes, fails when any fails: spec::judge_units), as the terminal overview does; each verdict
+// quotes the measured value in the unit the spec wrote its limit in.
+TEST_F(Report, CountsUnitsAgainstTheSpecAndQuotesTheSpecsUnits) {
+  const fs::path d = test::fresh_dir("report_units_verdict");
+  for (const auto& e : fs::directory_iterator(results()))
+    if (e.path().filename().string().ends_with(".allan.h5"))
+      fs::copy_file(e.path(), d / e.path().filename());
+  // gyro N = 0.005 deg/s*s^0.5 = 0.3 deg/sqrt(h) (5 % spread) passes 0.6; odd_unit's 0.03 =
+  // 1.8 deg/sqrt(h) fails (it has no accelerometer); accel N = 0.002 m/s^2*s^0.5 =
+  // 0.12 m/s/sqrt(h) passes 1. Channels: 10 pass, 1 fail; units: 5 pass, 1 fail.
+  {
+    std::ofstream spec(d / "spec.json");
+    spec << R"j({"channels": {"gyro_*": {"N": {"max": 0.6, "unit": "deg/sqrt(h)"}},
+                              "accel_*": {"N": {"max": 1, "unit": "m/s/sqrt(h)"}}}})j";
+  }
+  std::string out;
+  ASSERT_EQ(
+      run_command(binary() + " summarize --spec " + (d / "spec.json").string() + " " + d.string(),
+                  &out),
+      0)
+      << out;
+  EXPECT_NE(out.find("units: 5 pass, 1 fail, 0 undecided"), std::string::npos) << out;
+  report(d.string() + " -q");
+  const std::string s = read_file(d / "report.html");
+  EXPECT_NE(s.find("<b>Units against the spec:</b> <span class=\"pass\">5 pass</span> <span "
+                   "class=\"fail\">1 fail</span> <span class=\"undecided\">0 undecided</span>"),
+            std::string::npos);
+  EXPECT_EQ(s.find("10 pass"), std::string::npos);
+  // The verdicts in the spec's units, each term on its own line: ARW in deg/sqrt(h) beside its
+  // limit (not deg/h/sqrt(Hz), the table's column), VRW in m/s/sqrt(h).
+  const std::regex gyro("<td class=\"verdict pass\"><b>pass</b>: <span class=\"term\">N "
+                        "0\\.[23][0-9]*±[0-9.e-]+ &lt;= 0\\.6 deg/sqrt\\(h\\)</span></td>");
+  const std::regex accel("<td class=\"verdict pass\"><b>pass</b>: <span class=\"term\">N "
+                         "0\\.1[0-9]*±[0-9.e-]+ &lt;= 1 m/s/sqrt\\(h\\)</span></td>");
+  const std::regex odd("<td class=\"verdict fail\"><b>fail</b>: <span class=\"term\">N "
+                       "1\\.[6-9][0-9]*±[0-9.e-]+ &gt; 0\\.6 deg/sqrt\\(h\\)</span></td>");
+  const auto n_matches = [&](const std::regex& r) {
+    return std::distance(std::sregex_iterator(s.begin(), s.end(), r), std::sregex_iterator());
+  };
+  EXPECT_EQ(n_matches(gyro), 5);
+  EXPECT_EQ(n_matches(accel), 5);
+  EXPECT_EQ(n_matches(odd), 1);
+  // The unit page's verdict line quotes the same.
+  EXPECT_NE(s.find("spec: <span class=\"fail\">fail: N 1."), std::string::npos);
+}
+
+// The distribution plots print each term's lot median with its unit, and name their axes.
+TEST_F(Report, DistributionPlotsCarryUnits) {
+  report(results().string() + " -q -o " + (dir() / "dist.html").string());
+  const std::string s = read_file(dir() / "dist.html");
+  const auto plot = [&](const std::string& id) {
+    const auto at = s.find("id=\"" + id + "\"");
+    return at == std::string::npos ? std::string() : s.substr(at, s.find("</svg>", at) - at);
+  };
+  const std::string gyro = plot("dist-_imu_gyro_x"), accel = plot("dist-_imu_accel_x");
+  ASSERT_FALSE(gyro.empty());
+  ASSERT_FALSE(accel.empty());
+  // Term, median, unit: three lines under each detected term.
+  EXPECT_TRUE(std::regex_search(gyro, std::regex(">N<tspan[^>]*>[0-9.]+</tspan><tspan[^>]*>"
+                                                 "deg/h/sqrt\\(Hz\\)</tspan></text>")))
+      << gyro;
+  EXPECT_TRUE(std::regex_search(accel, std::regex(">N<tspan[^>]*>[0-9.]+</tspan><tspan[^>]*>"
+                                                  "mg/sqrt\\(Hz\\)</tspan></text>")));
+  for (const std::string* p : {&gyro, &accel}) {
+    EXPECT_NE(p->find(">value / lot median (ratio)</text>"), std::string::npos);
+    EXPECT_NE(p->find(">term, lot median and its unit</text>"), std::string::npos);
+  }
+}
+
+// Table cells never break inside a number, a unit or a name (tests/browser/check_report.py
+// measures it in Chromium): no break-anywhere rule, data cells that do not wrap, and numbers
+// without an exponent from 1 to a million (%g's "1.3e+02" for 130).
+TEST_F(Report, TableCellsKeepTheirTokensWhole) {
+  report(results().string() + " -q -o " + (dir() / "cells.html").string());
+  const std::string s = read_file(dir() / "cells.html");
+  EXPECT_EQ(s.find("overflow-wrap:anywhere"), std::string::npos);
+  EXPECT_NE(s.find("td{white-space:nowrap}"), std::string::npos);
+  EXPECT_NE(s.find("<div class=\"scroll\"><h3 id=\"lot-_imu_gyro_x\">"), std::string::npos);
+  std::smatch m;
+  EXPECT_FALSE(std::regex_search(s, m, std::regex("<td[^>]*>[^<]*[0-9]e\\+0[0-5][^<]*</td>")))
+      << m.str();
 }
 
 TEST_F(Report, ClearErrors) {
