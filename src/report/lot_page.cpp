@@ -76,7 +76,9 @@ std::string summary_table(const std::string& channel, const std::vector<Member>&
     const RowExtras* x = it == extras.end() ? nullptr : &it->second;
     h << "<tr><td class=\"l\"><a href=\"" << escape(channel_href(*m.unit, channel)) << "\">"
       << escape(m.unit->rec.device_id) << "</a></td>";
-    h << "<td class=\"l" << (m.ch->status.is_ok() ? "" : " bad") << "\">"
+    // The status is words ("ok (fit: poor fit (chi2/dof = 709))"): it wraps between them, so
+    // that the verdict stays in view.
+    h << "<td class=\"l words" << (m.ch->status.is_ok() ? "" : " bad") << "\">"
       << escape(io::to_string(m.ch->status));
     if (m.ch->fit && m.ch->fit->status != kernels::FitStatus::Ok)
       h << " <span class=\"bad\">(fit: " << escape(io::fit_status_text(*m.ch->fit)) << ")</span>";
@@ -96,7 +98,7 @@ std::string summary_table(const std::string& channel, const std::vector<Member>&
       }
       h << "</td>";
     }
-    h << "<td>" << (m.ch->fit ? number(m.ch->fit->chi2_dof, 3) : "&ndash;") << "</td><td>"
+    h << "<td>" << (m.ch->fit ? cell_number(m.ch->fit->chi2_dof, 3) : "&ndash;") << "</td><td>"
       << (m.ch->crosscheck ? number(m.ch->crosscheck->max_abs_log10_ratio, 2) : "&ndash;")
       << "</td>";
     if (any_spec)

@@ -21,9 +21,9 @@ namespace {
 
 // Plots sit in a grid of at least 520 px columns, the tables below them. A table cell never
 // breaks inside a number, a unit or a name ("unit_00" over "01", "mg/sqrt(" over "h)" read as
-// other values): data cells do not wrap at all, headings and the verdict's sentences wrap only
-// between words, and only the free-text cells of a diagnosis (JSON attributes) may break a word
-// too long for their 900 px. The lot's summary tables, the widest, sit in a box that scrolls
+// other values): data cells do not wrap at all, headings, statuses and the verdict's sentences
+// wrap only between words, and only the free-text cells of a diagnosis (JSON attributes) may break
+// a word too long for their 900 px. The lot's summary tables, the widest, sit in a box that scrolls
 // sideways rather than widen the page in a window narrower than they are (they fit from
 // 1280 px: tests/browser/check_report.py).
 const char* kCss =
@@ -33,7 +33,7 @@ h3{font-size:16px;margin:22px 0 6px}h4{font-size:14px;margin:12px 0 4px}
 table{border-collapse:collapse;margin:6px 0 14px;font-size:13px;max-width:100%}
 th,td{border:1px solid #ccc;padding:2px 7px;text-align:right;vertical-align:top}td{white-space:nowrap}
 th{background:#f1f1f1}td.l,th.l{text-align:left}td.wrap{white-space:normal;max-width:900px;word-break:break-word;font-size:12px}
-td.verdict{white-space:normal;text-align:left;min-width:16em;max-width:30em}.verdict .term{white-space:nowrap}
+td.words{white-space:normal;min-width:7em}td.verdict{white-space:normal;text-align:left;min-width:16em;max-width:30em}.verdict .term{white-space:nowrap}
 .scroll{overflow-x:auto;max-width:100%}
 .pass{background:#cdeccf}.fail{background:#f6c4c4}.undecided{background:#fbeab5}
 .nd{color:#999}.bad{color:#b00;font-weight:bold}.small{font-size:12px;color:#555}
