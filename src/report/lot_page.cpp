@@ -271,9 +271,9 @@ std::string lot_section(const std::string& title, const std::vector<Unit>& units
          "model fit, <code>--no-fit</code>).</p>\n";
   } else {
     h << "<p class=\"small\">Each detected term of each unit relative to the lot median "
-         "(labelled under its term), with the quartile box and 1.5 IQR whiskers; outliers in red "
-         "link to the unit. One plot per channel, units and data type.</p>\n<div "
-         "class=\"dists\">\n"
+         "(printed under its term with its datasheet unit), with the quartile box and 1.5 IQR "
+         "whiskers; outliers in red link to the unit. One plot per channel, units and data "
+         "type.</p>\n<div class=\"dists\">\n"
       << dists.str() << "</div>\n";
     if (!without_terms.empty()) {
       h << "<p class=\"small\">No detected term in: ";

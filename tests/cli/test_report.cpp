@@ -486,6 +486,9 @@ TEST_F(Report, TableCellsKeepTheirTokensWhole) {
   EXPECT_EQ(s.find("overflow-wrap:anywhere"), std::string::npos);
   EXPECT_NE(s.find("td{white-space:nowrap}"), std::string::npos);
   EXPECT_NE(s.find("<div class=\"scroll\"><h3 id=\"lot-_imu_gyro_x\">"), std::string::npos);
+  // A status is words ("ok (fit: poor fit (chi2/dof = 709))"): it wraps between them.
+  EXPECT_NE(s.find("td.words{white-space:normal"), std::string::npos);
+  EXPECT_NE(s.find("<td class=\"l words\">ok"), std::string::npos);
   std::smatch m;
   EXPECT_FALSE(std::regex_search(s, m, std::regex("<td[^>]*>[^<]*[0-9]e\\+0[0-5][^<]*</td>")))
       << m.str();
