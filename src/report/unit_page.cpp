@@ -21,11 +21,11 @@ namespace {
 
 // Plots sit in a grid of at least 520 px columns, the tables below them. A table cell never
 // breaks inside a number, a unit or a name ("unit_00" over "01", "mg/sqrt(" over "h)" read as
-// other values): data cells do not wrap at all, headings, statuses and the verdict's sentences
-// wrap only between words, and only the free-text cells of a diagnosis (JSON attributes) may break
-// a word too long for their 900 px. The lot's summary tables, the widest, sit in a box that scrolls
-// sideways rather than widen the page in a window narrower than they are (they fit from
-// 1280 px: tests/browser/check_report.py).
+// other values): data cells do not wrap at all; headings, statuses and the verdict's sentences
+// wrap only between words; only the free-text cells of a diagnosis (JSON attributes) may break
+// a word too long for their 900 px. The lot's summary tables, the widest, sit in a box that
+// scrolls sideways rather than widen the page in a window narrower than they are (they fit
+// from 1280 px: tests/browser/check_report.py).
 const char* kCss =
     R"(body{font:14px/1.45 Helvetica,Arial,sans-serif;color:#222;margin:0 auto;max-width:1600px;padding:0 18px 40px}
 h1{font-size:24px;margin:18px 0 6px}h2{font-size:19px;border-bottom:2px solid #ccc;padding-bottom:3px;margin-top:28px}
