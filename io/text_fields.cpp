@@ -183,8 +183,11 @@ std::optional<double> time_unit_seconds(std::string_view unit) {
 }
 
 bool is_time_name(std::string_view name) {
-  const std::string n = lower(trim(name));
-  if (n.starts_with("time_") && time_unit_seconds(std::string_view(n).substr(5))) return true;
+  std::string n = lower(trim(name));
+  // A time unit after the name, as loggers write it: time_ms, timestamp_ns, t_us.
+  if (const auto u = n.rfind('_');
+      u != std::string::npos && u > 0 && time_unit_seconds(std::string_view(n).substr(u + 1)))
+    n.resize(u);
   return n == "time" || n == "timestamp" || n == "timestamps" || n == "t" || n == "stamp" ||
          n == "sec" || n == "seconds" || n.ends_with("_time");
 }

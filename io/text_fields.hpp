@@ -51,7 +51,8 @@ struct HeaderCell {
 HeaderCell parse_header_cell(std::string_view cell);
 
 /// Names that say "time stamps", never a channel, in any case: time, timestamp(s), t, stamp,
-/// sec, seconds, any name ending in _time, and time_<unit> (time_ms, time_us, ...).
+/// sec, seconds, any name ending in _time, each also with a time unit after '_' (time_ms,
+/// timestamp_ns, t_us, ...).
 bool is_time_name(std::string_view name);
 
 /// Seconds of one time unit ("s", "sec", "ms", "us", "µs", "ns"); nullopt for anything else.
