@@ -248,8 +248,8 @@ std::string unselected_reason(const ChannelSelection& selection, const io::Recor
   std::string list;
   for (const std::string& p : channel_paths(info))
     list += (list.empty() ? "" : ", ") + p;
-  return "no channel is selected by --channels/--exclude-channels '" + selection.text() +
-         "' (its channels: " + list + ")";
+  // The selection as one --channels list: the excludes of --exclude-channels as '!' globs.
+  return "no channel matches --channels '" + selection.text() + "' (its channels: " + list + ")";
 }
 
 void note_unmatched(const std::string& file, const ChannelSelection& selection,

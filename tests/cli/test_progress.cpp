@@ -78,9 +78,9 @@ TEST(Progress, QuietPrintsNothingOnSuccess) {
         {b + " simulate" + q + " --lot 2 --duration 20 --seed 2 -o " + (base / "lot").string(),
          "wrote"},
         {b + " analyze" + q +
-             " --stats oadev,totdev --no-psd --channels 'gyro_*,accel_*,mag_*' --spec " + json +
-             " -o " + out + " " + rig,
-         "allanlot: note: "},
+             " --stats oadev,totdev --no-psd --channels 'gyro_*,accel_*,mag_*,temp' --spec " +
+             json + " -o " + out + " " + rig,
+         "unit 'degC' (/temp) is not in allanlot's vocabulary"},
         {b + " summarize" + q + " --spec " + json + " " + out, "warning"},
         {b + " convert" + q + " -o " + (base / "conv").string() + " " + rig, "allanlot: note: "},
         {b + " report" + q + " " + out, "report"},

@@ -436,7 +436,7 @@ TEST(TextInputs, AFolderWithoutRecordingsAndASelectionWithoutChannelsAreNamed) {
                             (dir / "out").string() + " " + file,
                         &text),
             2);
-  EXPECT_NE(text.find(file + ": no channel is selected by --channels/--exclude-channels 'mag_*' "
+  EXPECT_NE(text.find(file + ": no channel matches --channels 'mag_*' "
                              "(its channels: /accel_x, /accel_z, /gyro_x, /gyro_y, /temp)"),
             std::string::npos)
       << text;
