@@ -1,8 +1,8 @@
-// libFuzzer target: manifest expansion and the --channels matcher (src/cli/inputs.cpp). The input
-// is written as a manifest file, whose lines name paths relative to it (some exist: the
-// manifest itself, its directory); expansion must never throw, list a path twice, list more
-// paths than the manifest has lines that are neither blank nor comments, or pass over an
-// empty manifest in silence. The same bytes, split in two, are a glob and a channel path.
+// libFuzzer target: manifest expansion and the --channels matcher and selection
+// (src/cli/inputs.cpp). The input is written as a manifest file, whose lines name paths relative to
+// it (some exist: the manifest itself, its directory); expansion must never throw, list a path
+// twice, list more paths than the manifest has lines that are neither blank nor comments, or pass
+// over an empty manifest in silence. The same bytes, split in two, are a glob and a channel path.
 #include "src/cli/inputs.hpp"
 
 #include <algorithm>
@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <stdexcept>
 #include <string>
 #include <unistd.h>
 
@@ -55,5 +56,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string glob = text.substr(0, cut);
   const std::string path = cut == std::string::npos ? std::string() : text.substr(cut + 1);
   (void)cli::channel_matches(glob, path);
+  // The same line as a --channels list: what it selects is what its own text selects again
+  // (the resume stamp stands for the selection).
+  try {
+    const cli::ChannelSelection sel({glob}, {});
+    const cli::ChannelSelection again({sel.text()}, {});
+    if (sel.selects(path) != again.selects(path) || again.text() != sel.text()) std::abort();
+  } catch (const std::invalid_argument&) {
+    // A '!' without a glob: a usage error.
+  }
   return 0;
 }

@@ -6,8 +6,15 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace allanlot::io {
+
+/// One --units rule: the unit of the columns whose channel `glob` matches ("" = every column).
+struct ColumnUnits {
+  std::string glob;
+  std::string unit;
+};
 
 struct InputOptions {
   /// --data-type: the data type of every channel, overriding the files' `data_type`.
@@ -19,7 +26,19 @@ struct InputOptions {
   int column = 0;
   std::string time_column;  // --time-column NAME: the time column of a CSV/TSV
   std::string time_unit;    // --time-unit s|ms|us|ns: the unit of a numeric time column
-  std::string units;        // --units: the unit of the text columns that name none
+  /// --units [GLOB=]UNIT, in the order given: the units of text columns (docs/formats.md
+  /// "Text recordings"). A column takes the first rule whose glob matches its channel (name or
+  /// path, as --channels), over its header's unit; else its header's unit; else the first rule
+  /// without a glob.
+  std::vector<ColumnUnits> units;
 };
+
+/// The rules as one list, `gyro_*=deg/s,accel_*=g` (a bare unit alone as it is given).
+inline std::string units_text(const std::vector<ColumnUnits>& rules) {
+  std::string s;
+  for (const ColumnUnits& r : rules)
+    s += (s.empty() ? "" : ",") + (r.glob.empty() ? r.unit : r.glob + "=" + r.unit);
+  return s;
+}
 
 }  // namespace allanlot::io

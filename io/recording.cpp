@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <fnmatch.h>
 #include <fstream>
 #include <optional>
 #include <sstream>
@@ -33,6 +34,12 @@ std::string sanitize_device_id(const std::string& id) {
   if (out.empty()) out.push_back('_');  // not `out = "_"`: GCC 12 bug 105329 (-Wrestrict)
   if (out[0] == '.') out[0] = '_';      // never ".", "..", or a hidden file
   return out;
+}
+
+bool channel_glob_matches(const std::string& glob, const std::string& path) {
+  if (glob.empty()) return true;
+  const std::string name = path.substr(path.find_last_of('/') + 1);
+  return fnmatch(glob.c_str(), path.c_str(), 0) == 0 || fnmatch(glob.c_str(), name.c_str(), 0) == 0;
 }
 
 namespace {

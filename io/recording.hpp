@@ -59,6 +59,11 @@ struct RecordingInfo {
   std::vector<std::string> notes;  // what a user should know (missing samples, jitter)
 };
 
+/// The one matching rule of channel globs (--channels, --exclude-channels, --units, spec files):
+/// an empty glob matches every channel; otherwise the glob (fnmatch) must match the channel's
+/// path (`/imu/gyro_x`) or its name (`gyro_x`).
+bool channel_glob_matches(const std::string& glob, const std::string& path);
+
 /// True when `path` is read as a text recording: not named *.h5 / *.hdf5, and named like one
 /// (.txt .dat .csv .tsv, optionally .gz), gzip-compressed, or text in its first block.
 bool is_text_recording(const std::string& path);

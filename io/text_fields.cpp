@@ -1,5 +1,6 @@
 #include "io/text_fields.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -111,6 +112,48 @@ bool parse_number(std::string_view field, double& value) {
   return ec == std::errc();
 }
 
+StampParse parse_numeric_stamp(std::string_view f, NumericStamp& out) {
+  out = {};
+  const bool negative = !f.empty() && f.front() == '-';
+  std::string_view digits_part = f;
+  if (!f.empty() && (f.front() == '-' || f.front() == '+')) digits_part.remove_prefix(1);
+  const std::size_t dot = digits_part.find('.');
+  const std::string_view whole = digits_part.substr(0, dot);
+  const std::string_view frac =
+      dot == std::string_view::npos ? std::string_view{} : digits_part.substr(dot + 1);
+  const auto all_digits = [](std::string_view s) {
+    return std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
+  };
+  if ((whole.empty() && frac.empty()) || !all_digits(whole) || !all_digits(frac)) {
+    // Exponent notation (1.7e12) or anything else: through double, when it is a number.
+    double v = 0;
+    if (f.empty() || !parse_number(f, v) || !std::isfinite(v)) return StampParse::not_a_number;
+    if (!(std::fabs(v) < 9.2e18)) return StampParse::beyond_int64;
+    out.whole = static_cast<std::int64_t>(v);
+    out.fraction = v - static_cast<double>(out.whole);
+    return StampParse::ok;
+  }
+  if (!whole.empty()) {
+    std::uint64_t w = 0;
+    const auto [ptr, ec] = std::from_chars(whole.data(), whole.data() + whole.size(), w);
+    constexpr auto kMax = static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max());
+    if (ec != std::errc() || ptr != whole.data() + whole.size() || w > kMax)
+      return StampParse::beyond_int64;
+    out.whole = negative ? -static_cast<std::int64_t>(w) : static_cast<std::int64_t>(w);
+  }
+  // The fraction as digits / 10^n, both exact in double for n <= 18 (5^18 < 2^53): one
+  // rounding. Decimals beyond 18 are below double's resolution of a fraction.
+  std::uint64_t digits = 0;
+  double denominator = 1;
+  for (std::size_t i = 0; i < std::min<std::size_t>(frac.size(), 18); ++i) {
+    digits = digits * 10 + static_cast<std::uint64_t>(frac[i] - '0');
+    denominator *= 10;
+  }
+  out.fraction = static_cast<double>(digits) / denominator;
+  if (negative) out.fraction = -out.fraction;
+  return StampParse::ok;
+}
+
 bool is_comment(std::string_view line) {
   line = trim(line);
   return line.empty() || line.front() == '#' || line.front() == '%' || line.front() == ';';
@@ -140,8 +183,11 @@ std::optional<double> time_unit_seconds(std::string_view unit) {
 }
 
 bool is_time_name(std::string_view name) {
-  const std::string n = lower(trim(name));
-  if (n.starts_with("time_") && time_unit_seconds(std::string_view(n).substr(5))) return true;
+  std::string n = lower(trim(name));
+  // A time unit after the name, as loggers write it: time_ms, timestamp_ns, t_us.
+  if (const auto u = n.rfind('_');
+      u != std::string::npos && u > 0 && time_unit_seconds(std::string_view(n).substr(u + 1)))
+    n.resize(u);
   return n == "time" || n == "timestamp" || n == "timestamps" || n == "t" || n == "stamp" ||
          n == "sec" || n == "seconds" || n.ends_with("_time");
 }

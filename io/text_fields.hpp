@@ -3,6 +3,7 @@
 // column, and ISO-8601 time stamps.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -26,6 +27,19 @@ void split_fields(std::string_view line, char delim, std::vector<std::string_vie
 /// anything else.
 bool parse_number(std::string_view field, double& value);
 
+/// A numeric time stamp as written, its integer part and its fraction apart (same sign): a
+/// double holds 15-16 digits, so an epoch in ns (1.7e18) read as one is rounded to 256 ns and a
+/// 100 Hz logger reads as 99.99872 Hz; the parts keep every digit of an integer stamp up to
+/// int64 and the fraction of a decimal one to double's precision.
+struct NumericStamp {
+  std::int64_t whole = 0;
+  double fraction = 0;  // in (-1, 1), the sign of the stamp
+};
+enum class StampParse { ok, not_a_number, beyond_int64 };
+/// Parses a whole field as a time stamp: digits with an optional sign and decimals exactly;
+/// exponent notation through double. beyond_int64 when its integer part does not fit.
+StampParse parse_numeric_stamp(std::string_view field, NumericStamp& out);
+
 /// A comment line: empty after trimming, or starting with '#', '%' or ';'.
 bool is_comment(std::string_view line);
 
@@ -37,7 +51,8 @@ struct HeaderCell {
 HeaderCell parse_header_cell(std::string_view cell);
 
 /// Names that say "time stamps", never a channel, in any case: time, timestamp(s), t, stamp,
-/// sec, seconds, any name ending in _time, and time_<unit> (time_ms, time_us, ...).
+/// sec, seconds, any name ending in _time, each also with a time unit after '_' (time_ms,
+/// timestamp_ns, t_us, ...).
 bool is_time_name(std::string_view name);
 
 /// Seconds of one time unit ("s", "sec", "ms", "us", "µs", "ns"); nullopt for anything else.

@@ -2,9 +2,11 @@
 
 #include "io/error.hpp"
 #include "io/line_reader.hpp"
+#include "io/recording.hpp"
 #include "io/text_fields.hpp"
 #include "io/time_axis.hpp"
 #include "io/usage_error.hpp"
+#include "kernels/model/units.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -141,11 +143,35 @@ Layout sniff(LineReader& in, const std::string& path, const InputOptions& opt) {
   return l;
 }
 
+// The unit of the column that is channel `path` (io/input_options.hpp, InputOptions::units):
+// a --units glob that matches it, over its header's; else the header's; else a bare --units.
+std::string column_units(const std::string& path, const std::string& header,
+                         const InputOptions& opt, std::vector<std::string>& notes) {
+  for (const ColumnUnits& r : opt.units) {
+    if (r.glob.empty() || !channel_glob_matches(r.glob, path)) continue;
+    const auto same = [](const std::string& a, const std::string& b) {
+      const auto ka = kernels::units::parse_channel_units(a);
+      const auto kb = kernels::units::parse_channel_units(b);
+      return ka && kb
+                 ? ka->canonical == kb->canonical && ka->scale == kb->scale
+                 : kernels::units::normalize_spelling(a) == kernels::units::normalize_spelling(b);
+    };
+    if (!header.empty() && !same(header, r.unit))
+      notes.push_back("column '" + path.substr(1) + "': --units '" + r.glob + "=" + r.unit +
+                      "' replaces the header's unit '" + header + "'");
+    return r.unit;
+  }
+  if (!header.empty()) return header;
+  for (const ColumnUnits& r : opt.units)
+    if (r.glob.empty()) return r.unit;
+  return "";
+}
+
 void read_single_column(LineReader& in, const std::string& path, const Layout& l,
                         const InputOptions& opt, TextRecording& rec) {
   TextChannel ch;
   ch.path = "/data";
-  ch.units = opt.units;
+  ch.units = column_units(ch.path, "", opt, rec.notes);
   std::vector<std::string_view> fields;
   const auto take = [&](std::string_view line, std::int64_t line_no) {
     split_fields(line, l.delim, fields);
@@ -276,7 +302,7 @@ private:
       }
       TextChannel ch;
       ch.path = "/" + channel_name(l_.cells[c], c, rec_.channels);
-      ch.units = l_.cells[c].unit.empty() ? opt_.units : l_.cells[c].unit;
+      ch.units = column_units(ch.path, l_.cells[c].unit, opt_, rec_.notes);
       channel_of_[c] = static_cast<int>(rec_.channels.size());
       rec_.channels.push_back(std::move(ch));
     }
@@ -287,7 +313,12 @@ private:
     const auto c = static_cast<std::size_t>(l_.time_col);
     const std::string_view f = fields_[c];
     double t = 0;
-    if (rows_ == 0) iso_ = !parse_number(f, t) || !std::isfinite(t);
+    NumericStamp stamp;
+    const StampParse parsed = parse_numeric_stamp(f, stamp);
+    if (parsed == StampParse::beyond_int64)
+      throw Error(path_, where(ln, c),
+                  quoted(f) + " is beyond the range of a time stamp (a 64-bit integer)");
+    if (rows_ == 0) iso_ = parsed != StampParse::ok;
     if (iso_) {
       const auto iso = parse_iso8601(f);
       if (!iso)
@@ -296,12 +327,26 @@ private:
                                             : " is not an ISO-8601 time, as the first row's is"));
       if (rows_ == 0) iso0_ = iso->seconds;
       t = static_cast<double>(iso->seconds - iso0_) + iso->fraction;
-    } else if (!parse_number(f, t) || !std::isfinite(t)) {
+    } else if (parsed != StampParse::ok) {
       throw Error(path_, where(ln, c), quoted(f) + " is not a time stamp");
+    } else {
+      t = since_first(stamp, ln, c);
     }
     // A stamp not after the ones before it is kept as the next sample and counted by the time
     // axis for the data-quality screen (docs/quality.md), not refused.
     times_.push_back(t);
+  }
+
+  // The stamp after the first, as a double: the integer parts subtracted exactly first, so
+  // that what is left (an hour in ns is 3.6e12) is exact in double's 53 bits.
+  double since_first(const NumericStamp& stamp, std::int64_t ln, std::size_t c) {
+    if (rows_ == 0) first_ = stamp;
+    std::int64_t whole = 0;
+    if (__builtin_sub_overflow(stamp.whole, first_.whole, &whole))
+      throw Error(path_, where(ln, c),
+                  quoted(fields_[c]) + " is too far from the first time stamp (" +
+                      std::to_string(first_.whole) + ") for a 64-bit difference");
+    return static_cast<double>(whole) + (stamp.fraction - first_.fraction);
   }
 
   void finish() {
@@ -316,7 +361,7 @@ private:
     if (times_.size() < 2 && !(opt_.sample_rate_hz > 0))
       throw UsageError(path_, "", "one row: needs --sample-rate HZ, its time step is unknown");
     const auto [unit_s, unit_text] = iso_ ? std::pair<double, std::string>{1.0, "ISO-8601"}
-                                          : time_unit(path_, cell, times_.front(), opt_);
+                                          : time_unit(path_, cell, first_seconds(), opt_);
     TimeAxis axis;
     try {
       axis = make_time_axis(times_, 100 * rows_);
@@ -351,6 +396,8 @@ private:
                            format(step_s) + " s");
   }
 
+  double first_seconds() const { return static_cast<double>(first_.whole) + first_.fraction; }
+
   const std::string& path_;
   const Layout& l_;
   const InputOptions& opt_;
@@ -360,6 +407,7 @@ private:
   std::vector<double> times_;
   bool iso_ = false;
   long long iso0_ = 0;
+  NumericStamp first_;  // the first numeric stamp: times_ are taken from it
   std::int64_t rows_ = 0;
 };
 

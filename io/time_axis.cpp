@@ -8,6 +8,41 @@
 
 namespace allanlot::io {
 
+namespace {
+
+// The least-squares line through (sample number, stamp), accumulated with Welford's updates of
+// the means and co-moments (no cancellation between large sums).
+struct LineFit {
+  double n = 0, mean_s = 0, mean_t = 0, m2_s = 0, c_st = 0;
+  void add(double s, double t) {
+    n += 1;
+    const double ds = s - mean_s;
+    mean_s += ds / n;
+    mean_t += (t - mean_t) / n;
+    m2_s += ds * (s - mean_s);
+    c_st += ds * (t - mean_t);
+  }
+  double slope() const { return c_st / m2_s; }
+};
+
+// The rms of each later stamp's step about its multiple of `step`, the multiple counted in
+// medians as the gaps are.
+double jitter_rms(const std::vector<double>& times, double median, double step) {
+  double sum_sq = 0, latest = times[0];
+  std::size_t n_steps = 0;
+  for (std::size_t i = 1; i < times.size(); ++i) {
+    const double dt = times[i] - latest;
+    latest = std::max(latest, times[i]);
+    if (!(dt > 0)) continue;
+    const double r = dt - std::max(1.0, std::round(dt / median)) * step;
+    sum_sq += r * r;
+    ++n_steps;
+  }
+  return n_steps ? std::sqrt(sum_sq / static_cast<double>(n_steps)) : 0.0;
+}
+
+}  // namespace
+
 TimeAxis make_time_axis(const std::vector<double>& times, std::int64_t max_missing) {
   TimeAxis axis;
   const std::size_t n = times.size();
@@ -24,12 +59,12 @@ TimeAxis make_time_axis(const std::vector<double>& times, std::int64_t max_missi
   // The median, not the mean: the missing samples and a few late stamps do not move it.
   const auto mid = steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2);
   std::nth_element(steps.begin(), mid, steps.end());
-  axis.step = *mid;
-  if (steps.size() % 2 == 0) axis.step = (axis.step + *std::max_element(steps.begin(), mid)) / 2;
+  double median = *mid;
+  if (steps.size() % 2 == 0) median = (median + *std::max_element(steps.begin(), mid)) / 2;
   steps = {};
 
-  double sum_sq = 0;
-  std::size_t n_steps = 0;
+  LineFit fit;
+  fit.add(0, times[0]);
   std::int64_t pending = 0;  // samples out of order since the latest stamp: they fill its steps
   latest = times[0];
   for (std::size_t i = 1; i < n; ++i) {
@@ -43,7 +78,7 @@ TimeAxis make_time_axis(const std::vector<double>& times, std::int64_t max_missi
       ++pending;
       continue;
     }
-    const double steps_spanned = std::max(1.0, std::round(dt / axis.step));
+    const double steps_spanned = std::max(1.0, std::round(dt / median));
     const double k = std::max(1.0, steps_spanned - static_cast<double>(pending));
     pending = 0;
     if (k > static_cast<double>(max_missing - axis.missing + 1))
@@ -55,11 +90,10 @@ TimeAxis make_time_axis(const std::vector<double>& times, std::int64_t max_missi
       axis.gaps.emplace_back(i, count);
       axis.missing += count;
     }
-    const double r = dt - steps_spanned * axis.step;
-    sum_sq += r * r;
-    ++n_steps;
+    fit.add(static_cast<double>(static_cast<std::int64_t>(i) + axis.missing), times[i]);
   }
-  axis.jitter_rms = n_steps ? std::sqrt(sum_sq / static_cast<double>(n_steps)) : 0.0;
+  axis.step = fit.slope();
+  axis.jitter_rms = jitter_rms(times, median, axis.step);
   return axis;
 }
 

@@ -1,6 +1,8 @@
-// The time column of a text recording (docs/formats.md "Text recordings"): the sample step is
-// the median of the time steps; a step of about k medians is k - 1 missing samples; the
-// scatter of the steps about their multiples of the median is the timing jitter.
+// The time column of a text recording (docs/formats.md "Text recordings"): a step of about k
+// median steps is k - 1 missing samples; the sample step is then the least-squares slope of
+// the stamps over their sample numbers (the mean rate of the clock, whose error falls as
+// N^-1.5 with jitter, where the median of jittered steps is off by about its spread / sqrt(N));
+// the scatter of the steps about their multiples of it is the timing jitter.
 #pragma once
 
 #include <cstdint>
@@ -10,7 +12,7 @@
 namespace allanlot::io {
 
 struct TimeAxis {
-  double step = 0.0;  // median step, in the time column's units
+  double step = 0.0;  // the fitted sample step, in the time column's units
   /// (row, count): `count` missing samples before row `row` (0-based, row > 0), in order.
   std::vector<std::pair<std::size_t, std::int64_t>> gaps;
   std::int64_t missing = 0;  // sum of the counts

@@ -152,8 +152,9 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
   auto t0 = Clock::now();
   io::RecordingReader reader(file, opt.input);
   const io::RecordingInfo& info = reader.info();
+  std::ostream& notes = notes_stream(opt.quiet, err);
   for (const std::string& note : info.notes)
-    err << "allanlot: note: " << file << ": " << note << "\n";
+    notes << "allanlot: note: " << file << ": " << note << "\n";
 
   io::RecordingResult rec;
   rec.device_id = info.device_id;
@@ -169,7 +170,7 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
   rec.attributes.insert(rec.attributes.end(), info.facts.begin(), info.facts.end());
 
   for (const io::ChannelProblem& p : info.problems) {
-    if (!channel_matches(opt.channels_glob, p.path)) continue;
+    if (!opt.channels.selects(p.path)) continue;
     io::ChannelResult cr;
     cr.path = p.path;
     cr.status = io::ChannelStatus::failed(p.reason);
@@ -180,18 +181,19 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
   std::vector<const io::ChannelInfo*> selected;
   std::int64_t max_samples = 1;
   for (const io::ChannelInfo& ch : info.channels)
-    if (channel_matches(opt.channels_glob, ch.path)) {
+    if (opt.channels.selects(ch.path)) {
       selected.push_back(&ch);
       max_samples = std::max(max_samples, ch.n_samples);
     }
   times.read += seconds_since(t0);
-  warn_unknown_units(file, selected, err);
+  warn_unknown_units(file, selected, notes);
   if (selected.empty() && rec.channels.empty())
     throw io::Error(file, "",
-                    opt.channels_glob.empty()
+                    opt.channels.selects_all()
                         ? "no channel found (no 1-D numeric dataset with a sample_rate_hz "
                           "attribute on itself or an ancestor group)"
-                        : "no channel matches --channels '" + opt.channels_glob + "'");
+                        : unselected_reason(opt.channels, info));
+  note_unmatched(file, opt.channels, info, notes);
 
   const std::uint64_t per_channel =
       kBytesPerSampleInFlight * static_cast<std::uint64_t>(max_samples);
@@ -248,7 +250,7 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
   std::size_t n_ok = 0;
   for (pipeline::ChannelAnalysis& c : done) {
     if (!c.result.notes.empty())
-      err << "allanlot: note: " << file << ":" << c.result.path << ": " << c.result.notes << "\n";
+      notes << "allanlot: note: " << file << ":" << c.result.path << ": " << c.result.notes << "\n";
     if (!c.ok()) {
       err << "allanlot: error: " << file << ":" << c.result.path << ": " << c.result.status.reason
           << "\n";
@@ -279,7 +281,7 @@ std::string input_stamp(const io::InputOptions& in) {
   if (in.column > 0) s += ";column=" + std::to_string(in.column);
   if (!in.time_column.empty()) s += ";time_column=" + in.time_column;
   if (!in.time_unit.empty()) s += ";time_unit=" + in.time_unit;
-  if (!in.units.empty()) s += ";units=" + in.units;
+  if (!in.units.empty()) s += ";units=" + io::units_text(in.units);
   return s;
 }
 
@@ -290,13 +292,13 @@ std::string options_stamp(const AnalyzeOptions& opt) {
   char conf[32];
   std::snprintf(conf, sizeof conf, "%.17g", opt.confidence);
   return "stats=" + join_stats(opt.stats) + ";taus=" + kernels::to_string(opt.grid) +
-         ";confidence=" + conf + ";channels=" + opt.channels_glob +
+         ";confidence=" + conf + ";channels=" + opt.channels.text() +
          ";fit=" + (opt.fit ? "1" : "0") + ";lowpass=" + opt.lowpass +
          ";psd=" + (opt.psd ? "1" : "0") + ";version=" + kVersion + input_stamp(opt.input);
 }
 
 // Fails with a usage-level message when OUTDIR cannot hold results.
-bool prepare_outdir(const fs::path& outdir, std::ostream& err) {
+bool prepare_outdir(const fs::path& outdir, std::ostream& err, std::ostream& notes) {
   std::error_code ec;
   if (fs::exists(outdir, ec) && !fs::is_directory(outdir, ec)) {
     err << "allanlot: error: output directory " << outdir.string()
@@ -323,8 +325,8 @@ bool prepare_outdir(const fs::path& outdir, std::ostream& err) {
   const std::size_t stale = io::remove_stale_temporaries(outdir, fs::file_time_type::clock::now() -
                                                                      std::chrono::minutes(1));
   if (stale > 0)
-    err << "allanlot: note: removed " << stale << " temporary file(s) of an interrupted run from "
-        << outdir.string() << "\n";
+    notes << "allanlot: note: removed " << stale << " temporary file(s) of an interrupted run from "
+          << outdir.string() << "\n";
   return true;
 }
 
@@ -461,7 +463,7 @@ int run_analyze(const AnalyzeOptions& opt, std::ostream& out, std::ostream& err)
       return 2;
     }
   }
-  if (!prepare_outdir(opt.outdir, err)) return 2;
+  if (!prepare_outdir(opt.outdir, err, notes_stream(opt.quiet, err))) return 2;
   const InterruptGuard interrupts;
   Run run(opt, out, err);
   run.spec = sp ? &*sp : nullptr;
@@ -558,6 +560,7 @@ struct AnalyzeArgs {
   std::string outdir, spec_text, memory_text;
   std::vector<std::string> manifests;
   InputArgs input;
+  std::vector<std::string> channels, exclude_channels;
   bool no_fit = false, no_psd = false, no_summary = false, no_progress = false;
 };
 
@@ -587,6 +590,7 @@ AnalyzeOptions checked_options(const AnalyzeArgs& a, const std::string& command_
   if (opt.inputs.empty())
     throw CLI::ValidationError("INPUT", "no input: give files, @MANIFEST or --manifest");
   opt.input = input_options(a.input);
+  opt.channels = channel_selection(a.channels, a.exclude_channels);
   if (!a.memory_text.empty()) {
     try {
       opt.memory_limit = parse_memory_size(a.memory_text);
@@ -621,8 +625,7 @@ Command add_analyze_command(CLI::App& app) {
                   "Confidence level of the intervals dev_lo, dev_hi")
       ->check(finite_number() & CLI::Range(0.001, 0.999))
       ->capture_default_str();
-  sub->add_option("--channels", a->opt.channels_glob,
-                  "Only channels whose path or name matches this glob");
+  add_channel_options(sub, a->channels, a->exclude_channels);
   sub->add_option("--threads", a->opt.threads, "Threads (default: OMP_NUM_THREADS, else all cores)")
       ->check(CLI::Range(0, kMaxThreads));
   sub->add_flag("--no-fit", a->no_fit, "Do not fit equation (3) (no fit/ group)");

@@ -8,6 +8,7 @@
 #include "kernels/allan/stats.hpp"
 #include "kernels/allan/tau_grid.hpp"
 #include "src/cli/cli.hpp"
+#include "src/cli/inputs.hpp"
 
 #include <cstdint>
 #include <filesystem>
@@ -22,7 +23,7 @@ struct AnalyzeOptions {
   std::filesystem::path outdir;      // results and lot summary go here
   std::vector<kernels::Stat> stats;  // statistics to compute, in output order
   kernels::TauGridSpec grid;         // which taus
-  std::string channels_glob;         // fnmatch pattern on channel path or name; "" = all
+  ChannelSelection channels;         // --channels, --exclude-channels (all by default)
   int threads = 0;                   // 0 = OMP_NUM_THREADS, else all cores
   double confidence = 0.683;         // confidence level of dev_lo / dev_hi, in (0, 1)
   bool fit = true;                   // write fit/ (the eq. (3) fit); --no-fit turns it off

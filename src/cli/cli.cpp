@@ -6,6 +6,7 @@
 #include "src/cli/diagnose.hpp"
 #include "src/cli/export.hpp"
 #include "src/cli/hat.hpp"
+#include "src/cli/progress.hpp"
 #include "src/cli/report.hpp"
 #include "src/cli/simulate.hpp"
 #include "src/cli/summarize.hpp"
@@ -24,6 +25,7 @@
 #include <cstdlib>
 #include <ctime>
 #include <iostream>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -62,7 +64,12 @@ void cap_omp_threads(std::ostream& err) {
 }  // namespace
 
 int run(int argc, char** argv) {
-  cap_omp_threads(std::cerr);
+  // Before the command line is parsed (the cap must precede any parallel region): -q, which
+  // prints errors only, is looked for among the arguments as given.
+  const bool quiet = std::any_of(argv + 1, argv + argc, [](const char* a) {
+    return std::string_view(a) == "-q" || std::string_view(a) == "--quiet";
+  });
+  cap_omp_threads(notes_stream(quiet, std::cerr));
   CLI::App app{"allanlot: Allan-family noise characterization of sensor production lots"};
   app.set_version_flag("--version", std::string("allanlot ") + kVersion + " (" + kGitSha + ")");
   app.require_subcommand(1);

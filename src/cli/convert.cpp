@@ -6,6 +6,7 @@
 #include "io/text_recording.hpp"
 #include "src/cli/input_options.hpp"
 #include "src/cli/inputs.hpp"
+#include "src/cli/progress.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -34,14 +35,15 @@ constexpr int kDeflate = 4;
 // their paths, each with its own sample_rate_hz, units and (when anyone said it) data_type;
 // the root keeps device_id, the source file's name and what was inferred from a text file.
 // A channel that cannot be converted (named on `err`) sets `left_out`; the others are written.
+// What was inferred from a text file goes to `notes`.
 fs::path convert_one(const std::string& file, const io::InputOptions& options,
                      const fs::path& outdir, const std::vector<fs::path>& inputs,
                      std::map<std::string, std::string>& written, std::ostream& err,
-                     bool& left_out) {
+                     std::ostream& notes, bool& left_out) {
   const io::RecordingReader reader(file, options);
   const io::RecordingInfo& info = reader.info();
   for (const std::string& note : info.notes)
-    err << "allanlot: note: " << file << ": " << note << "\n";
+    notes << "allanlot: note: " << file << ": " << note << "\n";
   for (const io::ChannelProblem& p : info.problems) {
     err << "allanlot: error: " << file << ":" << p.path << ": " << p.reason << " (left out)\n";
     left_out = true;
@@ -98,7 +100,8 @@ int run_convert(const ConvertArgs& a, const io::InputOptions& options) {
   bool left_out = false;
   for (const std::string& file : inputs.files) {
     try {
-      const fs::path out = convert_one(file, options, outdir, paths, written, std::cerr, left_out);
+      const fs::path out = convert_one(file, options, outdir, paths, written, std::cerr,
+                                       notes_stream(a.quiet, std::cerr), left_out);
       ++n_ok;
       if (!a.quiet) std::cout << file << " -> " << out.string() << "\n";
     } catch (const io::Error& e) {

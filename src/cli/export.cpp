@@ -1,6 +1,7 @@
 #include "src/cli/export.hpp"
 
 #include "io/paths.hpp"
+#include "src/cli/input_options.hpp"
 #include "src/cli/inputs.hpp"
 
 #include "io/atomic_file.hpp"
@@ -211,7 +212,7 @@ int run_export(const ExportOptions& opt, std::ostream& out, std::ostream& err) {
     }
     ++read_ok;
     for (const io::ChannelResult& ch : r.channels) {
-      if (!channel_matches(opt.channels_glob, ch.path)) continue;
+      if (!opt.channels.selects(ch.path)) continue;
       if (opt.format == ExportFormat::Readouts) {
         readout_rows(text, r, ch);
         continue;
@@ -277,14 +278,16 @@ Command add_export_command(CLI::App& app) {
                   "File to write (default: standard output); with --format stable32 an existing "
                   "directory gets one file per table");
   sub->add_option("--stats", *stats, "Only these statistics (comma-separated)");
-  sub->add_option("--channels", opt->channels_glob,
-                  "Only channels whose path or name matches this glob");
+  auto channels = std::make_shared<std::vector<std::string>>();
+  auto exclude = std::make_shared<std::vector<std::string>>();
+  add_channel_options(sub, *channels, *exclude);
   return {sub, [=](const std::string&) {
             opt->inputs.assign(inputs->begin(), inputs->end());
             opt->format = *format == "stable32"   ? ExportFormat::Stable32
                           : *format == "readouts" ? ExportFormat::Readouts
                                                   : ExportFormat::Csv;
             opt->output = *output;
+            opt->channels = channel_selection(*channels, *exclude);
             std::stringstream ss(*stats);
             std::string s;
             while (std::getline(ss, s, ','))

@@ -8,6 +8,7 @@
 
 #include "kernels/allan/stats.hpp"
 #include "src/cli/cli.hpp"
+#include "src/cli/inputs.hpp"
 
 #include <filesystem>
 #include <iosfwd>
@@ -23,7 +24,7 @@ struct ExportOptions {
   ExportFormat format = ExportFormat::Csv;
   std::filesystem::path output;    // "" = standard output; a directory: one file per table
   std::vector<std::string> stats;  // only these statistics (empty = all)
-  std::string channels_glob;       // only channels whose path or name matches ("" = all)
+  ChannelSelection channels;       // --channels, --exclude-channels (all by default)
 };
 
 /// Writes the tables of every readable results file, in sorted file order. Returns 0; 1 when

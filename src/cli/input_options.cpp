@@ -3,9 +3,47 @@
 #include "io/error.hpp"
 #include "io/recording.hpp"
 #include "io/usage_error.hpp"
+#include "kernels/model/units.hpp"
 #include "src/cli/cli.hpp"
 
+#include <sstream>
+
 namespace allanlot::cli {
+
+namespace {
+
+std::string trimmed(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t");
+  return b == std::string::npos ? "" : s.substr(b, s.find_last_not_of(" \t") - b + 1);
+}
+
+// --units [GLOB=]UNIT,...: each unit one of the vocabulary (kernels/model/units.hpp), so that
+// a misspelt unit is a usage error before any work, not coefficients without datasheet units.
+std::vector<io::ColumnUnits> column_units(const std::vector<std::string>& given) {
+  std::vector<io::ColumnUnits> rules;
+  for (const std::string& list : given) {
+    std::stringstream ss(list);
+    std::string item;
+    while (std::getline(ss, item, ',')) {
+      const auto eq = item.find('=');
+      io::ColumnUnits r;
+      if (eq != std::string::npos) r.glob = trimmed(item.substr(0, eq));
+      r.unit = trimmed(eq == std::string::npos ? item : item.substr(eq + 1));
+      const std::string what = "'" + item + "'";
+      if (r.unit.empty() || (eq != std::string::npos && r.glob.empty()))
+        throw CLI::ValidationError("--units", what + ": give UNIT or GLOB=UNIT");
+      if (!kernels::units::parse_channel_units(r.unit))
+        throw CLI::ValidationError(
+            "--units", what + ": '" + r.unit + "' is not a unit allanlot knows" +
+                           (r.glob.empty() ? "" : " (for the columns '" + r.glob + "')") +
+                           " (docs/formats.md#units-and-conventions)");
+      rules.push_back(r);
+    }
+  }
+  return rules;
+}
+
+}  // namespace
 
 void add_input_options(CLI::App* sub, InputArgs& a) {
   sub->add_option("--data-type", a.data_type,
@@ -25,7 +63,10 @@ void add_input_options(CLI::App* sub, InputArgs& a) {
                   "The time column of a CSV/TSV file, by its header name");
   sub->add_option("--time-unit", a.time_unit, "Unit of a numeric time column: s, ms, us or ns")
       ->check(CLI::IsMember({"s", "ms", "us", "ns"}));
-  sub->add_option("--units", a.options.units, "Units of the text columns whose header names none");
+  sub->add_option("--units", a.units,
+                  "Units of text columns: UNIT for those whose header names none, GLOB=UNIT for "
+                  "the columns the glob matches (comma-separated, repeatable)")
+      ->allow_extra_args(false);
 }
 
 io::InputOptions input_options(const InputArgs& a) {
@@ -40,7 +81,29 @@ io::InputOptions input_options(const InputArgs& a) {
       !(a.sample_rate_hz >= io::kMinSampleRateHz && a.sample_rate_hz <= io::kMaxSampleRateHz))
     throw CLI::ValidationError("--sample-rate", "outside 1e-9 .. 1e12 Hz");
   o.time_unit = a.time_unit;
+  o.units = column_units(a.units);
   return o;
+}
+
+void add_channel_options(CLI::App* sub, std::vector<std::string>& include,
+                         std::vector<std::string>& exclude) {
+  sub->add_option("--channels", include,
+                  "Only channels whose path or name matches one of these globs (comma-separated, "
+                  "repeatable; !GLOB excludes)")
+      ->allow_extra_args(false);
+  sub->add_option("--exclude-channels", exclude,
+                  "Leave out channels whose path or name matches one of these globs "
+                  "(comma-separated, repeatable)")
+      ->allow_extra_args(false);
+}
+
+ChannelSelection channel_selection(const std::vector<std::string>& include,
+                                   const std::vector<std::string>& exclude) {
+  try {
+    return ChannelSelection(include, exclude);
+  } catch (const std::invalid_argument& e) {
+    throw CLI::ValidationError("--channels", e.what());
+  }
 }
 
 void check_inputs_need(const std::vector<std::string>& files, const io::InputOptions& options) {

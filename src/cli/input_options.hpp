@@ -1,19 +1,23 @@
-// The options that say what input recordings cannot (docs/cli.md "Input options"):
-// --data-type for every recording, and what a text recording needs (--sample-rate or --tau0,
-// --column, --time-column, --time-unit, --units). Shared by analyze, diagnose and convert.
+// The options that say what input recordings cannot (docs/cli.md "Input options"): --data-type
+// for every recording, and what a text recording needs (--sample-rate or --tau0, --column,
+// --time-column, --time-unit, --units). Shared by analyze, diagnose and convert. And the
+// channel selection of analyze and export (docs/cli.md "Channel selection").
 #pragma once
 
 #include "io/input_options.hpp"
+#include "src/cli/inputs.hpp"
 
 #include <CLI/CLI.hpp>
 
 #include <string>
+#include <vector>
 
 namespace allanlot::cli {
 
 /// The options as given, before they are checked.
 struct InputArgs {
   std::string data_type, time_unit;
+  std::vector<std::string> units;  // --units [GLOB=]UNIT,... as given
   double sample_rate_hz = 0.0, tau0_s = 0.0;
   io::InputOptions options;
 };
@@ -23,6 +27,14 @@ void add_input_options(CLI::App* sub, InputArgs& args);
 
 /// The checked options; throws CLI::ValidationError naming the option that is wrong.
 io::InputOptions input_options(const InputArgs& args);
+
+/// Adds --channels GLOB,... and --exclude-channels GLOB,... (each repeatable) to `sub`.
+void add_channel_options(CLI::App* sub, std::vector<std::string>& include,
+                         std::vector<std::string>& exclude);
+
+/// The selection they say; throws CLI::ValidationError naming --channels when a glob is empty.
+ChannelSelection channel_selection(const std::vector<std::string>& include,
+                                   const std::vector<std::string>& exclude);
 
 /// Throws CLI::ValidationError (a usage error, exit 2) when a text recording among `files`
 /// needs an option that was not given, naming the file and the option. HDF5 files pass.

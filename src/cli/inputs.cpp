@@ -5,28 +5,45 @@
 
 #include <CLI/CLI.hpp>
 
-#include <fnmatch.h>
 #include <sys/stat.h>
 
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
 #include <fstream>
+#include <ostream>
 #include <set>
+#include <sstream>
+#include <stdexcept>
+#include <string_view>
 
 namespace fs = std::filesystem;
 
 namespace allanlot::cli {
 namespace {
 
-// Recordings by extension, in any case (`UNIT.H5` as well). Results files and lot summaries
-// are HDF5 too, but outputs, never recordings: a directory holding earlier results (an OUTDIR
-// inside the input tree) must not have them analysed as units.
+// What a directory search takes for a recording, by the end of its name in any case
+// (`UNIT.H5` as well). Not .txt or .dat, which a data folder also holds as notes, READMEs and
+// manifests: those are recordings only when given by name.
+constexpr const char* kDirectoryExtensions[] = {".h5",  ".hdf5",   ".csv",
+                                                ".tsv", ".csv.gz", ".tsv.gz"};
+
+// Results files and lot summaries are outputs, never recordings: a directory holding earlier
+// results (an OUTDIR inside the input tree) must not have them analysed as units.
 bool is_recording_name(const fs::path& p) {
   const std::string name = io::ascii_lower(p.filename().string());
-  if (name.ends_with(".allan.h5") || name == "lot_summary.h5") return false;
-  const std::string ext = io::ascii_lower(p.extension().string());
-  return ext == ".h5" || ext == ".hdf5";
+  if (name.ends_with(".allan.h5") || name == "lot_summary.h5" || name == "lot_summary.csv")
+    return false;
+  return std::any_of(
+      std::begin(kDirectoryExtensions), std::end(kDirectoryExtensions),
+      [&](std::string_view ext) { return name.size() > ext.size() && name.ends_with(ext); });
+}
+
+std::string no_recording_reason() {
+  std::string s = "directory contains no recording (looked for";
+  for (const char* ext : kDirectoryExtensions)
+    s += std::string(ext == kDirectoryExtensions[0] ? " *" : ", *") + ext;
+  return s + "; give other files by name)";
 }
 
 std::string trim(const std::string& s) {
@@ -95,7 +112,7 @@ void add_directory(Expansion& x, const std::string& dir) {
     if (!hidden && is_recording_name(p)) found.push_back(p.string());
   }
   std::sort(found.begin(), found.end());
-  if (found.empty()) x.out.failures.emplace_back(dir, "directory contains no *.h5 or *.hdf5 file");
+  if (found.empty()) x.out.failures.emplace_back(dir, no_recording_reason());
   for (const auto& f : found)
     add_file(x, f);
 }
@@ -164,9 +181,82 @@ InputList expand_inputs(const std::vector<std::string>& inputs, const fs::path& 
 }
 
 bool channel_matches(const std::string& glob, const std::string& path) {
-  if (glob.empty()) return true;
-  const std::string name = path.substr(path.find_last_of('/') + 1);
-  return fnmatch(glob.c_str(), path.c_str(), 0) == 0 || fnmatch(glob.c_str(), name.c_str(), 0) == 0;
+  return io::channel_glob_matches(glob, path);
+}
+
+ChannelSelection::ChannelSelection(const std::vector<std::string>& include,
+                                   const std::vector<std::string>& exclude) {
+  // Each list split at commas; `!GLOB` among the includes is an exclude.
+  const auto add = [this](const std::string& list, bool excluding) {
+    std::stringstream ss(list);
+    std::string glob;
+    while (std::getline(ss, glob, ',')) {
+      glob = trim(glob);
+      const bool negated = !excluding && glob.starts_with("!");
+      if (negated) {
+        glob = trim(glob.substr(1));
+        if (glob.empty()) throw std::invalid_argument("'!' names no glob in '" + list + "'");
+      }
+      if (glob.empty()) continue;
+      (excluding || negated ? exclude_ : include_).push_back(glob);
+    }
+  };
+  for (const std::string& list : include)
+    add(list, false);
+  for (const std::string& list : exclude)
+    add(list, true);
+}
+
+bool ChannelSelection::selects(const std::string& path) const {
+  const auto match = [&](const std::string& glob) { return channel_matches(glob, path); };
+  return (include_.empty() || std::any_of(include_.begin(), include_.end(), match)) &&
+         std::none_of(exclude_.begin(), exclude_.end(), match);
+}
+
+std::vector<std::string> ChannelSelection::unmatched(const std::vector<std::string>& paths) const {
+  std::vector<std::string> out;
+  for (const std::string& glob : include_)
+    if (std::none_of(paths.begin(), paths.end(),
+                     [&](const std::string& p) { return channel_matches(glob, p); }))
+      out.push_back(glob);
+  return out;
+}
+
+std::string ChannelSelection::text() const {
+  std::string s;
+  for (const std::string& g : include_)
+    s += (s.empty() ? "" : ",") + g;
+  for (const std::string& g : exclude_)
+    s += (s.empty() ? "!" : ",!") + g;
+  return s;
+}
+
+namespace {
+
+std::vector<std::string> channel_paths(const io::RecordingInfo& info) {
+  std::vector<std::string> paths;
+  for (const io::ChannelInfo& ch : info.channels)
+    paths.push_back(ch.path);
+  for (const io::ChannelProblem& p : info.problems)
+    paths.push_back(p.path);
+  return paths;
+}
+
+}  // namespace
+
+std::string unselected_reason(const ChannelSelection& selection, const io::RecordingInfo& info) {
+  std::string list;
+  for (const std::string& p : channel_paths(info))
+    list += (list.empty() ? "" : ", ") + p;
+  // The selection as one --channels list: the excludes of --exclude-channels as '!' globs.
+  return "no channel matches --channels '" + selection.text() + "' (its channels: " + list + ")";
+}
+
+void note_unmatched(const std::string& file, const ChannelSelection& selection,
+                    const io::RecordingInfo& info, std::ostream& notes) {
+  for (const std::string& glob : selection.unmatched(channel_paths(info)))
+    notes << "allanlot: note: " << file << ": --channels '" << glob
+          << "' matches no channel of this recording\n";
 }
 
 }  // namespace allanlot::cli

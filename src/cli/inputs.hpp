@@ -1,9 +1,13 @@
 // Expands the INPUT arguments of `analyze` and `convert` (docs/cli.md "Command: analyze"):
-// recordings (HDF5 or text), directories searched for *.h5 / *.hdf5, and manifests named as
-// such (`@FILE` or --manifest FILE, one path per line).
+// recordings (HDF5 or text), directories searched for recordings (*.h5, *.hdf5, *.csv, *.tsv,
+// *.csv.gz, *.tsv.gz), and manifests named as such (`@FILE` or --manifest FILE, one path per
+// line); and the channel selection of --channels and --exclude-channels.
 #pragma once
 
+#include "io/recording.hpp"
+
 #include <filesystem>
+#include <iosfwd>
 #include <string>
 #include <vector>
 
@@ -25,9 +29,36 @@ struct InputList {
 InputList expand_inputs(const std::vector<std::string>& inputs,
                         const std::filesystem::path& outdir = {});
 
-/// The --channels rule, shared by analyze, export and spec files: an empty glob selects every
-/// channel; otherwise the glob (fnmatch) must match the channel's path (`/imu/gyro_x`) or its
-/// name (`gyro_x`).
+/// io::channel_glob_matches, the one rule of channel globs (analyze, export, spec files).
 bool channel_matches(const std::string& glob, const std::string& path);
+
+/// Which channels a command analyses (docs/cli.md "Channel selection"): a channel is selected
+/// when an include glob matches it (or none is given) and no exclude glob does.
+class ChannelSelection {
+public:
+  ChannelSelection() = default;
+  /// Each argument a comma-separated list of globs; a glob `!GLOB` among `include` excludes.
+  /// Throws std::invalid_argument for an empty glob after '!'.
+  ChannelSelection(const std::vector<std::string>& include,
+                   const std::vector<std::string>& exclude);
+  bool selects(const std::string& path) const;
+  bool selects_all() const { return include_.empty() && exclude_.empty(); }
+  /// The include globs that match none of `paths` (a recording's channels).
+  std::vector<std::string> unmatched(const std::vector<std::string>& paths) const;
+  /// The selection as one list, excludes after a '!': `gyro_*,accel_*,!*temp*` ("" for all).
+  /// A single glob reads as it was given, so a resume stamp of earlier versions stays current.
+  std::string text() const;
+
+private:
+  std::vector<std::string> include_, exclude_;
+};
+
+/// Why `selection` takes no channel of `info`: the selection and the channels it has.
+std::string unselected_reason(const ChannelSelection& selection, const io::RecordingInfo& info);
+
+/// A note on `notes` for each include glob of `selection` that matches no channel of the
+/// recording `file` while others do (a recording without the accelerometers of its lot).
+void note_unmatched(const std::string& file, const ChannelSelection& selection,
+                    const io::RecordingInfo& info, std::ostream& notes);
 
 }  // namespace allanlot::cli

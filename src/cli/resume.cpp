@@ -23,7 +23,7 @@ std::optional<std::pair<fs::path, std::string>> current_results(const std::strin
     // Same size, another time (copied, touched): the samples decide.
     std::uint64_t h = io::kHashSeed;
     for (const io::ChannelInfo& ch : reader.info().channels) {
-      if (!channel_matches(opt.channels_glob, ch.path)) continue;
+      if (!opt.channels.selects(ch.path)) continue;
       try {
         h = io::combine_hash(h, io::channel_digest(ch.path, reader.read(ch)));
       } catch (const std::exception&) {

@@ -123,7 +123,8 @@ void print_overview(const LotOverview& ov, const spec::Spec* sp, std::ostream& o
 // channel (known only once the channels are seen) is an error; all of them are collected, one
 // per rule, term and channel units (not one per unit of the lot), and thrown together, as
 // parse_spec reports a file's errors.
-void apply_spec(const spec::Spec& sp, std::vector<io::SummaryRow>& rows, std::ostream& err) {
+void apply_spec(const spec::Spec& sp, std::vector<io::SummaryRow>& rows, bool quiet,
+                std::ostream& err) {
   std::vector<bool> used(sp.rules.size(), false);
   std::vector<std::string> problems;
   std::set<std::string> seen;
@@ -144,7 +145,7 @@ void apply_spec(const spec::Spec& sp, std::vector<io::SummaryRow>& rows, std::os
   }
   if (!problems.empty()) throw spec::combined_error(sp.source, std::move(problems));
   for (std::size_t i = 0; i < used.size(); ++i)
-    if (!used[i])
+    if (!used[i] && !quiet)
       err << "allanlot: warning: " << sp.source << ": channels." << sp.rules[i].glob
           << ": matches no channel of the lot\n";
   spec::judge_units(rows);
@@ -226,7 +227,7 @@ LotOverview write_lot(const fs::path& outdir, std::vector<io::SummaryRow> rows,
     rows.insert(rows.end(), std::make_move_iterator(missing.begin()),
                 std::make_move_iterator(missing.end()));
   }
-  if (sp) apply_spec(*sp, rows, err);
+  if (sp) apply_spec(*sp, rows, opt.quiet, err);
   const std::vector<io::StatisticsRow> stats = lot_statistics(rows);
   std::vector<std::pair<std::string, std::string>> attrs;
   if (sp) {

@@ -24,7 +24,7 @@ struct LotOptions {
   // before it reads anything; when null and spec_path is set, write_lot loads it.
   const spec::Spec* spec = nullptr;
   std::filesystem::path manifest;  // summarize --manifest: entries without results are failed
-  bool quiet = false;              // no lot overview on `out`
+  bool quiet = false;              // errors only: no lot overview on `out`, no warnings
 };
 
 /// What write_lot did, for the caller's exit status and messages.
@@ -64,9 +64,9 @@ std::vector<io::SummaryRow> manifest_failures(const std::filesystem::path& manif
 /// Writes the lot summary of `rows` into `outdir` (atomically): adds the manifest's missing
 /// entries, applies the spec, computes the statistics and outliers, writes lot_summary.csv,
 /// lot_statistics.csv and lot_summary.h5, and prints a short overview on `out` unless
-/// opt.quiet. A spec rule that matches no channel is a warning on `err`. Throws on a bad spec
-/// file (spec::Error), an unreadable manifest, or a write failure (std::exception naming the
-/// file).
+/// opt.quiet. A spec rule that matches no channel is a warning on `err` (none when opt.quiet).
+/// Throws on a bad spec file (spec::Error), an unreadable manifest, or a write failure
+/// (std::exception naming the file).
 LotOverview write_lot(const std::filesystem::path& outdir, std::vector<io::SummaryRow> rows,
                       const LotOptions& opt, std::ostream& out, std::ostream& err);
 

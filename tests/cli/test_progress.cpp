@@ -2,9 +2,11 @@
 // erased before each coefficient table, so that the two never share a line; in a log there is
 // none. The terminal is a pseudo-terminal from script(1) (util-linux, in every Debian).
 #include "support/h5_fixture.hpp"
+#include "support/text_fixture.hpp"
 
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <sstream>
 
 namespace allanlot {
@@ -55,6 +57,43 @@ TEST(Progress, OnATerminalItNeverSharesALineWithATable) {
       test::run_command(analyze + (dir / "log").string() + " " + (dir / "lot").string(), &out), 0)
       << out;
   EXPECT_EQ(out.find("recordings, "), std::string::npos) << out;
+}
+
+// -q prints errors only, in every command that takes it: no note (missing samples, totdev
+// skipped on gaps, a --channels glob without a match, what convert inferred), no warning (a
+// spec rule that matches no channel), no table, overview or closing line. The same commands
+// without -q print them, so the check can fail.
+TEST(Progress, QuietPrintsNothingOnSuccess) {
+  const fs::path dir = test::fresh_dir("progress_quiet");
+  test::RigSpec spec;
+  spec.rows = 5000;
+  test::write_rig_csv(dir / "rig.csv", spec);
+  const std::string rig = (dir / "rig.csv").string(), json = (dir / "spec.json").string();
+  std::ofstream(json) << R"j({"channels": {"mag_*": {"B": {"max": 1, "unit": "mg"}}}})j";
+  for (const bool quiet : {false, true}) {
+    const std::string b = test::binary(), q = quiet ? " -q" : "";
+    const fs::path base = dir / (quiet ? "quiet" : "loud");
+    const std::string out = (base / "out").string();
+    const std::vector<std::pair<std::string, std::string>> commands = {
+        {b + " simulate" + q + " --lot 2 --duration 20 --seed 2 -o " + (base / "lot").string(),
+         "wrote"},
+        {b + " analyze" + q +
+             " --stats oadev,totdev --no-psd --channels 'gyro_*,accel_*,mag_*,temp' --spec " +
+             json + " -o " + out + " " + rig,
+         "unit 'degC' (/temp) is not in allanlot's vocabulary"},
+        {b + " summarize" + q + " --spec " + json + " " + out, "warning"},
+        {b + " convert" + q + " -o " + (base / "conv").string() + " " + rig, "allanlot: note: "},
+        {b + " report" + q + " " + out, "report"},
+    };
+    for (const auto& [command, said] : commands) {
+      std::string text;
+      ASSERT_EQ(test::run_command(command, &text), 0) << command << "\n" << text;
+      if (quiet)
+        EXPECT_EQ(text, "") << command;
+      else
+        EXPECT_NE(text.find(said), std::string::npos) << command << "\n" << text;
+    }
+  }
 }
 
 }  // namespace

@@ -1,7 +1,8 @@
 // Text recordings through the real binary: PHASE.DAT (plain and gzipped) against Stable32's
 // tables, a CSV with a time column and dropped rows, usage errors for what a file cannot say,
-// a corrupt line, manifests named with @, `convert` then `analyze` bit for bit, and the data
-// type of HDF5 channels (default, --data-type).
+// a corrupt line, manifests named with @, `convert` then `analyze` bit for bit, the data
+// type of HDF5 channels (default, --data-type), a folder of rig CSV files as a lot with
+// channel globs, and --units per column.
 #include "io/recording.hpp"
 #include "io/results.hpp"
 #include "reference/stable32.hpp"
@@ -359,6 +360,131 @@ TEST(TextInputs, TimeStampsOutOfOrderReachTheQualityScreen) {
     EXPECT_NE(r.quality.find("time_stamps"), std::string::npos) << r.channel << " " << r.quality;
     EXPECT_EQ(r.n_samples, 4002) << r.channel;
   }
+}
+
+// A rig's lot as it is handed over: a folder of .csv, .csv.gz and .tsv recordings (epoch-ns
+// stamps with jitter, units in the header, a temperature column, dropped rows) beside a
+// README, analysed with --channels globs: every unit at 100 Hz to 1e-9, the gyroscopes and
+// accelerometers with their header units, never the temperature; -q prints nothing.
+TEST(TextInputs, AFolderOfRigCsvFilesIsALotAndChannelGlobsSelect) {
+  const fs::path dir = test::fresh_dir("text_cli_rig_lot");
+  const fs::path lot = dir / "lot";
+  fs::create_directories(lot);
+  // 1e5 rows: the fitted step's error is 20 us * sqrt(12 / N^3) / 10 ms = 2.2e-10 (1e-9 is 4.5
+  // of it); at 3e4 rows it would be 1.3e-9.
+  test::RigSpec spec;
+  test::write_rig_csv(dir / "rig1.csv", spec);
+  ASSERT_TRUE(test::gzip_copy(dir / "rig1.csv", lot / "rig1.csv.gz"));
+  spec.seed = 12;
+  test::write_rig_csv(lot / "rig2.csv", spec);
+  spec.seed = 13;
+  spec.sep = '\t';
+  test::write_rig_csv(lot / "rig3.tsv", spec);
+  std::ofstream(lot / "README.txt") << "rig 4, bench 2\n";
+  const auto run = [&](const std::string& options, const std::string& out, std::string& text) {
+    return run_command(binary() + " analyze -q --stats oadev --no-psd -o " + (dir / out).string() +
+                           " " + options + " " + lot.string(),
+                       &text);
+  };
+  std::string text;
+  ASSERT_EQ(run("--channels 'gyro_*,accel_*'", "out", text), 0) << text;
+  EXPECT_EQ(text, "") << "-q prints errors only";
+  for (const char* unit : {"rig1", "rig2", "rig3"}) {
+    const auto r = io::read_results(dir / "out" / (std::string(unit) + ".allan.h5"));
+    std::vector<std::string> paths;
+    for (const auto& ch : r.channels) {
+      paths.push_back(ch.path);
+      EXPECT_NEAR(ch.sample_rate_hz / 100.0, 1.0, 1e-9) << unit << ch.path;
+      EXPECT_EQ(ch.n_gaps, 12) << unit << ch.path;
+      EXPECT_EQ(ch.units, ch.path[1] == 'g' ? "deg/s" : "g") << unit << ch.path;
+    }
+    EXPECT_EQ(paths, (std::vector<std::string>{"/accel_x", "/accel_z", "/gyro_x", "/gyro_y"}))
+        << unit;
+  }
+  // The same selection by excluding: --exclude-channels, or '!' among --channels.
+  for (const std::string& options : {std::string("--exclude-channels 'temp*'"),
+                                     std::string("--channels '!temp' --channels '*'")}) {
+    ASSERT_EQ(run(options, "out_excluded", text), 0) << options << "\n" << text;
+    const auto r = io::read_results(dir / "out_excluded" / "rig2.allan.h5");
+    EXPECT_EQ(r.channels.size(), 4u) << options;
+    for (const auto& ch : r.channels)
+      EXPECT_NE(ch.path, "/temp") << options;
+  }
+}
+
+// A folder without recordings names what was looked for; a selection that matches no channel
+// of a recording fails it, naming the recording, the selection and its channels; an include
+// glob that matches nothing while others match is a note.
+TEST(TextInputs, AFolderWithoutRecordingsAndASelectionWithoutChannelsAreNamed) {
+  const fs::path dir = test::fresh_dir("text_cli_rig_none");
+  fs::create_directories(dir / "notes");
+  std::ofstream(dir / "notes" / "README.txt") << "nothing here\n";
+  std::string text;
+  EXPECT_EQ(run_command(binary() + " analyze -o " + (dir / "out").string() + " " +
+                            (dir / "notes").string(),
+                        &text),
+            2);
+  EXPECT_NE(text.find("directory contains no recording (looked for *.h5, *.hdf5, *.csv, *.tsv, "
+                      "*.csv.gz, *.tsv.gz"),
+            std::string::npos)
+      << text;
+  test::RigSpec spec;
+  spec.rows = 5000;
+  test::write_rig_csv(dir / "rig.csv", spec);
+  const std::string file = (dir / "rig.csv").string();
+  EXPECT_EQ(run_command(binary() + " analyze -q --stats oadev --no-psd --channels 'mag_*' -o " +
+                            (dir / "out").string() + " " + file,
+                        &text),
+            2);
+  EXPECT_NE(text.find(file + ": no channel matches --channels 'mag_*' "
+                             "(its channels: /accel_x, /accel_z, /gyro_x, /gyro_y, /temp)"),
+            std::string::npos)
+      << text;
+  EXPECT_EQ(run_command(binary() + " analyze --stats oadev --no-psd --channels 'gyro_*,mag_*' -o " +
+                            (dir / "out").string() + " " + file,
+                        &text),
+            0);
+  EXPECT_NE(text.find(file + ": --channels 'mag_*' matches no channel of this recording"),
+            std::string::npos)
+      << text;
+}
+
+// --units per column glob (over the header) and bare (for the columns that name none), each
+// unit validated against the vocabulary: a misspelt one is a usage error naming the option.
+TEST(TextInputs, UnitsPerColumnGlob) {
+  const fs::path dir = test::fresh_dir("text_cli_units");
+  test::RigSpec spec;
+  spec.rows = 5000;
+  test::write_rig_csv(dir / "rig.csv", spec);
+  std::vector<std::string> lines = test::read_lines(dir / "rig.csv");
+  lines[0] = "timestamp_ns,gyro_x,gyro_y,accel_x,accel_z,temp [degC]";
+  test::write_lines(dir / "bare.csv", lines);
+  std::string text;
+  ASSERT_EQ(run_command(binary() + " analyze -q --stats oadev --no-psd --no-fit " +
+                            "--units 'gyro_*=deg/h' --units 'accel_*=mg' -o " +
+                            (dir / "out").string() + " " + (dir / "bare.csv").string(),
+                        &text),
+            0)
+      << text;
+  const auto r = io::read_results(dir / "out" / "bare.allan.h5");
+  EXPECT_EQ(channel(r, "/gyro_y").units, "deg/h");
+  EXPECT_EQ(channel(r, "/accel_x").units, "mg");
+  EXPECT_EQ(channel(r, "/temp").units, "degC");
+  ASSERT_EQ(run_command(binary() + " analyze -q --stats oadev --no-psd --no-fit --units g -o " +
+                            (dir / "out2").string() + " " + (dir / "rig.csv").string(),
+                        &text),
+            0)
+      << text;
+  const auto h = io::read_results(dir / "out2" / "rig.allan.h5");
+  EXPECT_EQ(channel(h, "/gyro_x").units, "deg/s") << "the header's unit over a bare --units";
+  EXPECT_EQ(run_command(binary() + " analyze -q --units 'gyro_*=deg/sex' -o " +
+                            (dir / "out3").string() + " " + (dir / "bare.csv").string(),
+                        &text),
+            2);
+  EXPECT_NE(text.find("--units"), std::string::npos) << text;
+  EXPECT_NE(text.find("'deg/sex' is not a unit allanlot knows (for the columns 'gyro_*')"),
+            std::string::npos)
+      << text;
 }
 
 }  // namespace

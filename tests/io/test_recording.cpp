@@ -25,6 +25,17 @@ std::string problem(const io::RecordingInfo& info, const std::string& path) {
   return "";
 }
 
+// The one rule of channel globs: the path or the name.
+TEST(Recording, ChannelGlobsMatchThePathOrTheName) {
+  EXPECT_TRUE(io::channel_glob_matches("", "/imu/temp"));
+  EXPECT_TRUE(io::channel_glob_matches("gyro_*", "/imu/gyro_x"));
+  EXPECT_TRUE(io::channel_glob_matches("/imu/*", "/imu/gyro_x"));
+  EXPECT_TRUE(io::channel_glob_matches("gyro_[xy]", "/gyro_y"));
+  EXPECT_FALSE(io::channel_glob_matches("gyro_[xy]", "/gyro_z"));
+  EXPECT_FALSE(io::channel_glob_matches("imu", "/imu/gyro_x"));
+  EXPECT_FALSE(io::channel_glob_matches("accel_*", "/imu/gyro_x"));
+}
+
 TEST(Recording, DiscoversChannelsWithAncestorLookup) {
   const auto dir = test::fresh_dir("discover");
   const auto file = dir / "unit7.h5";

@@ -3,6 +3,7 @@
 // names that are never channels in HDF5 files.
 #include "io/error.hpp"
 #include "io/recording.hpp"
+#include "io/text_fields.hpp"
 #include "io/text_recording.hpp"
 #include "io/usage_error.hpp"
 #include "reference/stable32.hpp"
@@ -13,6 +14,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <map>
 
 namespace allanlot {
 namespace {
@@ -195,12 +197,122 @@ TEST(TextRecording, TruncatedGzipIsAnError) {
   EXPECT_NE(e.find("truncated or corrupt compressed data"), std::string::npos) << e;
 }
 
+std::string fact(const io::RecordingInfo& info, const std::string& key) {
+  for (const auto& [k, v] : info.facts)
+    if (k == key) return v;
+  return "";
+}
+
+// A 100 Hz logger's epoch-ns stamps (1.76e18, beyond double's 2^53: read as doubles they step
+// in 256 ns and the rate came out 99.99872 Hz) with 20 us rms jitter: read as integers and the
+// step fitted over the sample numbers, the rate is 100 Hz to 1e-9 (the fit's error is about
+// 20 us * sqrt(12 / N^3) / 10 ms = 2e-10 for N = 1e5, where the median step's is 1e-5); the
+// dropped rows are the gaps, plain and gzipped.
+TEST(TextRecording, EpochNanosecondStampsWithJitterGiveTheRateExactly) {
+  const fs::path dir = test::fresh_dir("text_epoch_ns");
+  test::write_rig_csv(dir / "rig.csv");
+  ASSERT_TRUE(test::gzip_copy(dir / "rig.csv", dir / "rig7.csv.gz"));
+  for (const char* name : {"rig.csv", "rig7.csv.gz"}) {
+    const io::RecordingReader r((dir / name).string());
+    ASSERT_EQ(r.info().channels.size(), 5u) << "timestamp_ns is the time column";
+    for (const io::ChannelInfo& ch : r.info().channels) {
+      EXPECT_NEAR(ch.sample_rate_hz / 100.0, 1.0, 1e-9) << ch.path;
+      EXPECT_EQ(ch.n_samples, 100000) << ch.path;
+      EXPECT_EQ(count_nan(test::as_vector(r.read(ch))), 12) << ch.path;
+    }
+    EXPECT_EQ(fact(r.info(), "time_column"), "timestamp_ns");
+    EXPECT_EQ(fact(r.info(), "time_unit"), "ns (header)");
+    EXPECT_EQ(fact(r.info(), "time_missing_samples"), "12");
+    // The jitter as written (20 us rms of each stamp; a step's is sqrt(2) that).
+    EXPECT_NEAR(std::stod(fact(r.info(), "time_jitter_rms_s")) / (std::sqrt(2.0) * 20e-6), 1.0,
+                0.02);
+  }
+}
+
+// The same stamps as decimal seconds with nine decimals keep their nanoseconds too.
+TEST(TextRecording, DecimalEpochSecondsGiveTheRateExactly) {
+  const fs::path dir = test::fresh_dir("text_epoch_s");
+  test::write_rig_csv(dir / "ns.csv");
+  std::vector<std::string> lines = test::read_lines(dir / "ns.csv");
+  lines[0] = "time [s]" + lines[0].substr(12);
+  for (std::size_t i = 1; i < lines.size(); ++i)
+    lines[i] = lines[i].substr(0, 10) + "." + lines[i].substr(10);  // 1764300000.010001269
+  test::write_lines(dir / "s.csv", lines);
+  const io::RecordingReader r((dir / "s.csv").string());
+  ASSERT_FALSE(r.info().channels.empty());
+  EXPECT_NEAR(r.info().channels[0].sample_rate_hz / 100.0, 1.0, 1e-9);
+  EXPECT_EQ(fact(r.info(), "time_missing_samples"), "12");
+}
+
+// A stamp beyond int64 is an error naming the file, the line and the column, never a
+// rounded number; so is one whose distance from the first overflows.
+TEST(TextRecording, StampBeyondInt64IsAnErrorNamingTheLine) {
+  const fs::path dir = test::fresh_dir("text_stamp_range");
+  test::RigSpec spec;
+  spec.rows = 50;
+  spec.dropped = 0;
+  test::write_rig_csv(dir / "ok.csv", spec);
+  std::vector<std::string> lines = test::read_lines(dir / "ok.csv");
+  const std::string row = lines[9].substr(lines[9].find(','));
+  lines[9] = "92233720368547758080" + row;  // ten times int64's largest
+  test::write_lines(dir / "big.csv", lines);
+  const std::string big = (dir / "big.csv").string();
+  const std::string e = message_of<io::Error>([&] { io::RecordingReader r(big); });
+  EXPECT_NE(e.find(big + ":line 10, column 1 (timestamp_ns): '92233720368547758080' is beyond "
+                         "the range of a time stamp"),
+            std::string::npos)
+      << e;
+  lines[9] = "-9000000000000000000" + row;
+  test::write_lines(dir / "far.csv", lines);
+  const std::string far = (dir / "far.csv").string();
+  const std::string e2 = message_of<io::Error>([&] { io::RecordingReader r(far); });
+  EXPECT_NE(e2.find(far + ":line 10, column 1 (timestamp_ns)"), std::string::npos) << e2;
+  EXPECT_NE(e2.find("too far from the first time stamp"), std::string::npos) << e2;
+}
+
+// Units: the header's, in brackets or parentheses; --units GLOB=UNIT over the header for the
+// columns it matches (with a note when they differ), a bare --units for the columns that name
+// none.
+TEST(TextRecording, UnitsFromTheHeaderAndFromUnitsGlobs) {
+  const fs::path dir = test::fresh_dir("text_units");
+  std::ofstream(dir / "u.csv") << "t_ms,gyro_x [rad/s],gyro_y,accel_x (g),temp [degC],v\n"
+                               << "0,1,2,3,4,5\n10,1,2,3,4,5\n20,1,2,3,4,5\n";
+  const auto units_of = [&](const io::InputOptions& o) {
+    const io::RecordingReader r((dir / "u.csv").string(), o);
+    std::map<std::string, std::string> u;
+    for (const io::ChannelInfo& ch : r.info().channels)
+      u[ch.path] = ch.units;
+    return std::pair{u, r.info().notes};
+  };
+  const auto [header, no_notes] = units_of({});
+  EXPECT_EQ(header, (std::map<std::string, std::string>{{"/accel_x", "g"},
+                                                        {"/gyro_x", "rad/s"},
+                                                        {"/gyro_y", ""},
+                                                        {"/temp", "degC"},
+                                                        {"/v", ""}}));
+  EXPECT_TRUE(no_notes.empty());
+  io::InputOptions o;
+  o.units = {{"gyro_*", "dps"}, {"", "mg"}};
+  const auto [given, notes] = units_of(o);
+  EXPECT_EQ(given, (std::map<std::string, std::string>{{"/accel_x", "g"},
+                                                       {"/gyro_x", "deg/s"},
+                                                       {"/gyro_y", "deg/s"},
+                                                       {"/temp", "degC"},
+                                                       {"/v", "mg"}}));
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_EQ(notes[0], "column 'gyro_x': --units 'gyro_*=dps' replaces the header's unit 'rad/s'");
+}
+
 TEST(TextRecording, DeviceIdAndNames) {
   EXPECT_EQ(io::text_device_id("/a/unit7.csv.gz"), "unit7");
   EXPECT_EQ(io::text_device_id("PHASE.DAT"), "PHASE");
   EXPECT_EQ(io::text_device_id("run.2024.tsv"), "run.2024");
   EXPECT_TRUE(io::is_text_name("x.TXT.GZ"));
   EXPECT_FALSE(io::is_text_name("x.h5"));
+  for (const char* name : {"timestamp_ns", "time_ms", "T_US", "stamp_s", "gps_time", "Time"})
+    EXPECT_TRUE(io::is_time_name(name)) << name;
+  for (const char* name : {"gyro_x", "temp_s", "_ns", "ns"})
+    EXPECT_FALSE(io::is_time_name(name)) << name;
 }
 
 // HDF5: datasets named like time stamps are never channels; a channel without data_type is

@@ -2,6 +2,7 @@
 // milliseconds since the epoch, units in the header), with rows left out on purpose.
 #pragma once
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -42,6 +43,45 @@ inline void write_imu_csv(const std::filesystem::path& path, const CsvSpec& spec
       f << buf;
     }
     f << "\n";
+  }
+}
+
+/// A CSV as a test rig logs it: integer epoch-nanosecond stamps with Gaussian jitter, units in
+/// the header, a temperature column that is not a sensor channel, rows dropped.
+struct RigSpec {
+  std::size_t rows = 100000;
+  double rate_hz = 100.0;
+  std::size_t dropped = 12;  // rows left out, never the first or the last
+  double jitter_ns = 20000;  // rms of the stamps about their nominal times
+  long long t0_ns = 1764300000000000000LL;
+  unsigned seed = 11;
+  char sep = ',';
+};
+
+/// Writes `timestamp_ns,gyro_x [deg/s],gyro_y [deg/s],accel_x (g),accel_z (g),temp [degC]`.
+inline void write_rig_csv(const std::filesystem::path& path, const RigSpec& spec = {}) {
+  std::mt19937_64 rng(spec.seed);
+  std::set<std::size_t> drop;
+  std::uniform_int_distribution<std::size_t> pick(1, spec.rows - 2);
+  while (drop.size() < spec.dropped)
+    drop.insert(pick(rng));
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::ofstream f(path);
+  const char s = spec.sep;
+  f << "timestamp_ns" << s << "gyro_x [deg/s]" << s << "gyro_y [deg/s]" << s << "accel_x (g)" << s
+    << "accel_z (g)" << s << "temp [degC]\n";
+  const double step_ns = 1e9 / spec.rate_hz;
+  char buf[64];
+  for (std::size_t i = 0; i < spec.rows; ++i) {
+    const double jitter = spec.jitter_ns * g(rng);
+    if (drop.count(i)) continue;
+    f << spec.t0_ns + std::llround(step_ns * static_cast<double>(i) + jitter);
+    for (const double v : {0.01 * g(rng), 0.01 * g(rng), 1e-3 * g(rng), -1 + 1e-3 * g(rng)}) {
+      std::snprintf(buf, sizeof buf, "%.9g", v);
+      f << s << buf;
+    }
+    std::snprintf(buf, sizeof buf, "%.2f", 31.5 + 1e-5 * static_cast<double>(i));
+    f << s << buf << "\n";
   }
 }
 
