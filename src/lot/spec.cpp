@@ -430,7 +430,12 @@ Verdict judge_terms(const Spec& spec, const io::SummaryRow& row) {
       continue;
     }
     const Estimate e{row.value[i], row.sigma[i], row.upper[i], row.detected[i] != 0};
-    const Outcome o = decide(e, min, max, spec.k);
+    // A term is never passed or failed from a curve its model does not describe: a poor
+    // eq. (3) fit whose model (docs/fit-and-psd.md "When eq. (3) is a poor fit") is still
+    // beyond noise leaves every term undecided. Every term, not only those whose taus
+    // disagree: the coefficients are fitted together, so a misfit anywhere moves them all.
+    const bool beyond_noise = row.fit_within_noise == 0;
+    const Outcome o = beyond_noise ? Outcome::Undecided : decide(e, min, max, spec.k);
     v.term_status[i] = outcome_name(o);
     // Which limit the detail quotes: the one failed, else the one straddled, else max.
     const auto [lo, hi] = interval(e, spec.k);
@@ -444,7 +449,8 @@ Verdict judge_terms(const Spec& spec, const io::SummaryRow& row) {
     const std::string est = e.detected || !std::isfinite(e.upper)
                                 ? number(e.value, 3) + "±" + number(spec.k * e.sigma, 2)
                                 : "<" + number(e.upper, 3);
-    terms.emplace_back(o, name + " " + est + " " + rel + " " + number(lim, 4) + " " + row.unit[i]);
+    terms.emplace_back(o, name + " " + est + " " + rel + " " + number(lim, 4) + " " + row.unit[i] +
+                              (beyond_noise ? " (fit not within noise)" : ""));
   }
   if (!unit_errors.empty()) throw combined_error(spec.source, std::move(unit_errors));
   Outcome worst = Outcome::Pass;
