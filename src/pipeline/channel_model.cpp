@@ -34,15 +34,21 @@ std::string num(double v) {
   return buf;
 }
 
-// The eq. (3) fit as diagnose's given model: its terms (channel units), and the filter when
-// --lowpass gave it. A filter the fit found on the curve is left for diagnose to name: a given
-// filter is kept as it is, and the fit's test, made without the effects, can choose the wrong
+// The eq. (3) fit over every tau as diagnose's given model (`all_taus`: its terms in channel
+// units, as the study of docs/diagnose.md "Real sensors" gives them), and the filter when
+// --lowpass gave it (`fit`). The fit from a filter's first tau on is no start: where an effect
+// dominates its taus it can lose a term the short taus measure (white noise under a 0.25 Hz
+// resonance fitted from 2 s). A filter the fit found on the curve is left for diagnose to name: a
+// given filter is kept as it is, and the fit's test, made without the effects, can choose the wrong
 // form (the ADIS16405 imu2 accel_z's 18.5 Hz first order, given, left its model at gap 3.8
 // against a p95 of 1.3; named by diagnose, 1.14 taps and within noise).
-kernels::ChannelSpec given_model(const io::FitRecord& fit, double rate_hz) {
+kernels::ChannelSpec given_model(const io::FitRecord& fit, const io::FitRecord& all_taus,
+                                 double rate_hz) {
   kernels::ChannelSpec spec;
   spec.rate_hz = rate_hz;
-  for (const io::TermRecord& t : fit.terms)
+  // The fit over every tau can fail to converge where a filter's deficit dominates the short
+  // taus: then the fit reported is the start.
+  for (const io::TermRecord& t : kernels::has_terms(all_taus.status) ? all_taus.terms : fit.terms)
     if (const auto term = kernels::units::parse_term(t.term))
       kernels::coefficient(spec.terms, *term) = t.value;
   if (fit.lowpass == "option") {
@@ -190,7 +196,10 @@ void model_poor_fit(io::ChannelResult& result, const kernels::PhaseData& phase,
   opt.nthreads = threads;
   kernels::Diagnosis d;
   try {
-    d = kernels::diagnose(rate, rate_hz, given_model(fit, rate_hz), opt);
+    const LowpassChoice none{LowpassChoice::Mode::None, {}};
+    const io::FitRecord all_taus = fit_channel(oadev, phase.tau0_s, phase.n_points() - 1,
+                                               result.units, none, nullptr, threads);
+    d = kernels::diagnose(rate, rate_hz, given_model(fit, all_taus, rate_hz), opt);
   } catch (const std::invalid_argument& e) {
     result.notes +=
         (result.notes.empty() ? "" : "; ") + std::string("poor fit not modelled: ") + e.what();
