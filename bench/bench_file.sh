@@ -3,8 +3,9 @@
 # licence keeps it out of the repository, or a simulated one), with every default:
 #   allanlot analyze --force --quiet --threads T -o OUT FILE
 # run RUNS times; with --old OLD_BINARY the two binaries alternate (new, old, new, old ...) so
-# that a slow spell of the shared machine falls on both. Prints each run's wall time and the
-# median per binary (GNU time's %e), and with --old the ratio new / old of the medians.
+# that a slow spell of the shared machine falls on both. Prints each run's wall and CPU time
+# (GNU time's %e and %U + %S) and the medians per binary, and with --old the ratios new / old
+# of the medians (CPU time is the steadier figure on a shared machine).
 #
 #   bench/bench_file.sh FILE [--binary build/allanlot] [--old OLD_BINARY] [--threads 2]
 #                       [--runs 3] [--workdir ${TMPDIR:-/tmp}/allanlot-bench-file]
@@ -38,29 +39,34 @@ for b in "${binaries[@]}"; do
 done
 mkdir -p "$workdir"
 
-declare -A walls
+declare -A walls cpus
 for ((r = 1; r <= runs; r++)); do
   for i in "${!binaries[@]}"; do
     out="$workdir/out-$i"
     rm -rf "$out"
-    if ! /usr/bin/time -f "%e" -o "$workdir/time.txt" \
+    if ! /usr/bin/time -f "%e %U %S" -o "$workdir/time.txt" \
       "${binaries[$i]}" analyze --force --quiet --threads "$threads" -o "$out" "$file" \
       2>"$workdir/stderr.txt"; then
       echo "bench_file: analyze failed (${binaries[$i]}, run $r):" >&2
       cat "$workdir/stderr.txt" >&2
       exit 1
     fi
-    wall=$(tail -n 1 "$workdir/time.txt")
-    echo "run $r ${binaries[$i]}: $wall s"
+    read -r wall user sys < <(tail -n 1 "$workdir/time.txt")
+    cpu=$(awk -v u="$user" -v s="$sys" 'BEGIN {print u + s}')
+    echo "run $r ${binaries[$i]}: wall $wall s, CPU $cpu s"
     walls[$i]="${walls[$i]:-} $wall"
+    cpus[$i]="${cpus[$i]:-} $cpu"
   done
 done
 
 median() { tr ' ' '\n' | grep . | sort -g | awk '{v[NR] = $1} END {print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }
 m_new=$(echo "${walls[0]}" | median)
-echo "median ${binaries[0]}: $m_new s ($runs runs, $threads threads, $(basename "$file"))"
+c_new=$(echo "${cpus[0]}" | median)
+echo "median ${binaries[0]}: wall $m_new s, CPU $c_new s ($runs runs, $threads threads, $(basename "$file"))"
 if [ -n "$old" ]; then
   m_old=$(echo "${walls[1]}" | median)
-  echo "median $old: $m_old s"
-  awk -v a="$m_new" -v b="$m_old" 'BEGIN {printf "new / old: %.3f\n", a / b}'
+  c_old=$(echo "${cpus[1]}" | median)
+  echo "median $old: wall $m_old s, CPU $c_old s"
+  awk -v a="$m_new" -v b="$m_old" -v c="$c_new" -v d="$c_old" \
+    'BEGIN {printf "new / old: wall %.3f, CPU %.3f\n", a / b, c / d}'
 fi

@@ -10,7 +10,8 @@
 //   bench_model_fit DATA_FOLDER RESULTS_FOLDER
 //
 // Prints a Markdown table, one line per channel (unit, channel, fit status, model, verdict of
-// its terms' curve, taus, share within 3 half-widths) and the smallest share. Exit status 0,
+// its terms' curve, taus, share within 3 half-widths, the taus beyond with the ratio of the
+// drawn to the measured deviation) and the smallest share. Exit status 0,
 // 2 for a wrong argument. Not a Google Benchmark.
 #include "io/results.hpp"
 
@@ -28,6 +29,7 @@ namespace {
 
 struct Share {
   std::size_t within = 0, taus = 0;
+  std::string missed;  // the taus beyond 3 half-widths: "tau (ratio model / measured)"
 };
 
 Share share_within(const io::ChannelResult& ch, const kernels::StatResult& oadev) {
@@ -41,7 +43,14 @@ Share share_within(const io::ChannelResult& ch, const kernels::StatResult& oadev
     const double d = oadev.dev[i], model = f.adev_model[i];
     const double half = model >= d ? oadev.dev_hi[i] - d : d - oadev.dev_lo[i];
     ++s.taus;
-    if (std::abs(model - d) <= 3.0 * half) ++s.within;
+    if (std::abs(model - d) <= 3.0 * half) {
+      ++s.within;
+    } else {
+      char buf[48];
+      std::snprintf(buf, sizeof buf, "%s%.3g (%.3f)", s.missed.empty() ? "" : ", ", oadev.tau_s[i],
+                    model / d);
+      s.missed += buf;
+    }
   }
   return s;
 }
@@ -76,12 +85,12 @@ int main(int argc, char** argv) {
       worst = std::min(worst, share);
       char chi[32];
       std::snprintf(chi, sizeof chi, "chi2/dof %.4g", ch.fit->chi2_dof);
-      std::printf("| %s | %s | %s | %s | %s | %zu | %.0f %% |\n", r.device_id.c_str(),
+      std::printf("| %s | %s | %s | %s | %s | %zu | %.0f %% | %s |\n", r.device_id.c_str(),
                   ch.path.c_str(), chi, ch.fit->model.empty() ? "-" : ch.fit->model.c_str(),
                   ch.fit->model_within_noise == 1   ? "yes"
                   : ch.fit->model_within_noise == 0 ? "no"
                                                     : "-",
-                  s.taus, 100.0 * share);
+                  s.taus, 100.0 * share, s.missed.c_str());
     }
   }
   std::printf("\nsmallest share: %.0f %%\n", 100.0 * worst);

@@ -3,7 +3,8 @@
 // low-pass filter, whose eq. (3) fit is poor, is modelled by analyze; its coefficients lie
 // within their sigmas of the truth, the effects are stored in fit/effects, the drawn curve
 // follows the measured one, and the lot summary carries the model. --model-poor-fits off keeps
-// eq. (3) alone; a channel that eq. (3) fits is not modelled and is bit for bit the same.
+// eq. (3) alone; the model does not depend on the thread count; a channel that eq. (3) fits is
+// not modelled and is bit for bit the same.
 #include "io/results.hpp"
 #include "support/h5_fixture.hpp"
 
@@ -120,6 +121,32 @@ TEST(ChannelModel, ResonanceAndFilterAreModelledAndTheTermsFollowTheTruth) {
   EXPECT_EQ(off.fit->model_within_noise, -1);
   EXPECT_EQ(off.fit->chi2_dof, f.chi2_dof);
   EXPECT_LT(share_within(off), share_within(ch));
+}
+
+// The model does not depend on the thread count (diagnose's replicas are streams of one seed,
+// and every kernel is thread-invariant): one thread and two give the same terms and effects.
+TEST(ChannelModel, ModelDoesNotDependOnTheThreadCount) {
+  const fs::path dir = test::fresh_dir("channel_model_threads");
+  simulate(dir, R"({"type": "lowpass", "taps": 1.2},
+                   {"type": "resonance", "sigma": 0.02, "frequency_hz": 0.5, "q": 20})");
+  std::string out;
+  const io::ChannelResult one = analyze(dir, "--threads 1", &out);
+  const io::ChannelResult two = analyze(dir, "--threads 2", &out);
+  ASSERT_FALSE(one.fit->model.empty()) << out;
+  EXPECT_EQ(one.fit->model, two.fit->model);
+  EXPECT_EQ(one.fit->model_gap, two.fit->model_gap);
+  EXPECT_EQ(one.fit->model_gap_p95, two.fit->model_gap_p95);
+  EXPECT_EQ(one.fit->adev_model, two.fit->adev_model);
+  ASSERT_EQ(one.fit->terms.size(), two.fit->terms.size());
+  for (std::size_t i = 0; i < one.fit->terms.size(); ++i) {
+    EXPECT_EQ(one.fit->terms[i].value, two.fit->terms[i].value);
+    EXPECT_EQ(one.fit->terms[i].sigma, two.fit->terms[i].sigma);
+  }
+  ASSERT_EQ(one.fit->effects.size(), two.fit->effects.size());
+  for (std::size_t i = 0; i < one.fit->effects.size(); ++i) {
+    EXPECT_EQ(one.fit->effects[i].parameter, two.fit->effects[i].parameter);
+    EXPECT_EQ(one.fit->effects[i].value, two.fit->effects[i].value);
+  }
 }
 
 TEST(ChannelModel, ChannelThatFitsIsNotModelled) {
