@@ -10,9 +10,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <limits>
 #include <optional>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -200,7 +200,8 @@ void model_poor_fit(io::ChannelResult& result, const kernels::PhaseData& phase,
     const io::FitRecord all_taus = fit_channel(oadev, phase.tau0_s, phase.n_points() - 1,
                                                result.units, none, nullptr, threads);
     d = kernels::diagnose(rate, rate_hz, given_model(fit, all_taus, rate_hz), opt);
-  } catch (const std::invalid_argument& e) {
+  } catch (const std::exception& e) {
+    // The eq. (3) fit stands, with the reason: a model that cannot be made fails no channel.
     result.notes +=
         (result.notes.empty() ? "" : "; ") + std::string("poor fit not modelled: ") + e.what();
     return;

@@ -24,11 +24,12 @@ struct ModelChoice {
 };
 
 /// When result.fit is a poor fit (kernels::FitStatus::PoorFit) and `choice` is enabled: runs
-/// kernels::diagnose on the channel's rate (rebuilt from `phase`) against the eq. (3) fit and
-/// its filter, and replaces fit/'s terms, adev_model (on `oadev`'s taus) and the read-outs'
-/// model by the corrected model's, with the model's description, its gap and verdict and its
-/// effects (fit/model*, fit/effects/). A record diagnose cannot model (too short) keeps its
-/// eq. (3) fit, with a note saying why. Threads: diagnose's (results do not depend on them).
+/// kernels::diagnose on the channel's rate (rebuilt from `phase`) against the eq. (3) fit over
+/// every tau (and a filter --lowpass gave), and replaces fit/'s terms, adev_model (on `oadev`'s
+/// taus) and the read-outs' model by the corrected model's, with the model's description, its
+/// gap and verdict and its effects (fit/model*, fit/effects/). A record diagnose cannot model
+/// (too short, or any other exception of diagnose) keeps its eq. (3) fit, with a note saying
+/// why. Threads: diagnose's (results do not depend on them).
 void model_poor_fit(io::ChannelResult& result, const kernels::PhaseData& phase,
                     const kernels::StatResult& oadev, const ModelChoice& choice, int threads);
 
