@@ -139,7 +139,7 @@ TEST(Spec, JudgesRowsWithLimitsInEitherDatasheetForm) {
 // (docs/fit-and-psd.md "When eq. (3) is a poor fit"): a row whose fit is not within noise (a
 // poor eq. (3) fit whose model is still beyond noise, or that was not modelled) leaves every
 // limited term undecided, whichever side of its limit the estimate lies; within noise, or
-// unknown (an earlier version's row), it is judged as before.
+// unknown (an earlier version's row), it is judged on its interval alone.
 TEST(Spec, FitNotWithinNoiseLeavesEveryTermUndecided) {
   const auto sp = parse(
       R"j({"confidence": 0.95, "channels": {"gyro_*": {
