@@ -21,6 +21,11 @@ void write_fit(hid_t channel_group, const char* name, const FitRecord& fit, cons
   Handle g = schema::create_group(channel_group, name, file, object);
   schema::write_columns(g.get(), fit.terms, schema::term_columns(), file, object);
   schema::write_fields(g.get(), fit, schema::fit_fields(), file, object);
+  if (!fit.effects.empty()) {
+    const std::string eo = object + "/" + schema::kEffects;
+    Handle e = schema::create_group(g.get(), schema::kEffects, file, eo);
+    schema::write_columns(e.get(), fit.effects, schema::effect_columns(), file, eo);
+  }
   if (fit.readouts.empty()) return;
   const std::string ro = object + "/" + schema::kReadouts;
   Handle r = schema::create_group(g.get(), schema::kReadouts, file, ro);
@@ -38,6 +43,11 @@ FitRecord read_fit(hid_t channel_group, const char* name, Depth depth, const std
     const std::string ro = object + "/" + schema::kReadouts;
     Handle r = schema::open_group(g.get(), schema::kReadouts, file, ro);
     fit.readouts = schema::read_columns(r.get(), schema::readout_columns(), depth, file, ro);
+  }
+  if (schema::has_link(g.get(), schema::kEffects)) {
+    const std::string eo = object + "/" + schema::kEffects;
+    Handle e = schema::open_group(g.get(), schema::kEffects, file, eo);
+    fit.effects = schema::read_columns(e.get(), schema::effect_columns(), depth, file, eo);
   }
   return fit;
 }
@@ -200,6 +210,9 @@ std::string fit_status_text(const FitRecord& f) {
     std::snprintf(buf, sizeof buf, " (chi2/dof = %.3g)", f.chi2_dof);
     text += buf;
   }
+  if (!f.model.empty())
+    text += "; modelled: " + f.model +
+            (f.model_within_noise == 1 ? " (within noise)" : " (NOT within noise)");
   return text;
 }
 
@@ -252,6 +265,9 @@ std::vector<SummaryRow> summary_rows(const RecordingResult& r) {
         }
       row.chi2_dof = ch.fit->chi2_dof;
       row.fit_status = fit_status_text(*ch.fit);
+      if (kernels::has_terms(ch.fit->status))
+        row.fit_within_noise =
+            ch.fit->status == kernels::FitStatus::Ok || ch.fit->model_within_noise == 1 ? 1 : 0;
       row.lowpass = ch.fit->lowpass;
       row.lowpass_cutoff_hz = ch.fit->lowpass_cutoff_hz;
       row.lowpass_taps = ch.fit->lowpass_taps;

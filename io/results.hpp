@@ -47,6 +47,16 @@ struct ReadoutRecord {
   std::string unit_datasheet_alt;
 };
 
+/// One parameter of an effect outside eq. (3) in fit/'s model (fit/effects/, docs/formats.md):
+/// one row per parameter, the effects in the order they were named.
+struct EffectRecord {
+  std::int64_t effect_index = 0;  // 0, 1, ...: which named effect the row belongs to
+  std::string effect;             // "lowpass", "resonance", "markov", "sinusoid", "step", ...
+  std::string parameter;          // its key in the model file: "frequency_hz", "q", "sigma", ...
+  double value = 0, sigma = 0;    // sigma NaN when not estimable
+  std::int64_t bound = 0;         // 0 estimate; -1 at the search's lower end, +1 upper end
+};
+
 /// The fit/ (or psd_fit/) group.
 struct FitRecord {
   std::string method;
@@ -77,10 +87,25 @@ struct FitRecord {
   double first_tau_fitted = std::numeric_limits<double>::quiet_NaN();
   std::int64_t taus_fitted = 0;
   double chi2_dof_all_taus = std::numeric_limits<double>::quiet_NaN();
+  // fit/ only, when eq. (3) alone is a poor fit and analyze modelled the channel as diagnose
+  // does (docs/fit-and-psd.md "When eq. (3) is a poor fit"): terms, adev_model and the
+  // read-outs' model are then the model's; `model` says it in words ("eq. (3) + lowpass 1.15
+  // taps, resonance 17.2 Hz"; "" when the terms are eq. (3)'s own fit); its gap against the
+  // measured curve and the p95 of its Monte Carlo replicas' gaps; model_within_noise 1 within
+  // noise, 0 not, -1 not modelled; the effects' parameters. status and chi2_dof stay those of
+  // eq. (3) alone.
+  std::string model;
+  double model_gap = std::numeric_limits<double>::quiet_NaN();
+  double model_gap_p95 = std::numeric_limits<double>::quiet_NaN();
+  int model_replicas = 0;
+  int model_within_noise = -1;
+  std::vector<EffectRecord> effects;
 };
 
 /// The fit's status as people read it: "ok", "poor fit (chi2/dof = 5974)" (the model misses
-/// part of the curve: `allanlot diagnose` names what), "rank deficient", ...
+/// part of the curve: `allanlot diagnose` names what), "rank deficient", ...; a modelled poor
+/// fit adds the model: "poor fit (chi2/dof = 709); modelled: eq. (3) + lowpass 1.15 taps,
+/// resonance 0.567 Hz (within noise)".
 std::string fit_status_text(const FitRecord& f);
 
 /// The psd/ group: the Welch PSD, log-binned for compact storage and plots.
@@ -161,6 +186,12 @@ struct SummaryRow {
   std::array<std::uint8_t, 5> detected{};
   double chi2_dof = nan();
   std::string fit_status;  // fit_status_text of fit/; "" without a fit
+  // Whether the terms come from a curve described within its noise (docs/fit-and-psd.md): 1
+  // eq. (3) fits (status ok) or the poor fit's model is within noise, 0 a poor fit whose model
+  // is not within noise (or that was not modelled), -1 no fit or not known (a row read back
+  // from a lot summary file: not a column, fit_status says it in words). The spec never passes
+  // or fails a term on 0.
+  std::int8_t fit_within_noise = -1;
   // The read-outs of fit/readouts (IEEE Std 952 annex C) in datasheet units, given whether or
   // not the fit detects their term (readouts_valid names the terms it detects): N at 1 s (and
   // its ARW/VRW form), bias instability (min deviation / 0.664) and K at 3 s, each with its

@@ -89,6 +89,7 @@ std::span<const Field<FitRecord>> fit_fields() {
   const auto on_taus = [](const F& f) { return !f.tau.empty() || f.f.empty(); };
   const auto on_freqs = [](const F& f) { return !f.f.empty(); };
   const auto compared = [](const F& f) { return f.agree >= 0; };
+  const auto modelled = [](const F& f) { return !f.model.empty(); };
   static const Field<F> t[] = {
       {"tau", D, &F::tau, "s", on_taus},
       {"adev_model", D, &F::adev_model, "the fitted model's deviation", on_taus},
@@ -117,6 +118,17 @@ std::span<const Field<FitRecord>> fit_fields() {
       {"taus_fitted", A, &F::taus_fitted, "i64: taus the fit used", on_taus, Need::IfPresent},
       {"chi2_dof_all_taus", A, &F::chi2_dof_all_taus, "the fit over every tau", on_taus,
        Need::IfPresent, true},
+      // fit/ of a poor fit that analyze modelled (docs/fit-and-psd.md); absent otherwise.
+      {"model", A, &F::model, "eq. (3) + the effects named; the terms are this model's", modelled,
+       Need::IfPresent, true},
+      {"model_gap", A, &F::model_gap, "the model's gap against the measured curve", modelled,
+       Need::IfPresent},
+      {"model_gap_p95", A, &F::model_gap_p95, "p95 of its replicas' gaps", modelled,
+       Need::IfPresent},
+      {"model_replicas", A, &F::model_replicas, "i64: Monte Carlo replicas", modelled,
+       Need::IfPresent},
+      {"model_within_noise", A, &F::model_within_noise, "i64: 1 within noise, 0 not", modelled,
+       Need::IfPresent, true},
   };
   return t;
 }
@@ -139,6 +151,22 @@ std::span<const Column<ReadoutRecord>> readout_columns() {
       {"sigma_datasheet_alt", &X::sigma_datasheet_alt, "its uncertainty", Need::IfPresent, true},
       {"unit_datasheet_alt", &X::unit_datasheet_alt, "e.g. deg/sqrt(h); empty otherwise",
        Need::IfPresent, true},
+  };
+  return t;
+}
+
+std::span<const Column<EffectRecord>> effect_columns() {
+  using E = EffectRecord;
+  static const Column<E> t[] = {
+      {"effect_index", &E::effect_index, "which named effect, 0, 1, ...", Need::Required, true},
+      {"effect", &E::effect, "lowpass, resonance, markov, sinusoid, step, ...", Need::Required,
+       true},
+      {"parameter", &E::parameter, "model file key: frequency_hz, q, sigma, ...", Need::Required,
+       true},
+      {"value", &E::value, "channel units, seconds, Hz", Need::Required, true},
+      {"sigma", &E::sigma, "1-sigma; NaN when not estimable", Need::Required, true},
+      {"bound", &E::bound, "0 estimate; -1, +1 at the search's lower, upper end", Need::Required,
+       true},
   };
   return t;
 }

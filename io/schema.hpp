@@ -77,6 +77,7 @@ std::span<const Field<kernels::StatResult>> stat_fields();        // allan/<stat
 std::span<const Column<TermRecord>> term_columns();               // fit/ and psd_fit/: per term
 std::span<const Field<FitRecord>> fit_fields();                   // fit/ and psd_fit/
 std::span<const Column<ReadoutRecord>> readout_columns();         // fit/readouts/
+std::span<const Column<EffectRecord>> effect_columns();           // fit/effects/
 std::span<const Field<PsdRecord>> psd_fields();                   // psd/
 std::span<const Field<CrosscheckRecord>> crosscheck_fields();     // crosscheck/
 std::span<const Field<DiagnosisRecord>> diagnosis_fields();       // diagnosis/ (+ free attributes)
@@ -89,6 +90,7 @@ inline constexpr const char* kPsdFit = "psd_fit";
 inline constexpr const char* kPsd = "psd";
 inline constexpr const char* kCrosscheck = "crosscheck";
 inline constexpr const char* kReadouts = "readouts";
+inline constexpr const char* kEffects = "effects";
 inline constexpr const char* kDiagnosis = "diagnosis";
 inline constexpr const char* kQuality = "quality";
 

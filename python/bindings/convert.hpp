@@ -106,8 +106,8 @@ py::dict columns_dict(const std::vector<Row>& rows,
   return d;
 }
 
-/// The fit/ (or psd_fit/) record as a dict: its fields, "terms" (one column per term field) and
-/// "readouts" (likewise).
+/// The fit/ (or psd_fit/) record as a dict: its fields, "terms" (one column per term field),
+/// "readouts" and "effects" (a poor fit's model, fit/effects/; likewise).
 py::dict fit_dict(const io::FitRecord& f);
 
 }  // namespace allanlot::python

@@ -21,6 +21,7 @@ py::dict fit_dict(const io::FitRecord& f) {
   d["status_text"] = io::fit_status_text(f);
   d["terms"] = columns_dict(f.terms, io::schema::term_columns());
   d["readouts"] = columns_dict(f.readouts, io::schema::readout_columns());
+  d["effects"] = columns_dict(f.effects, io::schema::effect_columns());
   return d;
 }
 

@@ -135,6 +135,7 @@ pipeline::ChannelOptions channel_options(const AnalyzeOptions& opt, int kernel_t
   copt.confidence = opt.confidence;
   copt.fit = opt.fit;
   copt.lowpass = pipeline::parse_lowpass_choice(opt.lowpass);
+  copt.model.enabled = opt.model_poor_fits == "auto";
   copt.psd = opt.psd;
   copt.threads = kernel_threads;
   return copt;
@@ -286,14 +287,16 @@ std::string input_stamp(const io::InputOptions& in) {
 }
 
 // The options that change what a results file holds, canonically written (the resume stamp,
-// io/fingerprint.hpp). The thread count and the output switches that do not change numbers
-// (--table, --verbose, --quiet, --no-summary, --memory-limit) are not in it.
+// io/fingerprint.hpp); --model-poor-fits only when not the default, as the input options. The
+// thread count and the output switches that do not change numbers (--table, --verbose,
+// --quiet, --no-summary, --memory-limit) are not in it.
 std::string options_stamp(const AnalyzeOptions& opt) {
   char conf[32];
   std::snprintf(conf, sizeof conf, "%.17g", opt.confidence);
   return "stats=" + join_stats(opt.stats) + ";taus=" + kernels::to_string(opt.grid) +
          ";confidence=" + conf + ";channels=" + opt.channels.text() +
          ";fit=" + (opt.fit ? "1" : "0") + ";lowpass=" + opt.lowpass +
+         (opt.model_poor_fits == "auto" ? "" : ";model_poor_fits=" + opt.model_poor_fits) +
          ";psd=" + (opt.psd ? "1" : "0") + ";version=" + kVersion + input_stamp(opt.input);
 }
 
@@ -633,6 +636,11 @@ Command add_analyze_command(CLI::App& app) {
                   "The sensor's filter in the eq. (3) fit: auto (named from the curve; the "
                   "taus it biases are left out when that lowers chi2/dof), none (every tau), "
                   "cutoff_hz=X (first order) or taps=X (moving average)")
+      ->capture_default_str();
+  sub->add_option("--model-poor-fits", a->opt.model_poor_fits,
+                  "A channel whose eq. (3) fit is poor: auto (modelled as diagnose does, eq. (3) "
+                  "plus the effects the data name; its terms reported), off (eq. (3) alone)")
+      ->check(CLI::IsMember({"auto", "off"}))
       ->capture_default_str();
   sub->add_flag("--no-psd", a->no_psd, "Do not compute the PSD and the eq. (2) cross-check");
   sub->add_flag("--table", a->opt.table,

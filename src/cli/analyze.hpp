@@ -29,6 +29,9 @@ struct AnalyzeOptions {
   bool fit = true;                   // write fit/ (the eq. (3) fit); --no-fit turns it off
   // --lowpass: the sensor's filter in the fit (auto, none, cutoff_hz=X, taps=X)
   std::string lowpass = "auto";
+  // --model-poor-fits: auto models a poor eq. (3) fit as diagnose does (docs/fit-and-psd.md),
+  // off keeps eq. (3) alone
+  std::string model_poor_fits = "auto";
   bool psd = true;       // write psd/ and crosscheck/ (Welch PSD, eq. (2)); --no-psd turns it off
   bool table = false;    // print each unit's fit table (always for <= 10 inputs)
   bool verbose = false;  // per-stage timings on stderr

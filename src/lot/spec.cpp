@@ -442,7 +442,12 @@ Verdict judge_terms(const Spec& spec, const io::SummaryRow& row) {
       continue;
     }
     const Estimate e{row.value[i], row.sigma[i], row.upper[i], row.detected[i] != 0};
-    const Outcome o = decide(e, min, max, spec.k);
+    // A term is never passed or failed from a curve its model does not describe: a poor
+    // eq. (3) fit whose model (docs/fit-and-psd.md "When eq. (3) is a poor fit") is still
+    // beyond noise leaves every term undecided. Every term, not only those whose taus
+    // disagree: the coefficients are fitted together, so a misfit anywhere moves them all.
+    const bool beyond_noise = row.fit_within_noise == 0;
+    const Outcome o = beyond_noise ? Outcome::Undecided : decide(e, min, max, spec.k);
     v.term_status[i] = outcome_name(o);
     // Which limit the detail quotes: the one failed, else the one straddled, else max.
     const auto [lo, hi] = interval(e, spec.k);
@@ -454,7 +459,8 @@ Verdict judge_terms(const Spec& spec, const io::SummaryRow& row) {
                                            : "~";
     terms.emplace_back(o, name + " " + quoted_estimate(l, e, spec.k, row.unit[i], row.units) + " " +
                               rel + " " + number(min_side ? *l.min : *l.max, 4) + " " +
-                              units::normalize_spelling(l.unit));
+                              units::normalize_spelling(l.unit) +
+                              (beyond_noise ? " (fit not within noise)" : ""));
   }
   if (!unit_errors.empty()) throw combined_error(spec.source, std::move(unit_errors));
   Outcome worst = Outcome::Pass;

@@ -170,6 +170,7 @@ void run_stages(ChannelAnalysis& a, const io::ChannelInfo& channel,
     a.result.fit = fit_channel(*oadev, phase.tau0_s, phase.n_points() - 1, a.result.units,
                                opt.lowpass, &allan_terms, opt.threads);
     have_allan_terms = kernels::has_terms(a.result.fit->status);
+    model_poor_fit(a.result, phase, *oadev, opt.model, opt.threads);
     a.times.fit += seconds_since(t_fit);
   }
   if (opt.psd) {

@@ -6,6 +6,7 @@
 #pragma once
 
 #include "src/pipeline/channel_fit.hpp"
+#include "src/pipeline/channel_model.hpp"
 
 #include "io/recording.hpp"
 #include "io/results.hpp"
@@ -23,12 +24,13 @@ struct ChannelOptions {
   double confidence = 0.683;         // confidence level of dev_lo / dev_hi, in (0, 1)
   bool fit = true;                   // fit/ (the eq. (3) fit)
   LowpassChoice lowpass;             // the sensor's filter in the fit (analyze --lowpass)
+  ModelChoice model;                 // a poor fit modelled as diagnose does (--model-poor-fits)
   bool psd = true;                   // psd/, psd_fit/ and crosscheck/ (Welch PSD, eq. (2))
   int threads = 1;                   // threads inside the kernels (results do not depend on it)
 };
 
 /// Seconds one channel spent per stage: kernels (phase, statistics, confidence intervals),
-/// psd (PSD, PSD fit, cross-check) and fit (the eq. (3) fit).
+/// psd (PSD, PSD fit, cross-check) and fit (the eq. (3) fit and a poor fit's model).
 struct ChannelTimes {
   double kernels = 0, psd = 0, fit = 0;
 };

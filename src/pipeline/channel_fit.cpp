@@ -128,28 +128,6 @@ kernels::FitResult readouts_under(const kernels::FitResult& all, const kernels::
   return out;
 }
 
-io::TermRecord term_record(Term t, const kernels::TermFit& f, const std::string& units) {
-  namespace u = kernels::units;
-  io::TermRecord rec;
-  rec.term = std::string(u::term_name(t));
-  rec.value = f.value;
-  rec.sigma = f.sigma;
-  rec.upper = f.upper;
-  rec.detected = f.detected;
-  rec.unit = u::channel_unit(t, units);
-  // The conversions are pure scale factors, so sigma and the bound convert like the value.
-  const u::Datasheet ds = u::to_datasheet(t, f.value, units);
-  rec.value_datasheet = ds.primary.value;
-  rec.unit_datasheet = ds.primary.unit;
-  rec.sigma_datasheet = u::to_datasheet(t, f.sigma, units).primary.value;
-  rec.upper_datasheet = u::to_datasheet(t, f.upper, units).primary.value;
-  if (ds.secondary) {
-    rec.value_datasheet_alt = ds.secondary->value;
-    rec.unit_datasheet_alt = ds.secondary->unit;
-  }
-  return rec;
-}
-
 io::ReadoutRecord readout_record(const std::string& name, Term t, const kernels::Readout& r,
                                  const std::string& units) {
   namespace u = kernels::units;
@@ -185,6 +163,29 @@ io::FitRecord fit_record(std::string_view method, const Fit& f) {
 }
 
 }  // namespace
+
+io::TermRecord term_record(kernels::units::Term t, const kernels::TermFit& f,
+                           const std::string& units) {
+  namespace u = kernels::units;
+  io::TermRecord rec;
+  rec.term = std::string(u::term_name(t));
+  rec.value = f.value;
+  rec.sigma = f.sigma;
+  rec.upper = f.upper;
+  rec.detected = f.detected;
+  rec.unit = u::channel_unit(t, units);
+  // The conversions are pure scale factors, so sigma and the bound convert like the value.
+  const u::Datasheet ds = u::to_datasheet(t, f.value, units);
+  rec.value_datasheet = ds.primary.value;
+  rec.unit_datasheet = ds.primary.unit;
+  rec.sigma_datasheet = u::to_datasheet(t, f.sigma, units).primary.value;
+  rec.upper_datasheet = u::to_datasheet(t, f.upper, units).primary.value;
+  if (ds.secondary) {
+    rec.value_datasheet_alt = ds.secondary->value;
+    rec.unit_datasheet_alt = ds.secondary->unit;
+  }
+  return rec;
+}
 
 io::FitRecord fit_channel(const kernels::StatResult& oadev, double tau0_s, std::int64_t n_samples,
                           const std::string& units, const LowpassChoice& lowpass,
@@ -378,6 +379,15 @@ void add_readout_rows(const std::vector<const io::ChannelResult*>& chans,
   }
 }
 
+// A modelled poor fit in the "fit" row: the model's verdict beside eq. (3)'s chi2/dof.
+std::string model_cell(const io::FitRecord& f) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "model %s (gap %.3g, p95 %.3g; eq. (3) chi2/dof %.3g)",
+                f.model_within_noise == 1 ? "within noise" : "NOT within noise", f.model_gap,
+                f.model_gap_p95, f.chi2_dof);
+  return buf;
+}
+
 std::string format_term(const io::TermRecord& t) {
   char buf[64];
   if (t.detected)
@@ -446,19 +456,25 @@ std::string fit_table(const io::RecordingResult& r) {
     }
     std::vector<std::string> status = {"fit", ""};
     for (const auto* ch : chans) {
-      status.push_back(io::fit_status_text(*ch->fit));
-      poor = poor || ch->fit->status == kernels::FitStatus::PoorFit;
+      const io::FitRecord& f = *ch->fit;
+      status.push_back(f.model.empty() ? io::fit_status_text(f) : model_cell(f));
+      poor = poor || (f.status == kernels::FitStatus::PoorFit && f.model_within_noise != 1);
     }
     rows.push_back(status);
     add_filter_rows(chans, rows);
     add_readout_rows(chans, rows, &undetected);
     out << aligned_rows(rows);
+    for (const auto* ch : chans)
+      if (!ch->fit->model.empty())
+        out << "  " << ch->path.substr(ch->path.find_last_of('/') + 1) << ": terms of the model "
+            << ch->fit->model << "\n";
   }
   if (undetected)
     out << "  read-outs (IEEE 952 annex C) marked * read a branch the fit does not detect: the "
            "curve may not have it\n";
   if (poor)
-    out << "  poor fit: the five terms do not explain the measured curve within its noise; "
+    out << "  poor fit: the five terms (and a model of eq. (3) plus effects, where one was made) "
+           "do not explain the measured curve within its noise; "
            "`allanlot diagnose "
         << r.source_file << " --model MODEL.json` names what they miss\n";
   return out.str();

@@ -6,6 +6,7 @@
 #include "kernels/allan/phase.hpp"
 #include "kernels/allan/stats.hpp"
 #include "kernels/model/fit.hpp"
+#include "kernels/model/units.hpp"
 #include "kernels/simulate/lowpass.hpp"
 #include "kernels/spectral/psd.hpp"
 
@@ -43,6 +44,11 @@ io::FitRecord fit_channel(const kernels::StatResult& oadev, double tau0_s, std::
                           const std::string& units, const LowpassChoice& lowpass = {},
                           std::array<kernels::TermFit, kernels::kNumTerms>* terms_out = nullptr,
                           int threads = 1);
+
+/// One term of a fit as the results file records it: the value, sigma and 95 % upper bound
+/// in channel units (`units`) and converted to datasheet units (kernels/model/units.hpp).
+io::TermRecord term_record(kernels::units::Term t, const kernels::TermFit& f,
+                           const std::string& units);
 
 /// "auto", "none", "cutoff_hz=X" or "taps=X" as a LowpassChoice (the filter checked against
 /// rate_hz when given, else only for its own range); throws std::invalid_argument naming the

@@ -81,7 +81,8 @@ std::string summary_table(const std::string& channel, const std::vector<Member>&
     h << "<td class=\"l words" << (m.ch->status.is_ok() ? "" : " bad") << "\">"
       << escape(io::to_string(m.ch->status));
     if (m.ch->fit && m.ch->fit->status != kernels::FitStatus::Ok)
-      h << " <span class=\"bad\">(fit: " << escape(io::fit_status_text(*m.ch->fit)) << ")</span>";
+      h << " <span class=\"" << (m.ch->fit->model_within_noise == 1 ? "small" : "bad")
+        << "\">(fit: " << escape(io::fit_status_text(*m.ch->fit)) << ")</span>";
     h << "</td>";
     for (std::size_t j = 0; j < 5; ++j) {
       const io::TermRecord* t = m.ch->fit ? find_term(*m.ch->fit, kTerms[j].name) : nullptr;

@@ -60,7 +60,8 @@ void add_fit(svg::Plot& p, const io::FitRecord& fit, const kernels::StatResult* 
              double factor) {
   const auto th = theta_of(fit);
   svg::Series model;
-  model.label = "eq. (3) fit";
+  // A poor fit's model (docs/fit-and-psd.md): the curve is that model's, not eq. (3)'s alone.
+  model.label = fit.model.empty() ? "eq. (3) fit" : "model: " + fit.model;
   model.color = "#000";
   model.width = 2.0;
   model.css_class = "fit";

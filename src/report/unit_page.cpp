@@ -258,7 +258,11 @@ std::string channel_section(const Unit& u, const io::ChannelResult& ch, const Ex
   if (ch.fit) {
     h << "; fit " << escape(io::fit_status_text(*ch.fit)) << ", &chi;&sup2;/dof "
       << number(ch.fit->chi2_dof, 3);
-    if (ch.fit->status == kernels::FitStatus::PoorFit)
+    if (!ch.fit->model.empty())
+      h << " (eq. (3) alone; the coefficients and the curve drawn are those of the model, gap "
+        << number(ch.fit->model_gap, 3) << " against its " << ch.fit->model_replicas
+        << " replicas' p95 " << number(ch.fit->model_gap_p95, 3) << ")";
+    else if (ch.fit->status == kernels::FitStatus::PoorFit)
       h << " (the model misses part of the curve: <code>allanlot diagnose</code> names what)";
     // The taus the sensor's filter left out of the fit (docs/fit-and-psd.md).
     if (!ch.fit->tau.empty() && ch.fit->first_tau_fitted > ch.fit->tau.front())

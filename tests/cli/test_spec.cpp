@@ -168,6 +168,28 @@ TEST(Spec, DetailQuotesTheEstimateInTheUnitOfItsLimit) {
       "B <0.00333 ~ 0.0025 deg/s");
 }
 
+// A term is never passed or failed from a curve its model does not describe
+// (docs/fit-and-psd.md "When eq. (3) is a poor fit"): a row whose fit is not within noise (a
+// poor eq. (3) fit whose model is still beyond noise, or that was not modelled) leaves every
+// limited term undecided, whichever side of its limit the estimate lies; within noise, or
+// unknown (an earlier version's row), it is judged on its interval alone.
+TEST(Spec, FitNotWithinNoiseLeavesEveryTermUndecided) {
+  const auto sp = parse(
+      R"j({"confidence": 0.95, "channels": {"gyro_*": {
+        "N": {"max": 18, "unit": "deg/h/sqrt(Hz)"}, "B": {"max": 10, "unit": "deg/h"}}}})j");
+  for (const auto& [n, verdict] : {std::pair{17.0, "pass"}, {19.0, "fail"}}) {
+    auto row = gyro_row(n, 0.02, 4.5, 0.1);
+    EXPECT_EQ(spec::judge(sp, row).status, verdict);  // fit_within_noise -1: unknown
+    row.fit_within_noise = 1;
+    EXPECT_EQ(spec::judge(sp, row).status, verdict);
+    row.fit_within_noise = 0;
+    const spec::Verdict v = spec::judge(sp, row);
+    EXPECT_EQ(v.status, "undecided") << v.detail;
+    EXPECT_EQ(v.term_status, (std::array<std::string, 5>{"", "", "undecided", "undecided", ""}));
+    EXPECT_NE(v.detail.find("(fit not within noise)"), std::string::npos) << v.detail;
+  }
+}
+
 TEST(Spec, FirstMatchingRuleWinsOnPathOrName) {
   const auto sp = parse(
       R"j({"channels": {

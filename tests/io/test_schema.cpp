@@ -85,6 +85,13 @@ io::FitRecord fit(bool psd_domain) {
                         0.0024, "deg/sqrt(h)"});
   f.readouts.push_back(
       {"K_3s", false, 1e-6, 1e-7, 3.0, 2e-6, 0.1, 0.01, "deg/h/sqrt(h)", 0.0, 0.0, ""});
+  f.model = "eq. (3) + lowpass 1.15 taps, resonance 0.567 Hz";
+  f.model_gap = 0.733;
+  f.model_gap_p95 = 1.41;
+  f.model_replicas = 19;
+  f.model_within_noise = 1;
+  f.effects.push_back({0, "lowpass", "taps", 1.15, 0.01, 0});
+  f.effects.push_back({1, "resonance", "frequency_hz", 0.567, 1e-4, 1});
   return f;
 }
 
@@ -227,6 +234,7 @@ TEST(Schema, EveryTableLineRoundTrips) {
     expect_fields(**w, **g, s::fit_fields(), name);
     expect_columns((*w)->terms, (*g)->terms, s::term_columns(), name);
     expect_columns((*w)->readouts, (*g)->readouts, s::readout_columns(), name);
+    expect_columns((*w)->effects, (*g)->effects, s::effect_columns(), name);
   }
   ASSERT_TRUE(got.psd && got.crosscheck && got.diagnosis);
   expect_fields(*want.psd, *got.psd, s::psd_fields(), "psd");
