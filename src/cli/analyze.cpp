@@ -136,6 +136,7 @@ pipeline::ChannelOptions channel_options(const AnalyzeOptions& opt, int kernel_t
   copt.fit = opt.fit;
   copt.lowpass = pipeline::parse_lowpass_choice(opt.lowpass);
   copt.psd = opt.psd;
+  copt.gaps = opt.gaps;
   copt.threads = kernel_threads;
   return copt;
 }
@@ -283,6 +284,12 @@ std::string input_stamp(const io::InputOptions& in) {
   return s;
 }
 
+// The gap policy, named in the stamp only when it is not the default: results files written
+// by a default run without the option in their stamp stay current for resume.
+std::string gaps_stamp(const kernels::GapPolicy& gaps) {
+  return gaps == kernels::GapPolicy{} ? "" : ";gaps=" + kernels::to_string(gaps);
+}
+
 // The options that change what a results file holds, canonically written (the resume stamp,
 // io/fingerprint.hpp). The thread count and the output switches that do not change numbers
 // (--table, --verbose, --quiet, --no-summary, --memory-limit) are not in it.
@@ -292,7 +299,8 @@ std::string options_stamp(const AnalyzeOptions& opt) {
   return "stats=" + join_stats(opt.stats) + ";taus=" + kernels::to_string(opt.grid) +
          ";confidence=" + conf + ";channels=" + opt.channels_glob +
          ";fit=" + (opt.fit ? "1" : "0") + ";lowpass=" + opt.lowpass +
-         ";psd=" + (opt.psd ? "1" : "0") + ";version=" + kVersion + input_stamp(opt.input);
+         ";psd=" + (opt.psd ? "1" : "0") + gaps_stamp(opt.gaps) + ";version=" + kVersion +
+         input_stamp(opt.input);
 }
 
 // Fails with a usage-level message when OUTDIR cannot hold results.
@@ -555,6 +563,7 @@ std::string default_stats() {
 struct AnalyzeArgs {
   AnalyzeOptions opt;
   std::string stats_text = default_stats(), taus_text = kernels::to_string(opt.grid);
+  std::string gaps_text = kernels::to_string(opt.gaps);
   std::string outdir, spec_text, memory_text;
   std::vector<std::string> manifests;
   InputArgs input;
@@ -576,6 +585,11 @@ AnalyzeOptions checked_options(const AnalyzeArgs& a, const std::string& command_
     pipeline::parse_lowpass_choice(opt.lowpass);
   } catch (const std::invalid_argument& e) {
     throw CLI::ValidationError("--lowpass", e.what());
+  }
+  try {
+    opt.gaps = kernels::parse_gap_policy(a.gaps_text);
+  } catch (const std::invalid_argument& e) {
+    throw CLI::ValidationError("--gaps", e.what());
   }
   opt.psd = !a.no_psd;
   opt.command_line = command_line;
@@ -630,6 +644,11 @@ Command add_analyze_command(CLI::App& app) {
                   "The sensor's filter in the eq. (3) fit: auto (named from the curve; the "
                   "taus it biases are left out when that lowers chi2/dof), none (every tau), "
                   "cutoff_hz=X (first order) or taps=X (moving average)")
+      ->capture_default_str();
+  sub->add_option("--gaps", a->gaps_text,
+                  "What missing samples (NaN) become: fill:N (runs of at most N samples "
+                  "interpolated, longer runs left as gaps), fill (every run), skip (every term "
+                  "touching a gap left out)")
       ->capture_default_str();
   sub->add_flag("--no-psd", a->no_psd, "Do not compute the PSD and the eq. (2) cross-check");
   sub->add_flag("--table", a->opt.table,

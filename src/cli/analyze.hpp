@@ -5,6 +5,7 @@
 #pragma once
 
 #include "io/input_options.hpp"
+#include "kernels/allan/gaps.hpp"
 #include "kernels/allan/stats.hpp"
 #include "kernels/allan/tau_grid.hpp"
 #include "src/cli/cli.hpp"
@@ -28,6 +29,7 @@ struct AnalyzeOptions {
   bool fit = true;                   // write fit/ (the eq. (3) fit); --no-fit turns it off
   // --lowpass: the sensor's filter in the fit (auto, none, cutoff_hz=X, taps=X)
   std::string lowpass = "auto";
+  kernels::GapPolicy gaps;  // --gaps: what missing samples become (default fill:10)
   bool psd = true;       // write psd/ and crosscheck/ (Welch PSD, eq. (2)); --no-psd turns it off
   bool table = false;    // print each unit's fit table (always for <= 10 inputs)
   bool verbose = false;  // per-stage timings on stderr
