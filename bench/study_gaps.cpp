@@ -4,15 +4,20 @@
 // overlapping Allan deviation of the dropped record, under the default gap policy and under
 // `skip`, is compared with that of the same record without drops.
 //
-//   study_gaps FOLDER [DROPS] [POLICY]   (DROPS: comma list, default 1,12,100,1000;
-//                                          POLICY: the policy studied, default fill:10)
+//   study_gaps FOLDER [DROPS] [POLICY] [MAXLEN]   (DROPS: comma list, default 1,12,100,1000;
+//     POLICY: the policy studied, default fill:10; MAXLEN: longest drop, default 5;
+//     STUDY_NO_PIPELINE=1 leaves out the end-to-end part)
 //
 // Per unit, channel and drop count: the share of the gap-free taus where the gap-free OADEV lies
 // inside the gapped run's interval (a tau the gapped run lacks counts as outside), the worst
 // distance of the gap-free OADEV from the gapped estimate in half-widths of the interval (the
-// half on its side), the ratio of the largest taus, and whether TOTDEV runs. Drops: positions
-// uniform over the record, lengths 1 (60 %) or 2 to 5 samples (a logger's dropped rows); seeded
-// by unit, channel and count, so that every run of the study draws the same drops.
+// half on its side) over the taus both have, the ratio of the largest taus, and whether TOTDEV
+// runs. Then the user's case end to end (src/pipeline, as `analyze` runs a channel: OADEV and
+// TOTDEV, the eq. (3) fit, no PSD): a dozen drops in each gyro channel, the OADEV row nearest
+// 649 s with its n, the largest tau and the bias-instability read-out, gap-free, under the
+// policy and under skip. Drops: positions
+// uniform over the record, lengths 1 (60 %) or 2 to MAXLEN samples (a logger's dropped rows);
+// seeded by unit, channel and count, so that every run of the study draws the same drops.
 //
 // Not a Google Benchmark: a table on stdout, one line per channel and count, then the
 // worst case per count.
@@ -21,10 +26,12 @@
 #include "kernels/allan/stats.hpp"
 #include "kernels/allan/tau_grid.hpp"
 #include "kernels/uncertainty/confidence.hpp"
+#include "src/pipeline/channel.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <random>
@@ -45,12 +52,14 @@ struct Outcome {
   std::int64_t filled = 0;
 };
 
+std::size_t g_max_len = 5;  // longest drop, samples (MAXLEN)
+
 std::vector<double> with_drops(const std::vector<double>& y, int drops, unsigned seed) {
   std::vector<double> out = y;
   std::mt19937_64 rng(seed);
-  std::uniform_int_distribution<std::size_t> at(0, y.size() - 6);
+  std::uniform_int_distribution<std::size_t> at(0, y.size() - g_max_len - 1);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  std::uniform_int_distribution<std::size_t> longer(2, 5);
+  std::uniform_int_distribution<std::size_t> longer(2, std::max<std::size_t>(g_max_len, 2));
   for (int d = 0; d < drops; ++d) {
     const std::size_t a = at(rng);
     const std::size_t len = u(rng) < 0.6 ? 1 : longer(rng);
@@ -83,10 +92,7 @@ Outcome compare(const kernels::StatResult& clean, const std::vector<double>& dro
   std::size_t inside = 0;
   for (std::size_t i = 0; i < clean.size(); ++i) {
     const auto it = row.find(clean.m[i]);
-    if (it == row.end()) {
-      o.worst = INFINITY;
-      continue;
-    }
+    if (it == row.end()) continue;  // outside; the tau ratio says how many are lost
     const std::size_t j = it->second;
     const double d0 = clean.dev[i], d = g.dev[j];
     inside += (d0 >= g.dev_lo[j] && d0 <= g.dev_hi[j]) ? 1 : 0;
@@ -120,6 +126,60 @@ struct Worst {
   }
 };
 
+// One channel as `analyze --stats oadev,totdev --no-psd --gaps POLICY` computes it.
+io::ChannelResult pipeline_run(const io::ChannelInfo& ch, const std::vector<double>& y,
+                               const kernels::GapPolicy& policy) {
+  pipeline::ChannelOptions opt;
+  opt.stats = {kernels::Stat::Oadev, kernels::Stat::Totdev};
+  opt.psd = false;
+  opt.gaps = policy;
+  kernels::LargeVector<double> samples(y.begin(), y.end());
+  return pipeline::analyze_channel(ch, std::move(samples), opt).result;
+}
+
+void print_case(const char* label, const io::ChannelResult& r) {
+  const kernels::StatResult* o = nullptr;
+  bool totdev = false;
+  for (const auto& [name, st] : r.stats) {
+    if (name == "oadev") o = &st;
+    totdev = totdev || name == "totdev";
+  }
+  double bi = NAN;
+  if (r.fit)
+    for (const io::ReadoutRecord& x : r.fit->readouts)
+      if (x.name == "bias_instability") bi = x.value_datasheet;
+  if (!o || o->size() == 0) {
+    std::printf("  %-8s no oadev\n", label);
+    return;
+  }
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < o->size(); ++i)
+    if (std::abs(std::log(o->tau_s[i] / 649.0)) < std::abs(std::log(o->tau_s[k] / 649.0))) k = i;
+  std::printf("  %-8s tau %7.1f s: oadev %.5f [%.5f, %.5f] n %7lld | largest tau %6.0f s | "
+              "bias instability %6.2f deg/h | totdev %s\n",
+              label, o->tau_s[k], o->dev[k], o->dev_lo[k], o->dev_hi[k],
+              static_cast<long long>(o->n[k]), o->tau_s.back(), bi, totdev ? "yes" : "no");
+}
+
+void user_case(const std::vector<fs::path>& files, const kernels::GapPolicy& policy) {
+  std::printf("\nthe user's case: 12 drops in each gyro channel, through the pipeline\n");
+  unsigned seed = 9001;
+  for (const fs::path& file : files) {
+    io::RecordingReader reader(file.string());
+    for (const io::ChannelInfo& ch : reader.info().channels) {
+      if (ch.path.find("gyro") == std::string::npos) continue;
+      const kernels::LargeVector<double> raw = reader.read(ch);
+      const std::vector<double> y(raw.begin(), raw.end());
+      const std::vector<double> dropped = with_drops(y, 12, seed++);
+      std::printf("%s %s\n", reader.info().device_id.c_str(), ch.path.c_str());
+      print_case("gap-free", pipeline_run(ch, y, policy));
+      print_case(kernels::to_string(policy).c_str(), pipeline_run(ch, dropped, policy));
+      print_case("skip", pipeline_run(ch, dropped, kernels::parse_gap_policy("skip")));
+      std::fflush(stdout);
+    }
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -131,6 +191,7 @@ int main(int argc, char** argv) {
   const kernels::GapPolicy policy =
       kernels::parse_gap_policy(argc > 3 ? argv[3] : kernels::to_string(kernels::GapPolicy{}));
   const kernels::GapPolicy skip = kernels::parse_gap_policy("skip");
+  if (argc > 4) g_max_len = static_cast<std::size_t>(std::stoul(argv[4]));
   std::vector<fs::path> files;
   for (const auto& e : fs::directory_iterator(argv[1]))
     if (e.path().extension() == ".h5") files.push_back(e.path());
@@ -172,5 +233,6 @@ int main(int argc, char** argv) {
                 f.worst, f.tau_ratio, f.totdev, f.channels, s.inside, s.worst, s.tau_ratio,
                 s.totdev, s.channels);
   }
+  if (!std::getenv("STUDY_NO_PIPELINE")) user_case(files, policy);
   return 0;
 }
