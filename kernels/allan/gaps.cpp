@@ -1,10 +1,13 @@
 #include "kernels/allan/gaps.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 #include <system_error>
+#include <utility>
+#include <vector>
 
 namespace allanlot::kernels {
 namespace {
@@ -76,7 +79,12 @@ std::string to_string(const GapPolicy& policy) {
   return policy.max_run == 0 ? "fill" : "fill:" + std::to_string(policy.max_run);
 }
 
-GapFill fill_gaps(std::span<double> samples, DataType type, const GapPolicy& policy) {
+namespace {
+
+using Runs = std::vector<std::pair<std::size_t, std::size_t>>;
+
+// fill_gaps, noting each filled run [a, b) in `filled` when given.
+GapFill fill_runs(std::span<double> samples, DataType type, const GapPolicy& policy, Runs* filled) {
   GapFill out;
   const bool fill = policy.mode == GapPolicy::Mode::Fill;
   double slope = 0.0;
@@ -100,6 +108,7 @@ GapFill fill_gaps(std::span<double> samples, DataType type, const GapPolicy& pol
         slope_known = true;
       }
       fill_run(samples, a, b, type, slope);
+      if (filled) filled->emplace_back(a, b);
       ++out.filled_runs;
       out.filled += len;
     } else {
@@ -111,13 +120,77 @@ GapFill fill_gaps(std::span<double> samples, DataType type, const GapPolicy& pol
   return out;
 }
 
+// The gaps of the phase (phase.hpp: missing increments before each phase point) with the
+// filled samples counted as missing again: a rate sample is one increment, a phase point
+// makes both increments beside it missing.
+std::vector<std::int64_t> skip_gaps(std::span<const double> samples, DataType type,
+                                    const Runs& filled) {
+  std::vector<std::uint8_t> missing(samples.size(), 0);
+  for (std::size_t k = 0; k < samples.size(); ++k)
+    missing[k] = std::isnan(samples[k]) ? 1 : 0;
+  for (const auto& [a, b] : filled)
+    std::fill(missing.begin() + static_cast<std::ptrdiff_t>(a),
+              missing.begin() + static_cast<std::ptrdiff_t>(b), std::uint8_t{1});
+  const std::size_t increments = type == DataType::Rate ? samples.size() : samples.size() - 1;
+  std::vector<std::int64_t> g(increments + 1, 0);
+  for (std::size_t j = 0; j < increments; ++j) {
+    const bool gone = type == DataType::Rate ? missing[j] : (missing[j] || missing[j + 1]);
+    g[j + 1] = g[j] + (gone ? 1 : 0);
+  }
+  return g;
+}
+
+}  // namespace
+
+GapFill fill_gaps(std::span<double> samples, DataType type, const GapPolicy& policy) {
+  return fill_runs(samples, type, policy, nullptr);
+}
+
 PhaseData make_phase(std::span<double> samples, DataType type, double rate_hz,
                      const GapPolicy& policy, GapFill* fill, int nthreads) {
-  const GapFill f = fill_gaps(samples, type, policy);
+  Runs filled;
+  const GapFill f = fill_runs(samples, type, policy, &filled);
   PhaseData p = make_phase(std::span<const double>(samples), type, rate_hz, nthreads);
   p.n_filled = f.filled;
+  if (f.filled > 0) p.skip_gaps = skip_gaps(samples, type, filled);
   if (fill) *fill = f;
   return p;
+}
+
+PhaseData skip_view(const PhaseData& p) {
+  if (p.skip_gaps.empty()) throw std::invalid_argument("skip_view: no sample was filled");
+  PhaseData v;
+  v.x = p.x;
+  v.gaps = p.skip_gaps;
+  v.tau0_s = p.tau0_s;
+  v.n_gaps = p.n_gaps + p.n_filled;
+  v.mean_rate = p.mean_rate;
+  return v;
+}
+
+StatResult merge_filled_skipped(const StatResult& filled, const StatResult& skipped) {
+  StatResult out;
+  const auto take = [&out](const StatResult& r, std::size_t i) {
+    out.m.push_back(r.m[i]);
+    out.tau_s.push_back(r.tau_s[i]);
+    out.dev.push_back(r.dev[i]);
+    out.n.push_back(r.n[i]);
+  };
+  std::size_t i = 0, j = 0;
+  while (i < filled.size() || j < skipped.size()) {
+    if (j == skipped.size() || (i < filled.size() && filled.m[i] < skipped.m[j])) {
+      take(filled, i++);
+    } else if (i == filled.size() || skipped.m[j] < filled.m[i]) {
+      take(skipped, j++);
+    } else {
+      const bool keep =
+          static_cast<double>(skipped.n[j]) >= kSkipKeepShare * static_cast<double>(filled.n[i]);
+      take(keep ? skipped : filled, keep ? j : i);
+      ++i;
+      ++j;
+    }
+  }
+  return out;
 }
 
 }  // namespace allanlot::kernels

@@ -12,6 +12,7 @@
 #pragma once
 
 #include "kernels/allan/phase.hpp"
+#include "kernels/allan/stat_result.hpp"
 
 #include <cstdint>
 #include <span>
@@ -61,10 +62,27 @@ struct GapFill {
 /// Preconditions (std::invalid_argument): at least one valid sample when a run is filled.
 GapFill fill_gaps(std::span<double> samples, DataType type, const GapPolicy& policy);
 
+/// A row is taken with the terms touching filled samples left out (as `skip` computes it) when
+/// that keeps at least this share of the terms the filled record has: the edf then falls by at
+/// most 10 % (the interval widens by about 5 %), while at such short taus a filled sample
+/// weighs most in the terms spanning it. Below the share the filled record's row is taken.
+inline constexpr double kSkipKeepShare = 0.9;
+
 /// fill_gaps then make_phase: the phase of the filled samples, with p.n_filled = the samples
-/// filled (the interval rule of confidence.hpp) and p.n_gaps = the samples left missing.
+/// filled (the interval rule of confidence.hpp), p.n_gaps = the samples left missing and, when
+/// a sample was filled, p.skip_gaps (gaps counting every missing sample of the input).
 /// `fill` (optional) receives what fill_gaps did.
 PhaseData make_phase(std::span<double> samples, DataType type, double rate_hz,
                      const GapPolicy& policy, GapFill* fill = nullptr, int nthreads = 0);
+
+/// The record as `skip` sees it: p with p.skip_gaps as its gaps and nothing filled (a copy of
+/// the phase). Precondition: p.skip_gaps not empty.
+PhaseData skip_view(const PhaseData& p);
+
+/// The rows of a statistic on a record with filled samples (kernels::compute): per m, the row
+/// of `skipped` (computed on skip_view(p)) when it keeps at least kSkipKeepShare of the terms
+/// of the row of `filled` (computed on p), else the row of `filled`; rows in m order. Only m,
+/// tau_s, dev and n are read and set (the intervals come after).
+StatResult merge_filled_skipped(const StatResult& filled, const StatResult& skipped);
 
 }  // namespace allanlot::kernels
