@@ -47,6 +47,7 @@ namespace fs = std::filesystem;
 struct Outcome {
   double inside = 0;     // share of taus inside
   double worst = 0;      // half-widths
+  double worst_tau = 0;  // s, where it is reached
   double tau_ratio = 0;  // largest tau, dropped / gap-free
   bool totdev = false;   // TOTDEV runs
   std::int64_t filled = 0;
@@ -97,7 +98,10 @@ Outcome compare(const kernels::StatResult& clean, const std::vector<double>& dro
     const double d0 = clean.dev[i], d = g.dev[j];
     inside += (d0 >= g.dev_lo[j] && d0 <= g.dev_hi[j]) ? 1 : 0;
     const double half = d0 >= d ? g.dev_hi[j] - d : d - g.dev_lo[j];
-    o.worst = std::max(o.worst, std::abs(d0 - d) / half);
+    if (std::abs(d0 - d) / half > o.worst) {
+      o.worst = std::abs(d0 - d) / half;
+      o.worst_tau = clean.tau_s[i];
+    }
   }
   o.inside = static_cast<double>(inside) / static_cast<double>(clean.size());
   o.tau_ratio = g.size() ? g.tau_s.back() / clean.tau_s.back() : 0.0;
@@ -197,9 +201,9 @@ int main(int argc, char** argv) {
     if (e.path().extension() == ".h5") files.push_back(e.path());
   std::sort(files.begin(), files.end());
   std::map<int, Worst> worst_fill, worst_skip;
-  std::printf("%-14s %-12s %5s %7s | %-8s %7s %7s %6s | %-8s %7s %7s %6s\n", "unit", "channel",
-              "drops", "filled", policy == kernels::GapPolicy{} ? "default" : "policy", "inside",
-              "worst", "tau", "skip", "inside", "worst", "tau");
+  std::printf("%-14s %-12s %5s %7s | %-8s %7s %7s %8s %6s | %-8s %7s %7s %8s %6s\n", "unit",
+              "channel", "drops", "filled", policy == kernels::GapPolicy{} ? "default" : "policy",
+              "inside", "worst", "at (s)", "tau", "skip", "inside", "worst", "at (s)", "tau");
   unsigned seed = 1;
   for (const fs::path& file : files) {
     io::RecordingReader reader(file.string());
@@ -214,10 +218,12 @@ int main(int argc, char** argv) {
         const Outcome s = compare(clean, dropped, ch.data_type, ch.sample_rate_hz, skip);
         worst_fill[drops].add(f);
         worst_skip[drops].add(s);
-        std::printf("%-14s %-12s %5d %7lld | %8s %7.3f %7.2f %6.3f | %8s %7.3f %7.2f %6.3f\n",
+        std::printf("%-14s %-12s %5d %7lld | %8s %7.3f %7.2f %8.2f %6.3f | %8s %7.3f %7.2f %8.2f "
+                    "%6.3f\n",
                     reader.info().device_id.c_str(), ch.path.c_str(), drops,
                     static_cast<long long>(f.filled), f.totdev ? "totdev" : "-", f.inside, f.worst,
-                    f.tau_ratio, s.totdev ? "totdev" : "-", s.inside, s.worst, s.tau_ratio);
+                    f.worst_tau, f.tau_ratio, s.totdev ? "totdev" : "-", s.inside, s.worst,
+                    s.worst_tau, s.tau_ratio);
         std::fflush(stdout);
       }
     }
