@@ -63,10 +63,13 @@ struct GapFill {
 GapFill fill_gaps(std::span<double> samples, DataType type, const GapPolicy& policy);
 
 /// A row is taken with the terms touching filled samples left out (as `skip` computes it) when
-/// that keeps at least this share of the terms the filled record has: the edf then falls by at
-/// most 10 % (the interval widens by about 5 %), while at such short taus a filled sample
-/// weighs most in the terms spanning it. Below the share the filled record's row is taken.
-inline constexpr double kSkipKeepShare = 0.9;
+/// that keeps at least this share of the terms the filled record has: at such short taus a
+/// filled sample weighs most in the terms spanning it, and leaving out 1 % of the terms changes
+/// the estimate by a small part of its interval (the edf falls by at most 1 %). Below the share
+/// the filled record's row is taken: leaving out a larger block of terms moves the estimate
+/// away from the record's own by up to 2 half-widths on the ADIS16405 units
+/// (docs/validation/2026-11-28-gaps.md), more than filling does there.
+inline constexpr double kSkipKeepShare = 0.99;
 
 /// fill_gaps then make_phase: the phase of the filled samples, with p.n_filled = the samples
 /// filled (the interval rule of confidence.hpp), p.n_gaps = the samples left missing and, when
