@@ -2,9 +2,10 @@
 // 1 g offset plus 1e-3 white noise), one thread:
 //  - BM_FillScanGapFree: fill_gaps on the gap-free channel, the only work the policy adds to a
 //    channel without gaps (a scan for NaN), against BM_MakePhase, the phase it precedes;
-//  - BM_Oadev: OADEV on the default grid (log:16) of the gap-free channel (gapped:0) and of
-//    the same channel with a dozen filled drops (gapped:1), which computes every row twice
-//    (the filled record and skip's view) and takes one of the two.
+//  - BM_Oadev: OADEV on the default grid (log:16) of the gap-free channel (gapped:0), of the
+//    same channel with a dozen drops filled (gapped:1: every row on the filled record, the
+//    short taus also on skip's view, each row taken from one of the two) and with the drops
+//    left as gaps (gapped:2, `--gaps skip`: every row on the slower gapped path).
 // Run: build/bench/bench_gaps --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
 #include "kernels/allan/gaps.hpp"
 #include "kernels/allan/stats.hpp"
@@ -59,11 +60,13 @@ void BM_MakePhase(benchmark::State& state) {
 
 void BM_Oadev(benchmark::State& state) {
   std::vector<double> y = samples();
-  if (state.range(0) == 1)
+  if (state.range(0) >= 1)
     for (std::int64_t k = 1; k <= 12; ++k)
       y[static_cast<std::size_t>(k * kSamples / 13)] = std::nan("");
-  const kernels::PhaseData p =
-      kernels::make_phase(std::span<double>(y), kernels::DataType::Rate, kRateHz, {}, nullptr, 1);
+  const kernels::GapPolicy policy =
+      kernels::parse_gap_policy(state.range(0) == 2 ? "skip" : "fill:10");
+  const kernels::PhaseData p = kernels::make_phase(std::span<double>(y), kernels::DataType::Rate,
+                                                   kRateHz, policy, nullptr, 1);
   const auto ms = kernels::stat_m_list(
       {}, kernels::Stat::Oadev, kernels::max_m(kernels::Stat::Oadev, p.n_points()), p.n_points());
   for (auto _ : state) {
@@ -79,6 +82,7 @@ BENCHMARK(BM_MakePhase)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Oadev)
     ->Arg(0)
     ->Arg(1)
+    ->Arg(2)
     ->ArgNames({"gapped"})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();

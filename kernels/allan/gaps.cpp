@@ -168,6 +168,44 @@ PhaseData skip_view(const PhaseData& p) {
   return v;
 }
 
+namespace {
+
+// Whether the row of `skipped` at m (its last) is taken over the row of `filled` at m.
+bool taken(const StatResult& filled, const StatResult& skipped) {
+  if (skipped.size() == 0) return false;
+  const std::int64_t m = skipped.m.back();
+  const auto it = std::lower_bound(filled.m.begin(), filled.m.end(), m);
+  if (it == filled.m.end() || *it != m) return true;
+  const auto i = static_cast<std::size_t>(it - filled.m.begin());
+  return static_cast<double>(skipped.n.back()) >= kSkipKeepShare * static_cast<double>(filled.n[i]);
+}
+
+}  // namespace
+
+StatResult skipped_rows(
+    const PhaseData& view, const std::vector<std::int64_t>& ms, const StatResult& filled,
+    const std::function<StatResult(const PhaseData&, const std::vector<std::int64_t>&)>& run) {
+  StatResult out;
+  std::size_t done = 0, batch = 8;
+  while (done < ms.size()) {
+    const std::size_t end = std::min(ms.size(), done + batch);
+    const std::vector<std::int64_t> part(ms.begin() + static_cast<std::ptrdiff_t>(done),
+                                         ms.begin() + static_cast<std::ptrdiff_t>(end));
+    const StatResult r = run(view, part);
+    for (std::size_t i = 0; i < r.size(); ++i) {
+      out.m.push_back(r.m[i]);
+      out.tau_s.push_back(r.tau_s[i]);
+      out.dev.push_back(r.dev[i]);
+      out.n.push_back(r.n[i]);
+    }
+    // The last m of the batch without a row has no term without a filled sample: not taken.
+    if (r.size() == 0 || r.m.back() != part.back() || !taken(filled, r)) break;
+    done = end;
+    batch *= 2;
+  }
+  return out;
+}
+
 StatResult merge_filled_skipped(const StatResult& filled, const StatResult& skipped) {
   StatResult out;
   const auto take = [&out](const StatResult& r, std::size_t i) {

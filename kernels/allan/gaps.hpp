@@ -15,9 +15,11 @@
 #include "kernels/allan/stat_result.hpp"
 
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace allanlot::kernels {
 
@@ -87,5 +89,14 @@ PhaseData skip_view(const PhaseData& p);
 /// of the row of `filled` (computed on p), else the row of `filled`; rows in m order. Only m,
 /// tau_s, dev and n are read and set (the intervals come after).
 StatResult merge_filled_skipped(const StatResult& filled, const StatResult& skipped);
+
+/// A statistic's rows at `ms` (increasing) on `view` = skip_view(p), computed by `run` in
+/// batches of 8, 16, 32, ... averaging factors and stopped after the first batch whose last row
+/// is not taken against `filled` (the rows on p): the share of terms a gap costs grows with m
+/// (each term's span grows), so no later row would be taken, and the rows skip's slower gapped
+/// path computes are only those that may be. The batches do not depend on the thread count.
+StatResult skipped_rows(
+    const PhaseData& view, const std::vector<std::int64_t>& ms, const StatResult& filled,
+    const std::function<StatResult(const PhaseData&, const std::vector<std::int64_t>&)>& run);
 
 }  // namespace allanlot::kernels

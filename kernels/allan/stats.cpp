@@ -236,7 +236,10 @@ StatResult compute(Stat s, const PhaseData& p, std::span<const std::int64_t> m_l
   // Filled samples (gaps.hpp): each row from the filled record or, where that costs little,
   // with the terms touching them left out. The cache holds the filled record's sums only.
   const StatResult filled = dispatch(s, p, ms, nthreads, cache, range);
-  const StatResult skipped = dispatch(s, skip_view(p), ms, nthreads, nullptr, range);
+  const StatResult skipped = skipped_rows(
+      skip_view(p), ms, filled, [&](const PhaseData& view, const std::vector<std::int64_t>& part) {
+        return dispatch(s, view, part, nthreads, nullptr, range);
+      });
   return merge_filled_skipped(filled, skipped);
 }
 
