@@ -188,6 +188,32 @@ TEST(GapPolicy, FilledRecordMatchesTheNaiveReference) {
   EXPECT_EQ(r.n.back(), static_cast<std::int64_t>(y.size()) + 1 - 2 * ms.back());
 }
 
+// Phase data: the phase is interpolated across a drop, and skip's view leaves out both
+// increments of each missing phase point, as the naive definition on the phase with NaN does.
+TEST(GapPolicy, PhaseRecordMatchesTheNaiveReference) {
+  std::vector<double> x(20000);
+  std::mt19937_64 rng(12);
+  std::normal_distribution<double> g(0.0, 1.0);
+  double s = 0.0;
+  for (double& v : x)
+    v = (s += 1.0 + g(rng));  // white FM as phase, with a rate offset
+  const auto dropped = with_drops(x, 20, 13);
+  auto filled = dropped;
+  const auto p = kernels::make_phase(std::span<double>(filled), DataType::Phase, 1.0, GapPolicy{});
+  EXPECT_FALSE(p.has_gaps());
+  const std::vector<std::int64_t> ms = {1, 2, 50, 1000};
+  const auto r = kernels::compute(Stat::Oadev, p, ms, 1);
+  ASSERT_EQ(r.size(), ms.size());
+  for (std::size_t i = 0; i < ms.size(); ++i) {
+    const std::int64_t full = static_cast<std::int64_t>(x.size()) - 2 * ms[i];
+    const auto ref = test::naive_oadev_phase(r.n[i] < full ? dropped : filled, ms[i], 1.0L);
+    EXPECT_EQ(r.n[i], ref.n) << "m=" << ms[i];
+    EXPECT_NEAR(r.dev[i] / static_cast<double>(ref.dev), 1.0, 1e-9) << "m=" << ms[i];
+  }
+  EXPECT_LT(r.n.front(), static_cast<std::int64_t>(x.size()) - 2);  // m = 1 as skip takes it
+  EXPECT_EQ(r.n.back(), static_cast<std::int64_t>(x.size()) - 2000);
+}
+
 TEST(GapPolicy, ResultsDoNotDependOnTheThreadCount) {
   const auto base = with_drops(white_plus_walk(300000, 0.001, 5), 30, 6);
   const auto ms = kernels::make_m_list(kernels::parse_tau_grid("octave"), 75000, 300001);
