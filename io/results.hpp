@@ -134,6 +134,11 @@ struct ChannelResult {
   std::int64_t n_samples = 0;
   std::int64_t n_gaps = 0;
   std::string data_type = "rate";  // "rate" or "phase"
+  // What the gap policy (analyze --gaps, kernels/allan/gaps.hpp) did; written when n_gaps > 0.
+  std::string gap_policy;          // "skip", "fill" or "fill:N"
+  std::int64_t n_filled = 0;       // missing samples filled by interpolation
+  std::int64_t filled_runs = 0;    // runs of missing samples filled
+  std::int64_t gap_runs_left = 0;  // runs left as gaps (terms touching them left out)
   // The samples as analysed (after scale and offset; gaps left out), as Stable32 heads its
   // tables: largest, smallest and mean. NaN when not known (files of earlier versions).
   double data_max = std::numeric_limits<double>::quiet_NaN();

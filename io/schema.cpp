@@ -26,12 +26,19 @@ std::span<const Field<RecordingResult>> root_fields() {
 std::span<const Field<ChannelResult>> channel_fields() {
   using C = ChannelResult;
   const auto data_known = [](const C& c) { return std::isfinite(c.data_mean); };
+  const auto gapped = [](const C& c) { return c.n_gaps > 0; };
   static const Field<C> t[] = {
       {"units", A, &C::units, "the channel's rate units", nullptr, Need::Required, true},
       {"sample_rate_hz", A, &C::sample_rate_hz, "Hz", nullptr, Need::Required, true},
       {"n_samples", A, &C::n_samples, "samples analysed", nullptr, Need::Required, true},
       {"n_gaps", A, &C::n_gaps, "gaps in the samples", nullptr, Need::Required, true},
       {"data_type", A, &C::data_type, "rate or phase", nullptr, Need::Required, true},
+      // The gap policy's account, on channels with gaps only: a gap-free file is unchanged.
+      {"gap_policy", A, &C::gap_policy, "skip, fill or fill:N", gapped, Need::IfPresent, true},
+      {"n_filled", A, &C::n_filled, "missing samples filled", gapped, Need::IfPresent, true},
+      {"filled_runs", A, &C::filled_runs, "runs of missing samples filled", gapped, Need::IfPresent,
+       true},
+      {"gap_runs_left", A, &C::gap_runs_left, "runs left as gaps", gapped, Need::IfPresent, true},
       {"data_max", A, &C::data_max, "largest sample as analysed, channel units", data_known,
        Need::IfPresent, true},
       {"data_min", A, &C::data_min, "smallest sample as analysed, channel units", data_known,

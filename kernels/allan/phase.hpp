@@ -37,7 +37,13 @@ struct PhaseData {
   std::vector<std::int64_t> gaps;
   double tau0_s = 1.0;      // sample interval
   std::int64_t n_gaps = 0;  // missing samples in the input (NaN)
-  double mean_rate = 0.0;   // the removed mean rate, in u (rate input) or phase units per s
+  /// Samples filled by interpolation before x was built (gaps.hpp): estimates that carry no
+  /// information of their own, which the intervals count (confidence.hpp stat_edf). 0 = none.
+  std::int64_t n_filled = 0;
+  /// With filled samples: `gaps` as if they were still missing (the record as `skip` sees it),
+  /// for the rows where leaving their terms out costs little (gaps.hpp). Empty otherwise.
+  std::vector<std::int64_t> skip_gaps;
+  double mean_rate = 0.0;  // the removed mean rate, in u (rate input) or phase units per s
 
   std::int64_t n_points() const { return static_cast<std::int64_t>(x.size()); }
   bool has_gaps() const { return !gaps.empty(); }

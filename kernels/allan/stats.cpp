@@ -1,6 +1,7 @@
 #include "kernels/allan/stats.hpp"
 
 #include "kernels/allan/allan.hpp"
+#include "kernels/allan/gaps.hpp"
 #include "kernels/allan/hadamard.hpp"
 #include "kernels/allan/parabolic.hpp"
 #include "kernels/allan/theo.hpp"
@@ -180,16 +181,10 @@ void SumCache::store_third(std::int64_t m, double sum, std::int64_t n) {
   third_.emplace(m, std::make_pair(sum, n));
 }
 
-StatResult compute(Stat s, const PhaseData& p, std::span<const std::int64_t> m_list, int nthreads,
-                   SumCache* cache, MRange range) {
-  for (const std::int64_t m : m_list)
-    if (m < 1)
-      throw std::invalid_argument(std::string(stat_name(s)) + ": m must be >= 1, got " +
-                                  std::to_string(m));
-  const std::int64_t mmax = range == MRange::Stable32 ? max_m(s, p.n_points()) : p.n_points() - 1;
-  std::vector<std::int64_t> ms;
-  for (const std::int64_t m : m_list)
-    if (m <= mmax) ms.push_back(m);
+namespace {
+
+StatResult dispatch(Stat s, const PhaseData& p, const std::vector<std::int64_t>& ms, int nthreads,
+                    SumCache* cache, MRange range) {
   switch (s) {
   case Stat::Adev:
     return adev(p, ms, nthreads);
@@ -223,6 +218,29 @@ StatResult compute(Stat s, const PhaseData& p, std::span<const std::int64_t> m_l
     return theoh(p, ms, nthreads);
   }
   throw std::invalid_argument("unknown statistic");
+}
+
+}  // namespace
+
+StatResult compute(Stat s, const PhaseData& p, std::span<const std::int64_t> m_list, int nthreads,
+                   SumCache* cache, MRange range) {
+  for (const std::int64_t m : m_list)
+    if (m < 1)
+      throw std::invalid_argument(std::string(stat_name(s)) + ": m must be >= 1, got " +
+                                  std::to_string(m));
+  const std::int64_t mmax = range == MRange::Stable32 ? max_m(s, p.n_points()) : p.n_points() - 1;
+  std::vector<std::int64_t> ms;
+  for (const std::int64_t m : m_list)
+    if (m <= mmax) ms.push_back(m);
+  if (p.skip_gaps.empty() || !supports_gaps(s)) return dispatch(s, p, ms, nthreads, cache, range);
+  // Filled samples (gaps.hpp): each row from the filled record or, where that costs little,
+  // with the terms touching them left out. The cache holds the filled record's sums only.
+  const StatResult filled = dispatch(s, p, ms, nthreads, cache, range);
+  const StatResult skipped = skipped_rows(
+      skip_view(p), ms, filled, [&](const PhaseData& view, const std::vector<std::int64_t>& part) {
+        return dispatch(s, view, part, nthreads, nullptr, range);
+      });
+  return merge_filled_skipped(filled, skipped);
 }
 
 }  // namespace allanlot::kernels

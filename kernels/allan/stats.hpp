@@ -92,6 +92,10 @@ enum class MRange {
 /// Parallel over m with `nthreads` (0 = OpenMP default); results are bit-identical for any
 /// thread count because each tau's sum is formed by one thread in a fixed order. With a
 /// cache, OADEV and TOTDEV share their second-difference sums (same bits as without).
+/// On a record with filled samples (p.skip_gaps not empty, gaps.hpp) a statistic that supports
+/// gaps is computed on p and, at the m where its row may be taken (skipped_rows), on
+/// skip_view(p), and each row taken from one of the two by merge_filled_skipped; the statistics
+/// that refuse gaps run on the filled record alone.
 StatResult compute(Stat s, const PhaseData& p, std::span<const std::int64_t> m_list,
                    int nthreads = 0, SumCache* cache = nullptr, MRange range = MRange::Stable32);
 

@@ -50,44 +50,73 @@ FiniteDifferenceKind difference_kind(Stat s) {
                               " is not a finite-difference variance");
 }
 
-double stat_edf(Stat s, int alpha, std::int64_t m, std::int64_t n_phase, std::int64_t terms) {
+namespace {
+
+// The edf of the estimators whose edf is a fit in the record length T / tau (SP1065 eq. (47),
+// Table 8; Howe & Tasset; Vernotte et al.): N - F informative points of N scale it by
+// (N - F) / N, the fits' leading term b (T / tau).
+double shorter(double edf, std::int64_t n_phase, std::int64_t n_filled) {
+  if (n_filled <= 0) return edf;
+  return edf * static_cast<double>(n_phase - n_filled) / static_cast<double>(n_phase);
+}
+
+double edf_rows(Stat s, int alpha, std::int64_t m, std::int64_t n_phase, std::int64_t terms,
+                std::int64_t n_filled) {
   if (!has_interval(s)) return std::numeric_limits<double>::quiet_NaN();
   if (s == Stat::Mtotdev || s == Stat::Ttotdev) {
     // Below m = 10, SP1065 Table 8 promises up to 1.4 times the edf that Stable32's bounds on
     // PHASE.DAT imply (1099 against 791 at m = 1), while MDEV's edf over the same N - 3m + 1
     // terms is within 1.5 % of it at m = 1 .. 8 (docs/statistics.md); from m = 10 on Stable32
     // is above Table 8, which stays (the published, conservative side).
-    if (m < 10) return stat_edf(Stat::Mdev, alpha, m, n_phase, terms);
-    return edf_mtotvar(alpha, m, n_phase);
+    if (m < 10) return edf_rows(Stat::Mdev, alpha, m, n_phase, terms, n_filled);
+    return shorter(edf_mtotvar(alpha, m, n_phase), n_phase, n_filled);
   }
   if (s == Stat::Htotdev) {
     // Howe's HTOT fits (edf_htotvar) cover FM noise from m = 16 on; below, and for PM noise,
     // the overlapping Hadamard variance's edf (Greenhall & Riley) over the same terms stands
     // in: HTOT averages more (reflected) terms than OHVAR, so this is the conservative side.
-    if (m >= 16 && alpha <= 0) return edf_htotvar(alpha, m, n_phase);
-    return stat_edf(Stat::Ohdev, alpha, m, n_phase, terms);
+    if (m >= 16 && alpha <= 0) return shorter(edf_htotvar(alpha, m, n_phase), n_phase, n_filled);
+    return edf_rows(Stat::Ohdev, alpha, m, n_phase, terms, n_filled);
   }
-  if (s == Stat::Theo1) return edf_theo1(alpha, m, n_phase);
+  if (s == Stat::Theo1) return shorter(edf_theo1(alpha, m, n_phase), n_phase, n_filled);
   if (s == Stat::Theoh) {
     // Below k = floor(0.1 (N - 1)) a ThêoH row is OADEV (theo.hpp), above it bias-removed Thêo1.
-    if (m < (n_phase - 1) / 10) return stat_edf(Stat::Oadev, alpha, m, n_phase, terms);
-    return edf_theo1(alpha, m, n_phase);
+    if (m < (n_phase - 1) / 10) return edf_rows(Stat::Oadev, alpha, m, n_phase, terms, n_filled);
+    return shorter(edf_theo1(alpha, m, n_phase), n_phase, n_filled);
   }
   if (s == Stat::Pdev) {
     // PVAR at m = 1 is the overlapping Allan variance (parabolic.hpp).
-    if (m == 1) return stat_edf(Stat::Oadev, alpha, m, n_phase, terms);
-    return edf_pvar(alpha, m, n_phase);
+    if (m == 1) return edf_rows(Stat::Oadev, alpha, m, n_phase, terms, n_filled);
+    return shorter(edf_pvar(alpha, m, n_phase), n_phase, n_filled);
   }
   if (s == Stat::Totdev) {
     // Stable32 prints N - 1 terms for every m; fewer mean samples lost to gaps.
     const std::int64_t n_eff = std::min(n_phase, terms + 1);
-    return edf_totvar(alpha, m, n_eff);
+    return shorter(edf_totvar(alpha, m, n_eff), n_eff, std::min(n_filled, n_eff - 1));
   }
   const FiniteDifferenceKind kind = difference_kind(s);
+  if (n_filled > 0) {
+    // F filled points of N: the terms N - F points would give fewer, G(N) - G(N - F), the
+    // terms a filled record gains over the same record with its filled points left out.
+    const std::int64_t full = greenhall_terms(kind, m, n_phase);
+    const std::int64_t kept =
+        greenhall_terms(kind, m, std::max<std::int64_t>(n_phase - n_filled, 0));
+    terms = std::max<std::int64_t>(terms - (full - kept), 1);
+  }
   std::int64_t n_eff = n_phase;
   if (terms < greenhall_terms(kind, m, n_phase))
     n_eff = greenhall_phase_points(kind, m, std::max<std::int64_t>(terms, 1));
   return edf_greenhall(alpha, kind, m, n_eff);
+}
+
+}  // namespace
+
+double stat_edf(Stat s, int alpha, std::int64_t m, std::int64_t n_phase, std::int64_t terms,
+                std::int64_t n_filled) {
+  if (n_filled < 0 || (n_filled > 0 && n_filled >= n_phase))
+    throw std::invalid_argument("stat_edf: n_filled must be in [0, n_phase), got " +
+                                std::to_string(n_filled));
+  return edf_rows(s, alpha, m, n_phase, terms, n_filled);
 }
 
 void add_confidence(Stat s, const PhaseData& p, StatResult& r, double confidence, int nthreads,
@@ -107,7 +136,7 @@ void add_confidence(Stat s, const PhaseData& p, StatResult& r, double confidence
       // HTOT's bias correction (Stable32; edf.hpp htotvar_bias) needs this row's noise type;
       // at m = 1 HTOT is OHDEV, which is unbiased.
       if (s == Stat::Htotdev && r.m[i] > 1) r.dev[i] /= std::sqrt(htotvar_bias(alpha[i]));
-      edf[i] = stat_edf(s, alpha[i], r.m[i], p.n_points(), r.n[i]);
+      edf[i] = stat_edf(s, alpha[i], r.m[i], p.n_points(), r.n[i], p.n_filled);
       if (!has_interval(s)) {
         lo[i] = hi[i] = std::numeric_limits<double>::quiet_NaN();
       } else if (r.dev[i] > 0.0) {

@@ -54,20 +54,29 @@ FiniteDifferenceKind difference_kind(Stat s);
 /// missing terms are treated as a shorter record. This is exact for a gap at either end and
 /// slightly pessimistic for a gap in the middle (the two pieces' terms are independent of
 /// each other, which can only add degrees of freedom).
-double stat_edf(Stat s, int alpha, std::int64_t m, std::int64_t n_phase, std::int64_t terms);
+/// Filled samples (`n_filled` = F, kernels/allan/gaps.hpp): an interpolated sample is an
+/// estimate from its neighbours and carries no information of its own, so the row is given
+/// the edf of a record with F fewer points. For the finite-difference variances the terms are
+/// reduced by those F points give, G(N) - G(N - F) (greenhall_terms; at least 1 term left),
+/// and the shorter-record rule above applies to what remains, so the correlation of the
+/// overlapping terms stays in Greenhall & Riley's sum; the edf of TOTDEV, MTOT, HTOT, Thêo1
+/// and PDEV, fits proportional to the record length T / tau (b (T / tau) - c), is scaled by
+/// (N - F) / N. F = 0 changes nothing. Throws std::invalid_argument unless 0 <= F < N.
+double stat_edf(Stat s, int alpha, std::int64_t m, std::int64_t n_phase, std::int64_t terms,
+                std::int64_t n_filled = 0);
 
 /// Fills r.edf, r.dev_lo, r.dev_hi, r.alpha (one entry per row) and r.confidence for the rows
 /// of `r`, the result of statistic s on p (kernels::compute), at the given two-sided
-/// confidence. alpha comes from identify_alpha, edf from stat_edf, the bounds from
-/// chi2_interval. Rows with dev = 0 get edf and alpha but lo = hi = 0. A statistic without an
-/// interval (has_interval false: MTIE, TIE rms) gets its alpha and NaN edf, lo and hi.
-/// For HTOTDEV it also applies Stable32's bias correction to r.dev (divided by
-/// sqrt(htotvar_bias(alpha)) at m > 1, edf.hpp) before the bounds are taken. Parallel
-/// over rows with `nthreads` (0 = OpenMP default); each row is written by one thread in a fixed
-/// order, so the output is bit-identical for any thread count. Throws std::invalid_argument for
-/// confidence outside (0, 1) or rows that are not a result of s on p (unequal lengths, m not
-/// increasing). `cache` (optional, see noise_id.hpp) shares the noise identification between the
-/// statistics of one record; it changes no result.
+/// confidence. alpha comes from identify_alpha, edf from stat_edf (p.n_filled its filled
+/// samples), the bounds from chi2_interval. Rows with dev = 0 get edf and alpha but
+/// lo = hi = 0. A statistic without an interval (has_interval false: MTIE, TIE rms) gets its alpha
+/// and NaN edf, lo and hi. For HTOTDEV it also applies Stable32's bias correction to r.dev (divided
+/// by sqrt(htotvar_bias(alpha)) at m > 1, edf.hpp) before the bounds are taken. Parallel over rows
+/// with `nthreads` (0 = OpenMP default); each row is written by one thread in a fixed order, so the
+/// output is bit-identical for any thread count. Throws std::invalid_argument for confidence
+/// outside (0, 1) or rows that are not a result of s on p (unequal lengths, m not increasing).
+/// `cache` (optional, see noise_id.hpp) shares the noise identification between the statistics of
+/// one record; it changes no result.
 void add_confidence(Stat s, const PhaseData& p, StatResult& r,
                     double confidence = kDefaultConfidence, int nthreads = 0,
                     Lag1Cache* cache = nullptr);

@@ -137,6 +137,7 @@ pipeline::ChannelOptions channel_options(const AnalyzeOptions& opt, int kernel_t
   copt.lowpass = pipeline::parse_lowpass_choice(opt.lowpass);
   copt.model.enabled = opt.model_poor_fits == "auto";
   copt.psd = opt.psd;
+  copt.gaps = opt.gaps;
   copt.threads = kernel_threads;
   return copt;
 }
@@ -286,6 +287,12 @@ std::string input_stamp(const io::InputOptions& in) {
   return s;
 }
 
+// The gap policy, named in the stamp only when it is not the default: results files written
+// by a default run without the option in their stamp stay current for resume.
+std::string gaps_stamp(const kernels::GapPolicy& gaps) {
+  return gaps == kernels::GapPolicy{} ? "" : ";gaps=" + kernels::to_string(gaps);
+}
+
 // The options that change what a results file holds, canonically written (the resume stamp,
 // io/fingerprint.hpp); --model-poor-fits only when not the default, as the input options. The
 // thread count and the output switches that do not change numbers (--table, --verbose,
@@ -297,7 +304,8 @@ std::string options_stamp(const AnalyzeOptions& opt) {
          ";confidence=" + conf + ";channels=" + opt.channels.text() +
          ";fit=" + (opt.fit ? "1" : "0") + ";lowpass=" + opt.lowpass +
          (opt.model_poor_fits == "auto" ? "" : ";model_poor_fits=" + opt.model_poor_fits) +
-         ";psd=" + (opt.psd ? "1" : "0") + ";version=" + kVersion + input_stamp(opt.input);
+         ";psd=" + (opt.psd ? "1" : "0") + gaps_stamp(opt.gaps) + ";version=" + kVersion +
+         input_stamp(opt.input);
 }
 
 // Fails with a usage-level message when OUTDIR cannot hold results.
@@ -560,6 +568,7 @@ std::string default_stats() {
 struct AnalyzeArgs {
   AnalyzeOptions opt;
   std::string stats_text = default_stats(), taus_text = kernels::to_string(opt.grid);
+  std::string gaps_text = kernels::to_string(opt.gaps);
   std::string outdir, spec_text, memory_text;
   std::vector<std::string> manifests;
   InputArgs input;
@@ -582,6 +591,11 @@ AnalyzeOptions checked_options(const AnalyzeArgs& a, const std::string& command_
     pipeline::parse_lowpass_choice(opt.lowpass);
   } catch (const std::invalid_argument& e) {
     throw CLI::ValidationError("--lowpass", e.what());
+  }
+  try {
+    opt.gaps = kernels::parse_gap_policy(a.gaps_text);
+  } catch (const std::invalid_argument& e) {
+    throw CLI::ValidationError("--gaps", e.what());
   }
   opt.psd = !a.no_psd;
   opt.command_line = command_line;
@@ -641,6 +655,11 @@ Command add_analyze_command(CLI::App& app) {
                   "A channel whose eq. (3) fit is poor: auto (modelled as diagnose does, eq. (3) "
                   "plus the effects the data name; its terms reported), off (eq. (3) alone)")
       ->check(CLI::IsMember({"auto", "off"}))
+      ->capture_default_str();
+  sub->add_option("--gaps", a->gaps_text,
+                  "What missing samples (NaN) become: fill:N (runs of at most N samples "
+                  "interpolated, longer runs left as gaps), fill (every run), skip (every term "
+                  "touching a gap left out)")
       ->capture_default_str();
   sub->add_flag("--no-psd", a->no_psd, "Do not compute the PSD and the eq. (2) cross-check");
   sub->add_flag("--table", a->opt.table,

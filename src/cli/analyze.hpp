@@ -5,6 +5,7 @@
 #pragma once
 
 #include "io/input_options.hpp"
+#include "kernels/allan/gaps.hpp"
 #include "kernels/allan/stats.hpp"
 #include "kernels/allan/tau_grid.hpp"
 #include "src/cli/cli.hpp"
@@ -32,6 +33,7 @@ struct AnalyzeOptions {
   // --model-poor-fits: auto models a poor eq. (3) fit as diagnose does (docs/fit-and-psd.md),
   // off keeps eq. (3) alone
   std::string model_poor_fits = "auto";
+  kernels::GapPolicy gaps;  // --gaps: what missing samples become (default fill:10)
   bool psd = true;       // write psd/ and crosscheck/ (Welch PSD, eq. (2)); --no-psd turns it off
   bool table = false;    // print each unit's fit table (always for <= 10 inputs)
   bool verbose = false;  // per-stage timings on stderr

@@ -4,6 +4,7 @@
 #include "kernels/allan/phase.hpp"
 #include "kernels/uncertainty/confidence.hpp"
 #include "src/pipeline/channel_fit.hpp"
+#include "src/pipeline/channel_gaps.hpp"
 #include "src/pipeline/channel_quality.hpp"
 #include "src/pipeline/spectrum.hpp"
 
@@ -156,9 +157,7 @@ void run_stages(ChannelAnalysis& a, const io::ChannelInfo& channel,
   summarize_samples(a.result, samples);
   // The screen sees the samples as read, before the phase replaces them (docs/quality.md).
   a.result.quality = screen_channel(channel, samples, opt.threads);
-  kernels::PhaseData phase =
-      kernels::make_phase(samples, channel.data_type, channel.sample_rate_hz, opt.threads);
-  a.result.n_gaps = phase.n_gaps;
+  kernels::PhaseData phase = channel_phase(a.result, channel, samples, opt.gaps, opt.threads);
   samples = kernels::LargeVector<double>{};  // the phase replaces the samples
   const std::optional<kernels::StatResult> oadev = compute_stats(a.result, phase, opt);
   a.times.kernels += seconds_since(t_kernels);

@@ -10,6 +10,7 @@
 
 #include "io/recording.hpp"
 #include "io/results.hpp"
+#include "kernels/allan/gaps.hpp"
 #include "kernels/allan/stats.hpp"
 #include "kernels/allan/tau_grid.hpp"
 
@@ -26,6 +27,7 @@ struct ChannelOptions {
   LowpassChoice lowpass;             // the sensor's filter in the fit (analyze --lowpass)
   ModelChoice model;                 // a poor fit modelled as diagnose does (--model-poor-fits)
   bool psd = true;                   // psd/, psd_fit/ and crosscheck/ (Welch PSD, eq. (2))
+  kernels::GapPolicy gaps;           // what missing samples become (analyze --gaps)
   int threads = 1;                   // threads inside the kernels (results do not depend on it)
 };
 

@@ -253,7 +253,11 @@ std::string channel_section(const Unit& u, const io::ChannelResult& ch, const Ex
     << " &middot; " << escape(ch.path) << "</h3>\n<p class=\"small\">units " << escape(ch.units)
     << ", " << number(ch.sample_rate_hz, 6) << " Hz, " << ch.n_samples << " samples ("
     << number(ch.n_samples / std::max(ch.sample_rate_hz, 1e-300), 4) << " s), " << ch.n_gaps
-    << " gaps, " << escape(ch.data_type) << " data";
+    << " gaps";
+  // What the gap policy did (docs/statistics.md "Gaps"); the note below says it in full.
+  if (ch.n_gaps > 0 && !ch.gap_policy.empty())
+    h << " (" << ch.n_filled << " filled, " << escape(ch.gap_policy) << ")";
+  h << ", " << escape(ch.data_type) << " data";
   if (is_clock(ch.units)) h << " (deviations of the fractional frequency, dimensionless)";
   if (ch.fit) {
     h << "; fit " << escape(io::fit_status_text(*ch.fit)) << ", &chi;&sup2;/dof "

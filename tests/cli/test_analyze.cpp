@@ -244,8 +244,8 @@ TEST(Analyze, ChannelGlobAndSummarize) {
 namespace allanlot {
 namespace {
 
-// A channel with gaps: every statistic that can leave out the terms touching a gap does, and
-// totdev, which cannot, is skipped with a note instead of failing the channel.
+// A channel with gaps under --gaps skip: every statistic that can leave out the terms touching a
+// gap does, and totdev, which cannot, is skipped with a note instead of failing the channel.
 TEST(Analyze, GappedChannelSkipsTotdevWithANote) {
   const auto dir = test::fresh_dir("analyze_gaps");
   auto v = noise(20000, 0.0, 31);
@@ -257,7 +257,7 @@ TEST(Analyze, GappedChannelSkipsTotdevWithANote) {
     f.attr("/imu", "sample_rate_hz", 100.0);
   }
   std::string out;
-  ASSERT_EQ(run_command(binary() + " analyze --stats oadev,totdev --taus octave -o " +
+  ASSERT_EQ(run_command(binary() + " analyze --gaps skip --stats oadev,totdev --taus octave -o " +
                             (dir / "out").string() + " " + (dir / "g.h5").string(),
                         &out),
             0)
@@ -273,6 +273,76 @@ TEST(Analyze, GappedChannelSkipsTotdevWithANote) {
   EXPECT_EQ(ch.stats[0].first, "oadev");
   EXPECT_LT(ch.stats[0].second.n[0], 20000);  // terms touching the gaps left out
   EXPECT_TRUE(ch.fit.has_value());
+  EXPECT_EQ(ch.gap_policy, "skip");
+  EXPECT_EQ(ch.n_filled, 0);
+  EXPECT_EQ(ch.gap_runs_left, 3);
+}
+
+// The default policy on the same kind of channel: the short runs are filled, every row keeps at
+// least 99 % of the terms without gaps and the longest taus all of them, totdev runs with every
+// term, and the channel says what was filled; a run longer than fill:N stays a gap; an unknown
+// policy is a usage error (status 2).
+TEST(Analyze, DefaultGapPolicyFillsShortRunsAndSaysSo) {
+  const auto dir = test::fresh_dir("analyze_gaps_fill");
+  const auto clean = noise(20000, 0.0, 31);
+  auto v = clean;
+  for (const std::size_t i : {100u, 5000u, 5001u, 17000u})
+    v[i] = std::nan("");
+  {
+    test::H5Fixture f(dir / "g.h5");
+    f.dataset("/imu/gyro_x", v, H5T_IEEE_F64LE);
+    f.attr("/imu", "sample_rate_hz", 100.0);
+    test::H5Fixture c(dir / "c.h5");
+    c.dataset("/imu/gyro_x", clean, H5T_IEEE_F64LE);
+    c.attr("/imu", "sample_rate_hz", 100.0);
+  }
+  const std::string cmd = binary() + " analyze --stats oadev,totdev --taus octave --no-psd";
+  std::string out;
+  ASSERT_EQ(run_command(cmd + " -o " + (dir / "out").string() + " " + (dir / "g.h5").string() +
+                            " " + (dir / "c.h5").string(),
+                        &out),
+            0)
+      << out;
+  EXPECT_NE(out.find("4 missing samples in 3 runs; 4 filled by interpolation in 3 runs"),
+            std::string::npos)
+      << out;
+  const auto g = io::read_results(dir / "out" / "g.allan.h5").channels.at(0);
+  const auto c = io::read_results(dir / "out" / "c.allan.h5").channels.at(0);
+  EXPECT_EQ(g.n_gaps, 4);
+  EXPECT_EQ(g.gap_policy, "fill:10");
+  EXPECT_EQ(g.n_filled, 4);
+  EXPECT_EQ(g.filled_runs, 3);
+  EXPECT_EQ(g.gap_runs_left, 0);
+  EXPECT_TRUE(c.gap_policy.empty());  // a gap-free channel carries no account
+  ASSERT_EQ(g.stats.size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k) {
+    const auto &gs = g.stats[k].second, &cs = c.stats[k].second;
+    EXPECT_EQ(g.stats[k].first, c.stats[k].first);
+    ASSERT_EQ(gs.m, cs.m) << g.stats[k].first;
+    EXPECT_EQ(gs.n.back(), cs.n.back()) << g.stats[k].first;
+    for (std::size_t i = 0; i < gs.size(); ++i)
+      EXPECT_GE(gs.n[i], 0.99 * static_cast<double>(cs.n[i])) << g.stats[k].first;
+  }
+  EXPECT_EQ(g.stats[1].second.n, c.stats[1].second.n);  // totdev: on the filled record
+  ASSERT_EQ(run_command(binary() + " analyze --gaps fill:1 --stats oadev,totdev --taus octave " +
+                            "--no-psd -o " + (dir / "out1").string() + " " +
+                            (dir / "g.h5").string(),
+                        &out),
+            0)
+      << out;
+  const auto g1 = io::read_results(dir / "out1" / "g.allan.h5").channels.at(0);
+  EXPECT_EQ(g1.gap_policy, "fill:1");
+  EXPECT_EQ(g1.n_filled, 2);
+  EXPECT_EQ(g1.gap_runs_left, 1);
+  EXPECT_NE(g1.notes.find("totdev not computed"), std::string::npos) << g1.notes;
+  for (const char* bad : {"fill:0", "fil", "skip:2"}) {
+    EXPECT_EQ(run_command(cmd + " --gaps " + bad + " -o " + (dir / "bad").string() + " " +
+                              (dir / "g.h5").string(),
+                          &out),
+              2)
+        << bad;
+    EXPECT_NE(out.find("--gaps"), std::string::npos) << out;
+  }
 }
 
 // --stats all: every statistic of the build is written to allan/<stat>/ and read back, each
@@ -316,7 +386,8 @@ TEST(Analyze, StatsAllWritesEveryStatistic) {
     for (std::size_t i = 0; i < s.size(); ++i)
       EXPECT_EQ(std::isnan(s.dev_lo[i]), !kernels::has_interval(*stat)) << name;
   }
-  // A gapped channel: the statistics that refuse gaps are skipped with a note each.
+  // A gapped channel under --gaps skip: the statistics that refuse gaps are skipped with a note
+  // each.
   auto v = noise(3000, 0.0, 42);
   v[1000] = std::nan("");
   {
@@ -324,8 +395,9 @@ TEST(Analyze, StatsAllWritesEveryStatistic) {
     f.dataset("/imu/gyro_x", v, H5T_IEEE_F64LE);
     f.attr("/imu", "sample_rate_hz", 100.0);
   }
-  ASSERT_EQ(run_command(binary() + " analyze -q --stats all --taus octave --no-fit --no-psd -o " +
-                            (dir / "outg").string() + " " + (dir / "g.h5").string(),
+  ASSERT_EQ(run_command(binary() + " analyze -q --gaps skip --stats all --taus octave --no-fit " +
+                            "--no-psd -o " + (dir / "outg").string() + " " +
+                            (dir / "g.h5").string(),
                         &out),
             0)
       << out;

@@ -118,6 +118,13 @@ TEST(Resume, SkipsCurrentResultsAndRedoesChangedOnes) {
   EXPECT_EQ(st, 0) << text;
   EXPECT_NE(text.find("2 already up to date"), std::string::npos) << text;
   EXPECT_NO_THROW(io::read_results(out / "unit_0001.allan.h5"));
+
+  // The default gap policy spelled out is the same stamp; another policy is another: redone.
+  text = analyze(out, lot.string(), "--taus octave --gaps fill:10", &st);
+  EXPECT_NE(text.find("3 already up to date"), std::string::npos) << text;
+  text = analyze(out, lot.string(), "--taus octave --gaps skip", &st);
+  EXPECT_EQ(st, 0) << text;
+  EXPECT_EQ(text.find("up to date"), std::string::npos) << text;
 }
 
 TEST(MemoryLimit, WavesOfOneChannelGiveTheSameNumbers) {

@@ -164,6 +164,10 @@ io::RecordingResult every_field() {
   ch.n_samples = 5400000;
   ch.n_gaps = 3;
   ch.data_type = "phase";
+  ch.gap_policy = "fill:10";
+  ch.n_filled = 2;
+  ch.filled_runs = 1;
+  ch.gap_runs_left = 1;
   ch.data_max = 2.5;
   ch.data_min = -1.5;
   ch.data_mean = 0.25;
