@@ -47,6 +47,7 @@ struct Search {
                                   const std::vector<Component>& fixed_now,
                                   const std::vector<Component>& free_now, double chi2_ref,
                                   const TrendWitness& trend, std::string& note) const;
+  double witnessed_tolerance() const;
   TrendWitness trend_under(const ChannelSpec& model) const;
   std::size_t witnessed_ramp(std::vector<CandidateFit>& cands,
                              const std::vector<Component>& fixed_now, double chi2_ref,
