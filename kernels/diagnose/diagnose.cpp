@@ -247,10 +247,10 @@ std::size_t Search::lookalike_step(std::vector<CandidateFit>& cands, std::size_t
 // on the curve, or when a random walk wins whose rise the record's line takes away
 // (ramp_or_random_walk), so that a hump or a random walk the model lacks, which also tilt the
 // record, is named by the curve first; the slope is then judged against the spread the
-// model as it stands gives it (find_trend), and a ramp of that slope is taken when the curve
-// agrees better with it (no penalty, as for a witnessed line or jump: its size comes from the
-// witness, whose false alarm is trend_false_alarm). `tr` is the round's witness, not searched
-// when the model has a ramp.
+// model as it stands gives it (find_trend), and a ramp of that slope is taken unless the curve
+// vetoes it (witnessed_tolerance; no penalty, as for a witnessed line or jump: its size comes
+// from the witness, whose false alarm is trend_false_alarm). `tr` is the round's witness, not
+// searched when the model has a ramp.
 std::size_t Search::witnessed_ramp(std::vector<CandidateFit>& cands,
                                    const std::vector<Component>& fixed_now, double chi2_ref,
                                    const TrendWitness& tr) const {
