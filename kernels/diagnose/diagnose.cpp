@@ -307,6 +307,7 @@ TrendWitness Search::trend_under(const ChannelSpec& model) const {
 // Effect e's candidate in a round: (a) added with the current coefficients fixed, (b) added with
 // them re-estimated (when any are free), the better kept, `charged` parameters beyond the
 // effect's own charged (evaluate_candidate); not evaluated when the pruning removed it (finish).
+// A witnessed one has its tolerance (witnessed_tolerance).
 CandidateFit Search::candidate(Effect e, const std::vector<Component>& fixed_now,
                                const std::vector<Component>& free_now, const Witnesses& seen,
                                double chi2_ref, double chi2_refit, int n_free, int charged) const {
@@ -324,6 +325,10 @@ CandidateFit Search::candidate(Effect e, const std::vector<Component>& fixed_now
     if (b.info.evaluated && (!a.info.evaluated || b.info.delta_ic > a.info.delta_ic))
       a = std::move(b);
   }
+  // A line or jump its witness found at its own level (charged nothing; lookalike_step charges
+  // a jump below that level) is vetoed by the curve, not weighed by it.
+  if (charged == 0 && (e == Effect::Sinusoid || e == Effect::Step))
+    a.tolerance = witnessed_tolerance();
   return a;
 }
 
@@ -404,9 +409,6 @@ bool Search::round(int& iter) {
   std::vector<CandidateFit> cands;
   for (const Effect e : kAllEffects)
     cands.push_back(candidate(e, fixed_now, free_now, seen, ref.chi2, refit.chi2, n_free));
-  for (CandidateFit& c : cands)
-    if (c.info.effect == Effect::Sinusoid || c.info.effect == Effect::Step)
-      c.tolerance = witnessed_tolerance();
   if (witnessed_only) keep_witnessed(cands, trend);
   std::size_t best = strongest(cands, [](Effect) { return true; });
   // The witnesses decide between look-alikes: an unexplained significant line is direct
