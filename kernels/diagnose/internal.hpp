@@ -111,9 +111,8 @@ struct CandidateFit {
   Candidate info;
   Fit fit;
   std::size_t added = 0;  // index of the added component in fit.comps
-  // How far below zero the criterion may fall while the candidate stays significant: 0 for an
-  // effect the curve must show; the round's one-parameter penalty for an effect whose witness
-  // fired at its own false alarm (Search::witnessed_tolerance).
+  // How far below zero the criterion of a line or jump its witness found may fall before the
+  // curve vetoes it (Search::witnessed_tolerance, Search::not_vetoed); 0 for the others.
   double tolerance = 0.0;
 };
 
@@ -178,14 +177,13 @@ CandidateFit hump_candidate(std::vector<Component> comps, const Curve& cv, const
 /// the free coefficients fitted at each trial; `b` unfiltered.
 Fit search_lowpass(std::vector<Component> comps, std::size_t idx, const Curve& cv, const Bases& b);
 
-// The significant candidate (evaluated, delta_ic > -tolerance) with the largest criterion among
-// those `pick` accepts (the first of equals); cands.size() when there is none.
+// The significant candidate (evaluated, delta_ic > 0) with the largest criterion among those
+// `pick` accepts (the first of equals); cands.size() when there is none.
 template <class Pick>
 std::size_t strongest(const std::vector<CandidateFit>& cands, Pick pick) {
   std::size_t best = cands.size();
   for (std::size_t c = 0; c < cands.size(); ++c)
-    if (pick(cands[c].info.effect) && cands[c].info.evaluated &&
-        cands[c].info.delta_ic + cands[c].tolerance > 0.0 &&
+    if (pick(cands[c].info.effect) && cands[c].info.evaluated && cands[c].info.delta_ic > 0.0 &&
         (best == cands.size() || cands[c].info.delta_ic > cands[best].info.delta_ic))
       best = c;
   return best;
