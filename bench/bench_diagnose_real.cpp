@@ -18,6 +18,8 @@
 // the Allan variance.
 // BENCH_INJECT_SIGMAS=5,7,10,20 sets the sizes (default 5,20) for a sweep: then every size of an
 // injection scales one draw, so that a larger size differs from a smaller one only in size.
+// BENCH_INJECT_OWN=1 also diagnoses each injected record against its own eq. (3) fit, beside the
+// corrected model of the untouched samples.
 //
 // Not a Google Benchmark: a table on stdout, one line per channel.
 #include "io/recording.hpp"
@@ -37,6 +39,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <limits>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -50,6 +53,30 @@ kernels::FitResult eq3(const kernels::StatResult& oadev, double rate_hz, std::in
   const kernels::StatResult rows = kernels::fit_subset(oadev, first_m);
   kernels::Eq3Fit fit(rows.size());
   return fit.fit(rows, 1.0 / rate_hz, n);
+}
+
+// A record's overlapping Allan deviation (log grid, with its confidence) and its eq. (3) fit on
+// every tau, as the model `spec`.
+struct OwnFit {
+  kernels::StatResult oadev;
+  kernels::FitResult all;
+  kernels::ChannelSpec spec;
+};
+
+OwnFit own_fit(std::span<const double> y, double rate) {
+  const auto n = static_cast<std::int64_t>(y.size());
+  const kernels::PhaseData ph = kernels::phase_from_rate(y, rate, 0);
+  kernels::TauGridSpec grid;
+  OwnFit f;
+  f.oadev = kernels::compute(
+      kernels::Stat::Oadev, ph,
+      kernels::make_m_list(grid, kernels::max_m(kernels::Stat::Oadev, ph.n_points())), 0);
+  kernels::add_confidence(kernels::Stat::Oadev, ph, f.oadev, kernels::kDefaultConfidence, 0);
+  f.all = eq3(f.oadev, rate, n, 1);
+  f.spec.rate_hz = rate;
+  for (const kernels::Term t : kernels::all_terms())
+    kernels::coefficient(f.spec.terms, t) = f.all.terms[static_cast<std::size_t>(t)].value;
+  return f;
 }
 
 std::string names(const kernels::Diagnosis& d) {
@@ -209,6 +236,11 @@ void inject_rows(const std::string& unit, const std::string& channel,
       for (std::size_t i = 0; i < y.size(); ++i)
         z[i] = y[i] + add[i];
       const kernels::Diagnosis g = kernels::diagnose(z, rate, d.model_after, opt);
+      // BENCH_INJECT_OWN: the same record diagnosed against its own eq. (3) fit as well.
+      std::string against_own;
+      if (std::getenv("BENCH_INJECT_OWN"))
+        against_own = "; against its own eq. (3) fit: " +
+                      names(kernels::diagnose(z, rate, own_fit(z, rate).spec, opt));
       const bool named = std::find(g.effects_named.begin(), g.effects_named.end(), inj.effect) !=
                          g.effects_named.end();
       const bool exact = named && g.effects_named.size() == 1;
@@ -224,14 +256,14 @@ void inject_rows(const std::string& unit, const std::string& channel,
       if (inj.effect == kernels::Effect::Step)
         std::snprintf(seen, sizeof seen, "; largest jump %.2g rms at %.0f s, p %.2g",
                       g.step.statistic, g.step.time_s, g.step.p_value);
-      std::printf("| %s | %s | %s | %.0f sigma (%.3g%s) | %s | %s | %.3g (%.3g) |\n", unit.c_str(),
-                  channel.c_str(), inj.name, sigmas, a, seen, names(g).c_str(),
-                  exact   ? "exact"
-                  : named ? "named, with others"
-                  : has_ramp
-                      ? (g.coefficients_wrong ? "model's ramp found wrong" : "model has a ramp")
-                      : "missed",
-                  g.after.gap, g.mc_after.gap_p95);
+      std::printf(
+          "| %s | %s | %s | %.3g sigma (%.3g%s) | %s%s | %s | %.3g (%.3g) |\n", unit.c_str(),
+          channel.c_str(), inj.name, sigmas, a, seen, names(g).c_str(), against_own.c_str(),
+          exact      ? "exact"
+          : named    ? "named, with others"
+          : has_ramp ? (g.coefficients_wrong ? "model's ramp found wrong" : "model has a ramp")
+                     : "missed",
+          g.after.gap, g.mc_after.gap_p95);
       if (std::getenv("BENCH_VERBOSE")) {
         for (const auto& note : g.notes)
           std::printf("    note: %s\n", note.c_str());
@@ -307,31 +339,21 @@ int main(int argc, char** argv) {
       const kernels::LargeVector<double> y = reader.read(ch);
       const double rate = ch.sample_rate_hz;
       const auto n = static_cast<std::int64_t>(y.size());
-      const kernels::PhaseData ph = kernels::phase_from_rate(y, rate, 0);
-      kernels::TauGridSpec grid;
-      kernels::StatResult oadev = kernels::compute(
-          kernels::Stat::Oadev, ph,
-          kernels::make_m_list(grid, kernels::max_m(kernels::Stat::Oadev, ph.n_points())), 0);
-      kernels::add_confidence(kernels::Stat::Oadev, ph, oadev, kernels::kDefaultConfidence, 0);
-      const kernels::FitResult all = eq3(oadev, rate, n, 1);
-      kernels::ChannelSpec own;
-      own.rate_hz = rate;
-      for (const kernels::Term t : kernels::all_terms())
-        kernels::coefficient(own.terms, t) = all.terms[static_cast<std::size_t>(t)].value;
+      const OwnFit own = own_fit(y, rate);
       kernels::DiagnoseOptions opt;
       opt.mc_replicas = replicas;
-      const kernels::Diagnosis d = kernels::diagnose(y, rate, own, opt);
+      const kernels::Diagnosis d = kernels::diagnose(y, rate, own.spec, opt);
       if (inject) {
         inject_rows(file.stem().string(), ch.path, y, rate, d, opt);
         continue;
       }
       const std::int64_t first = kernels::lowpass_first_m(d.model_after.lowpass, rate, n);
-      const kernels::FitResult cut = eq3(oadev, rate, n, first);
+      const kernels::FitResult cut = eq3(own.oadev, rate, n, first);
       const kernels::Diagnosis again = kernels::diagnose(y, rate, d.model_after, opt);
       lot.add(file.stem().string() + " " + ch.path, d);
       std::printf("| %s | %s | %.4g | %s | %.3g -> %.3g (%.3g) | %lld | %.4g | %s, gap %.3g | "
                   "%.3g at %.1f s (%.2g, %.2g) |\n",
-                  file.stem().string().c_str(), ch.path.c_str(), all.chi2_dof, names(d).c_str(),
+                  file.stem().string().c_str(), ch.path.c_str(), own.all.chi2_dof, names(d).c_str(),
                   d.before.gap, d.after.gap, d.mc_after.gap_p95, static_cast<long long>(first),
                   cut.chi2_dof, names(again).c_str(), again.after.gap, d.step.size, d.step.time_s,
                   d.step.statistic, d.step.p_value);

@@ -63,9 +63,13 @@
 //
 // Time-domain witness. A step is evaluated only when the change-point test find_step finds a
 // jump in the record, from which its size and time are taken (the Allan curve cannot place it
-// in time, and a random walk or ramp would mimic its rise there). A witnessed effect (step or
-// sinusoid) pays no penalty c_k: its false alarm is the witness's own (step_false_alarm,
-// line_false_alarm per record), and the curve is asked only whether it agrees better with it.
+// in time, and a random walk or ramp would mimic its rise there). A witnessed effect (step,
+// sinusoid, or a ramp of the record's slope) pays no penalty c_k: its false alarm is the
+// witness's own (step_false_alarm, line_false_alarm, trend_false_alarm per record). It is named
+// when the curve agrees better with it (delta_ic > 0), or, when a round would name nothing else,
+// when the curve does not veto it (delta_ic > -3.84, chi2(1) at the verdict's 5 %): where the
+// model is already within noise the curve sees the effect at a fraction of a sigma
+// (docs/diagnose.md, "A witness against a model within noise").
 //
 // PSD witness. A sinusoid is a line in the spectrum, which the Allan variance smears into a
 // bump that a Gauss-Markov hump can mimic. The sinusoid candidate is therefore only evaluated

@@ -111,6 +111,9 @@ struct CandidateFit {
   Candidate info;
   Fit fit;
   std::size_t added = 0;  // index of the added component in fit.comps
+  // How far below zero the criterion of a line or jump its witness found may fall before the
+  // curve vetoes it (Search::witnessed_tolerance, Search::not_vetoed); 0 for the others.
+  double tolerance = 0.0;
 };
 
 // The selection criterion of a round (see diagnose.hpp): chi-square differences scaled by

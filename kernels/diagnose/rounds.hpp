@@ -47,10 +47,13 @@ struct Search {
                                   const std::vector<Component>& fixed_now,
                                   const std::vector<Component>& free_now, double chi2_ref,
                                   const TrendWitness& trend, std::string& note) const;
+  double witnessed_tolerance() const;
   TrendWitness trend_under(const ChannelSpec& model) const;
   std::size_t witnessed_ramp(std::vector<CandidateFit>& cands,
                              const std::vector<Component>& fixed_now, double chi2_ref,
-                             const TrendWitness& tr) const;
+                             const TrendWitness& tr, double tolerance) const;
+  std::size_t not_vetoed(std::vector<CandidateFit>& cands, const std::vector<Component>& fixed_now,
+                         double chi2_ref, const TrendWitness& trend, std::string& note) const;
 
   std::size_t lookalike_step(std::vector<CandidateFit>& cands, std::size_t best,
                              const std::vector<Component>& fixed_now,
