@@ -3,6 +3,7 @@
 #include "io/atomic_file.hpp"
 #include "io/error.hpp"
 #include "io/hdf5_handle.hpp"
+#include "io/isolation.hpp"
 #include "io/line_reader.hpp"
 #include "io/text_fields.hpp"
 #include "io/text_recording.hpp"
@@ -142,13 +143,12 @@ struct RecordingReader::Impl {
     for (int i = 0; i < n_filters; ++i)
       require_filter(dcpl.get(), static_cast<unsigned>(i), object);
     if (n_filters != 0) return;
-    const hsize_t need = n * H5Tget_size(type.get());
+    hsize_t need = 0;
     const hsize_t stored = H5Dget_storage_size(ds);
-    if (stored < need)
+    if (__builtin_mul_overflow(n, H5Tget_size(type.get()), &need) || stored < need)
       throw Error(path, object,
                   "declares " + std::to_string(n) + " samples but stores only " +
-                      std::to_string(stored) + " of their " + std::to_string(need) +
-                      " bytes (never written?)");
+                      std::to_string(stored) + " bytes of them (never written?)");
   }
 
   // A filter (compression) this HDF5 library lacks, neither built in nor a plugin on
@@ -224,6 +224,24 @@ void describe_text(const TextRecording& text, RecordingInfo& info) {
   }
 }
 
+// The root's device_id (else the file's stem) and the facts of a recording (kTextFactNames).
+void read_root(hid_t root, const std::string& path, RecordingInfo& info) {
+  std::string id;
+  if (h5::read_attribute(root, "device_id", id, path, "/") && !id.empty()) {
+    info.device_id = id;
+  } else {
+    info.device_id = std::filesystem::path(path).stem().string();
+  }
+  for (const char* name : kTextFactNames) {
+    std::string value;
+    try {
+      if (h5::read_attribute(root, name, value, path, "/")) info.facts.emplace_back(name, value);
+    } catch (const Error&) {
+      // A root attribute of that name but another type is the file's own, not a fact.
+    }
+  }
+}
+
 }  // namespace
 
 RecordingReader::RecordingReader(const std::string& path, const InputOptions& options)
@@ -241,29 +259,18 @@ RecordingReader::RecordingReader(const std::string& path, const InputOptions& op
   }
   if (H5Fis_hdf5(path.c_str()) <= 0)
     throw Error(path, "", "not an HDF5 file (or truncated/corrupt)");
+  // The metadata is read once in a child process first (io/isolation.hpp): hostile bytes that
+  // crash the HDF5 library fail this input, not the process.
+  if (!in_isolated_child()) run_isolated(path, [&] { RecordingReader probe(path, options); });
   impl_->file = check(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, path, "",
                       "H5Fopen (corrupt or unreadable HDF5 file)");
 
-  std::string id;
   Handle root =
       check(H5Gopen2(impl_->file.get(), "/", H5P_DEFAULT), H5Gclose, path, "/", "H5Gopen2");
-  if (h5::read_attribute(root.get(), "device_id", id, path, "/") && !id.empty()) {
-    info_.device_id = id;
-  } else {
-    info_.device_id = std::filesystem::path(path).stem().string();
-  }
+  read_root(root.get(), path, info_);
   // A recording of `allanlot simulate` (its model at the root) holds rates: simulate
   // synthesizes rate channels only, so their data type is known, not a default.
   const bool simulated = H5Aexists(root.get(), "simulated_model") > 0;
-  for (const char* name : kTextFactNames) {
-    std::string value;
-    try {
-      if (h5::read_attribute(root.get(), name, value, path, "/"))
-        info_.facts.emplace_back(name, value);
-    } catch (const Error&) {
-      // A root attribute of that name but another type is the file's own, not a fact.
-    }
-  }
 
   Visit visit;
   if (H5Ovisit2(impl_->file.get(), H5_INDEX_NAME, H5_ITER_INC, collect, &visit, H5O_INFO_BASIC) < 0)
@@ -316,6 +323,12 @@ RecordingReader::RecordingReader(const std::string& path, const InputOptions& op
       ch.sample_rate_hz = rate;
       hsize_t n = 0;
       H5Sget_simple_extent_dims(space.get(), &n, nullptr);
+      if (n > kMaxSamples) {
+        info_.problems.push_back({ds_path, "declares " + std::to_string(n) +
+                                               " samples, more than any memory holds (at most " +
+                                               std::to_string(kMaxSamples) + ")"});
+        continue;
+      }
       ch.n_samples = static_cast<std::int64_t>(n);
       impl_->find_attribute(ds_path, "units", ch.units);
       ch.has_scale = !impl_->find_attribute(ds_path, "scale", ch.scale).empty();
@@ -369,6 +382,9 @@ kernels::LargeVector<double> RecordingReader::read(const ChannelInfo& channel,
   Handle fspace = check(H5Dget_space(ds.get()), H5Sclose, file, channel.path, "H5Dget_space");
   hsize_t n = 0;
   H5Sget_simple_extent_dims(fspace.get(), &n, nullptr);
+  if (n > kMaxSamples)
+    throw Error(file, channel.path,
+                "declares " + std::to_string(n) + " samples, more than any memory holds");
   impl_->check_stored(ds.get(), n, channel.path);
   kernels::LargeVector<double> out(static_cast<std::size_t>(n));  // every element is read
   chunk = std::max<std::size_t>(chunk, 1);
@@ -484,8 +500,7 @@ void RecordingWriter::add_root_attribute(const std::string& name, const std::str
 
 void RecordingWriter::commit() {
   impl_->group.close();
-  h5::write_memory_file(impl_->file, impl_->atomic->temp_path().string(), impl_->final_path,
-                        h5::Sealed::No);
+  h5::write_memory_file(impl_->file, *impl_->atomic, impl_->final_path, h5::Sealed::No);
   impl_->atomic->commit();
 }
 
