@@ -10,6 +10,7 @@
 #include "kernels/model/units.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -182,6 +183,43 @@ struct RecordingReader::Impl {
                       " bytes, its HDF5 layout needs " + std::to_string(eoa));
   }
 
+  // A channel's dataset, refused when its raw data lie in external files that are not regular
+  // files beside the recording (check_external).
+  Handle open_dataset(const std::string& object) const {
+    Handle ds = check(H5Dopen2(file.get(), object.c_str(), H5P_DEFAULT), H5Dclose, path, object,
+                      "H5Dopen2");
+    check_external(ds.get(), object);
+    return ds;
+  }
+
+  // External raw storage (H5Pset_external) is read from wherever its names point, as the
+  // library resolves them (from the working directory): a FIFO would block the read for ever,
+  // /etc/shadow or /dev/urandom would be read as samples. Only a regular file (not a link) in
+  // the recording's own directory is accepted. (The library's "${ORIGIN}" prefix is no way
+  // out: a dataset opened with one cannot be opened again without it, as attributes are.)
+  void check_external(hid_t ds, const std::string& object) const {
+    Handle dcpl = check(H5Dget_create_plist(ds), H5Pclose, path, object, "H5Dget_create_plist");
+    const int n = H5Pget_external_count(dcpl.get());
+    std::error_code ec;
+    const auto home = std::filesystem::weakly_canonical(path, ec).parent_path();
+    for (int i = 0; i < n; ++i) {
+      char name[4096] = {};
+      off_t offset = 0;
+      hsize_t size = 0;
+      if (H5Pget_external(dcpl.get(), static_cast<unsigned>(i), sizeof name, name, &offset, &size) <
+          0)
+        throw Error(path, object, "its external raw data storage cannot be read");
+      const std::string ext(name, ::strnlen(name, sizeof name));
+      const std::string what = "raw data in the external file '" + ext + "': ";
+      struct stat st {};
+      if (ext.empty() || ::lstat(ext.c_str(), &st) != 0)
+        throw Error(path, object, what + std::strerror(ext.empty() ? ENOENT : errno));
+      if (!S_ISREG(st.st_mode)) throw Error(path, object, what + "not a regular file");
+      if (std::filesystem::weakly_canonical(ext, ec).parent_path() != home || ec)
+        throw Error(path, object, what + "not beside the recording");
+    }
+  }
+
   // Looks `attr` up on `object` and its ancestors; returns the path where it was found, or
   // "" when absent everywhere.
   template <class T>
@@ -286,8 +324,7 @@ RecordingReader::RecordingReader(const std::string& path, const InputOptions& op
       double rate = 0.0;
       const std::string rate_at = impl_->find_attribute(ds_path, "sample_rate_hz", rate);
       if (rate_at.empty()) continue;  // not in any channel's scope: not a channel
-      Handle ds = check(H5Dopen2(impl_->file.get(), ds_path.c_str(), H5P_DEFAULT), H5Dclose, path,
-                        ds_path, "H5Dopen2");
+      Handle ds = impl_->open_dataset(ds_path);
       Handle type = check(H5Dget_type(ds.get()), H5Tclose, path, ds_path, "H5Dget_type");
       const H5T_class_t cls = H5Tget_class(type.get());
       ch.storage_type = describe_type(type.get());
@@ -377,8 +414,7 @@ kernels::LargeVector<double> RecordingReader::read(const ChannelInfo& channel,
     }
     throw Error(file, channel.path, "no such column");
   }
-  Handle ds = check(H5Dopen2(impl_->file.get(), channel.path.c_str(), H5P_DEFAULT), H5Dclose, file,
-                    channel.path, "H5Dopen2");
+  Handle ds = impl_->open_dataset(channel.path);
   Handle fspace = check(H5Dget_space(ds.get()), H5Sclose, file, channel.path, "H5Dget_space");
   hsize_t n = 0;
   H5Sget_simple_extent_dims(fspace.get(), &n, nullptr);

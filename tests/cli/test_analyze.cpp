@@ -233,7 +233,7 @@ TEST(Analyze, ALotSummaryNamingAnInputIsAUsageError) {
 // SIGFPE), more than 2^60 fail as beyond any memory; the lot goes on.
 TEST(Analyze, HugeDeclaredLengthsFailTheirChannelWithoutOverflow) {
   const auto dir = test::fresh_dir("analyze_huge_lengths");
-  const int exponents[] = {57, 58, 59, 60, 61, 63};
+  const int exponents[] = {57, 58, 59, 60, 61, 62};
   for (const int e : exponents) {
     const fs::path p = dir / ("huge_" + std::to_string(e) + ".h5");
     const hid_t f = H5Fcreate(p.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
