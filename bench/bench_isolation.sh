@@ -11,7 +11,9 @@
 #                            [--duration 10] [--runs 5] [--threads 1] [--workdir DIR]
 #                            [--json FILE]
 #
-# Wall time from GNU time (`/usr/bin/time -f %e`); --force makes every run analyse every unit.
+# Wall time and CPU time (user + system, the children's included) from GNU time; on shared cores
+# the wall time also holds the waits for a core at each hand-over between parent and child, the
+# CPU time is the work. --force makes every run analyse every unit.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -46,11 +48,11 @@ if [ ! -f "$lot/manifest.txt" ]; then
   "$new" simulate --lot "$units" --duration "$duration" --seed 2026 -o "$lot" --quiet
 fi
 
-# Seconds of wall time of one command.
+# "wall cpu" seconds of one command.
 timed() {
   local stats="$workdir/time.txt"
-  /usr/bin/time -f "%e" -o "$stats" "$@" >/dev/null 2>&1 || true
-  cat "$stats"
+  /usr/bin/time -f "%e %U %S" -o "$stats" "$@" >/dev/null 2>&1 || true
+  awk '{ printf "%s %.2f", $1, $2 + $3 }' "$stats"
 }
 
 median() {
@@ -58,34 +60,41 @@ median() {
     if (NR % 2) print v[(NR + 1) / 2]; else printf "%.3f\n", (v[NR / 2] + v[NR / 2 + 1]) / 2 }'
 }
 
-declare -A times
+declare -A times cpus
 for _ in $(seq "$runs"); do
   for which in old new; do
     bin="$old"
     [ "$which" = new ] && bin="$new"
     out="$workdir/out-$which"
     rm -rf "$out"
-    times[analyze_$which]+=" $(timed "$bin" analyze --force --quiet --threads "$threads" -o "$out" "@$lot/manifest.txt")"
+    read -r wall cpu <<<"$(timed "$bin" analyze --force --quiet --threads "$threads" -o "$out" "@$lot/manifest.txt")"
+    times[analyze_$which]+=" $wall"
+    cpus[analyze_$which]+=" $cpu"
     # Results of an earlier version: no seal (the HDF5 image without its 512-byte user block).
     for f in "$out"/*.allan.h5; do
       tail -c +513 "$f" >"$f.unsealed" && mv "$f.unsealed" "$f"
     done
-    times[summarize_$which]+=" $(timed "$bin" summarize --quiet "$out")"
+    read -r wall cpu <<<"$(timed "$bin" summarize --quiet "$out")"
+    times[summarize_$which]+=" $wall"
+    cpus[summarize_$which]+=" $cpu"
   done
 done
 
 mkdir -p "$(dirname "$json")"
-echo "| command ($units units of $duration s, $runs runs) | old median s | new median s | new - old per unit ms |"
-echo "|---|---|---|---|"
+echo "| command ($units units of $duration s, $runs runs) | old wall s | new wall s | wall per unit ms | old CPU s | new CPU s | CPU per unit ms |"
+echo "|---|---|---|---|---|---|---|"
 entries=()
 for cmd in analyze summarize; do
   o=$(echo "${times[${cmd}_old]}" | median)
   n=$(echo "${times[${cmd}_new]}" | median)
   per=$(awk -v o="$o" -v n="$n" -v u="$units" 'BEGIN { printf "%.2f", (n - o) * 1000 / u }')
-  echo "| $cmd | $o | $n | $per |"
+  oc=$(echo "${cpus[${cmd}_old]}" | median)
+  nc=$(echo "${cpus[${cmd}_new]}" | median)
+  per_cpu=$(awk -v o="$oc" -v n="$nc" -v u="$units" 'BEGIN { printf "%.2f", (n - o) * 1000 / u }')
+  echo "| $cmd | $o | $n | $per | $oc | $nc | $per_cpu |"
   old_list=$(echo "${times[${cmd}_old]}" | xargs | tr ' ' ',')
   new_list=$(echo "${times[${cmd}_new]}" | xargs | tr ' ' ',')
-  entries+=("{\"command\": \"$cmd\", \"units\": $units, \"duration_s\": $duration, \"runs\": $runs, \"old_s\": [$old_list], \"new_s\": [$new_list], \"old_median_s\": $o, \"new_median_s\": $n, \"per_unit_ms\": $per}")
+  entries+=("{\"command\": \"$cmd\", \"units\": $units, \"duration_s\": $duration, \"runs\": $runs, \"old_s\": [$old_list], \"new_s\": [$new_list], \"old_median_s\": $o, \"new_median_s\": $n, \"per_unit_ms\": $per, \"old_cpu_median_s\": $oc, \"new_cpu_median_s\": $nc, \"cpu_per_unit_ms\": $per_cpu}")
 done
 {
   echo "["

@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <sys/stat.h>
 
@@ -72,27 +73,61 @@ std::string describe_type(hid_t type) {
   }
 }
 
-// The object itself, then each ancestor group up to the root: the lookup order of
-// docs/formats.md "Input recordings" for sample_rate_hz, units, scale, offset and data_type.
-std::vector<std::string> lookup_chain(const std::string& path) {
-  std::vector<std::string> chain{path};
-  std::string p = path;
-  while (p.size() > 1) {
-    const auto slash = p.find_last_of('/');
-    p = slash == 0 ? "/" : p.substr(0, slash);
-    chain.push_back(p);
-  }
-  return chain;
-}
-
-struct Visit {
-  std::vector<std::string> datasets;
+// One hard link of a group, as the walk below lists it.
+struct Link {
+  std::string name;
+  H5O_type_t type = H5O_TYPE_UNKNOWN;
+  haddr_t addr = HADDR_UNDEF;
 };
 
-herr_t collect(hid_t, const char* name, const H5O_info_t* info, void* data) {
-  if (info->type == H5O_TYPE_DATASET && name)
-    static_cast<Visit*>(data)->datasets.push_back(std::string("/") + name);
+herr_t list_link(hid_t group, const char* name, const H5L_info_t* info, void* data) {
+  if (info->type != H5L_TYPE_HARD) return 0;  // as H5Ovisit: soft and external links not followed
+  H5O_info_t oi;
+  if (H5Oget_info_by_name2(group, name, &oi, H5O_INFO_BASIC, H5P_DEFAULT) < 0) return -1;
+  static_cast<std::vector<Link>*>(data)->push_back({name, oi.type, oi.addr});
   return 0;
+}
+
+// Every dataset of the file, each object once, depth first in name order (what H5Ovisit gives),
+// each group opened by its name in its parent: linear in the number of objects, where H5Ovisit
+// took over a minute for 2000 nested groups.
+std::vector<std::string> list_datasets(hid_t file, const std::string& path) {
+  struct Frame {
+    Handle group;
+    std::string path;
+    std::vector<Link> links;
+    std::size_t next = 0;
+  };
+  std::vector<std::string> datasets;
+  std::set<haddr_t> seen;
+  std::vector<Frame> stack;
+  const auto push = [&](Handle group, std::string at) {
+    std::vector<Link> links;
+    if (H5Literate(group.get(), H5_INDEX_NAME, H5_ITER_INC, nullptr, list_link, &links) < 0)
+      throw Error(path, at.empty() ? "/" : at,
+                  "cannot walk the file's objects (corrupt HDF5 file)");
+    stack.push_back({std::move(group), std::move(at), std::move(links)});
+  };
+  Handle root = check(H5Gopen2(file, "/", H5P_DEFAULT), H5Gclose, path, "/", "H5Gopen2");
+  H5O_info_t root_info;
+  if (H5Oget_info2(root.get(), &root_info, H5O_INFO_BASIC) >= 0) seen.insert(root_info.addr);
+  push(std::move(root), "");
+  while (!stack.empty()) {
+    Frame& top = stack.back();
+    if (top.next == top.links.size()) {
+      stack.pop_back();
+      continue;
+    }
+    const Link link = top.links[top.next++];
+    if (!seen.insert(link.addr).second) continue;
+    const std::string at = top.path + "/" + link.name;
+    if (link.type == H5O_TYPE_DATASET) datasets.push_back(at);
+    if (link.type == H5O_TYPE_GROUP)
+      push(check(H5Gopen2(top.group.get(), link.name.c_str(), H5P_DEFAULT), H5Gclose, path, at,
+                 "H5Gopen2"),
+           at);
+  }
+  return datasets;
 }
 
 // No NUL byte and few control characters in the first 4 KiB: text, not binary.
@@ -220,14 +255,33 @@ struct RecordingReader::Impl {
     }
   }
 
-  // Looks `attr` up on `object` and its ancestors; returns the path where it was found, or
-  // "" when absent everywhere.
+  // The root, each group on the way to `object`, and `object`, with their paths: each opened
+  // by its name in its parent, so the cost is linear in the depth (opened by full path, each
+  // ancestor costs its own depth again: 2000 nested groups took over a minute).
+  std::vector<std::pair<std::string, Handle>> open_chain(const std::string& object) const {
+    std::vector<std::pair<std::string, Handle>> chain;
+    chain.emplace_back(
+        "/", check(H5Oopen(file.get(), "/", H5P_DEFAULT), H5Oclose, path, "/", "H5Oopen"));
+    std::size_t pos = 1;
+    while (pos < object.size()) {
+      const std::size_t next = std::min(object.find('/', pos), object.size());
+      const std::string at = object.substr(0, next);
+      const std::string name = object.substr(pos, next - pos);
+      chain.emplace_back(at, check(H5Oopen(chain.back().second.get(), name.c_str(), H5P_DEFAULT),
+                                   H5Oclose, path, at, "H5Oopen"));
+      pos = next + 1;
+    }
+    return chain;
+  }
+
+  // Looks `attr` up on `object`, then on each ancestor group up to the root (the lookup order
+  // of docs/formats.md "Input recordings"); returns the path where it was found, or "" when
+  // absent everywhere.
   template <class T>
   std::string find_attribute(const std::string& object, const std::string& attr, T& out) const {
-    for (const std::string& p : lookup_chain(object)) {
-      Handle obj = check(H5Oopen(file.get(), p.c_str(), H5P_DEFAULT), H5Oclose, path, p, "H5Oopen");
-      if (h5::read_attribute(obj.get(), attr, out, path, p)) return p;
-    }
+    const auto chain = open_chain(object);
+    for (auto it = chain.rbegin(); it != chain.rend(); ++it)
+      if (h5::read_attribute(it->second.get(), attr, out, path, it->first)) return it->first;
     return "";
   }
 };
@@ -310,12 +364,10 @@ RecordingReader::RecordingReader(const std::string& path, const InputOptions& op
   // synthesizes rate channels only, so their data type is known, not a default.
   const bool simulated = H5Aexists(root.get(), "simulated_model") > 0;
 
-  Visit visit;
-  if (H5Ovisit2(impl_->file.get(), H5_INDEX_NAME, H5_ITER_INC, collect, &visit, H5O_INFO_BASIC) < 0)
-    throw Error(path, "", "cannot walk the file's objects (corrupt HDF5 file)");
-  std::sort(visit.datasets.begin(), visit.datasets.end());
+  std::vector<std::string> datasets = list_datasets(impl_->file.get(), path);
+  std::sort(datasets.begin(), datasets.end());
 
-  for (const std::string& ds_path : visit.datasets) {
+  for (const std::string& ds_path : datasets) {
     const std::string leaf = ds_path.substr(ds_path.find_last_of('/') + 1);
     if (is_time_name(leaf)) continue;  // time stamps, never a channel
     try {

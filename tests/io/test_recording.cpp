@@ -301,6 +301,64 @@ TEST(Recording, ExternalRawDataOnlyFromARegularFileBesideTheRecording) {
   }
 }
 
+void put_attribute(hid_t obj, const char* name, double value) {
+  const hid_t space = H5Screate(H5S_SCALAR);
+  const hid_t a = H5Acreate2(obj, name, H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT);
+  H5Awrite(a, H5T_NATIVE_DOUBLE, &value);
+  H5Aclose(a);
+  H5Sclose(space);
+}
+
+void put_attribute(hid_t obj, const char* name, const std::string& value) {
+  const hid_t t = H5Tcopy(H5T_C_S1);
+  H5Tset_size(t, value.size() + 1);
+  const hid_t space = H5Screate(H5S_SCALAR);
+  const hid_t a = H5Acreate2(obj, name, t, space, H5P_DEFAULT, H5P_DEFAULT);
+  H5Awrite(a, t, value.c_str());
+  H5Aclose(a);
+  H5Sclose(space);
+  H5Tclose(t);
+}
+
+// 2000 nested groups: the channel at the bottom is discovered with the attributes of its
+// ancestors (sample_rate_hz on the root, units half-way), each lookup opening the chain from the
+// root once (linear in the depth: bench figures in docs/reliability.md).
+TEST(Recording, DeeplyNestedGroupsAreWalkedOnce) {
+  const auto dir = test::fresh_dir("deep_groups");
+  const auto file = dir / "deep.h5";
+  constexpr int kDepth = 2000;
+  std::string channel;
+  {
+    const hid_t f = H5Fcreate(file.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    put_attribute(f, "sample_rate_hz", 50.0);
+    hid_t g = H5Gopen2(f, "/", H5P_DEFAULT);
+    for (int i = 0; i < kDepth; ++i) {
+      const hid_t next = H5Gcreate2(g, "g", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+      H5Gclose(g);
+      g = next;
+      channel += "/g";
+      if (i == kDepth / 2) put_attribute(g, "units", std::string("deg/s"));
+    }
+    const std::vector<double> v(64, 1.0);
+    const hsize_t n = v.size();
+    const hid_t space = H5Screate_simple(1, &n, nullptr);
+    const hid_t ds =
+        H5Dcreate2(g, "x", H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
+    H5Dclose(ds);
+    H5Sclose(space);
+    H5Gclose(g);
+    H5Fclose(f);
+    channel += "/x";
+  }
+  const io::RecordingReader r(file.string());
+  const io::ChannelInfo* ch = find(r.info(), channel);
+  ASSERT_NE(ch, nullptr);
+  EXPECT_EQ(ch->sample_rate_hz, 50.0);
+  EXPECT_EQ(ch->units, "deg/s");
+  EXPECT_EQ(ch->n_samples, 64);
+}
+
 TEST(Recording, DeviceIdsAreSanitized) {
   EXPECT_EQ(io::sanitize_device_id("SN-00.42_a"), "SN-00.42_a");
   EXPECT_EQ(io::sanitize_device_id("../../etc/passwd"), "_._.._etc_passwd");
