@@ -44,6 +44,7 @@ void write_all(int fd, const std::string& text) {
   }
 }
 
+#ifndef ALLANLOT_SANITIZED
 // The address space this process maps now (/proc/self/statm's first field, in pages).
 std::uint64_t mapped_bytes() {
   std::ifstream statm("/proc/self/statm");
@@ -51,6 +52,7 @@ std::uint64_t mapped_bytes() {
   statm >> pages;
   return pages * static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE));
 }
+#endif
 
 void set_limit(int resource, std::uint64_t value) {
   const rlimit lim{static_cast<rlim_t>(value), static_cast<rlim_t>(value)};
