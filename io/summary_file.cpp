@@ -4,6 +4,7 @@
 #include "io/atomic_file.hpp"
 #include "io/error.hpp"
 #include "io/hdf5_handle.hpp"
+#include "io/isolation.hpp"
 #include "io/results.hpp"
 #include "io/schema_h5.hpp"
 #include "io/seal.hpp"
@@ -403,12 +404,21 @@ void write_lot_summary(const std::filesystem::path& outdir, const std::vector<Su
 
 std::vector<SummaryRow> read_lot_summary(const std::filesystem::path& h5_path) {
   const std::string file = h5_path.string();
+  // A summary without a seal (an earlier version's) is read once in a child process first
+  // (io/isolation.hpp), as results files are.
+  if (!in_isolated_child() && !require_intact(h5_path))
+    run_isolated(file, [&] {
+      read_lot_summary(h5_path);
+      read_lot_statistics(h5_path);
+    });
   Handle f = open_summary_file(file);
   return read_compound(f.get(), "summary", schema::summary_columns(), file);
 }
 
 std::vector<StatisticsRow> read_lot_statistics(const std::filesystem::path& h5_path) {
   const std::string file = h5_path.string();
+  if (!in_isolated_child() && !require_intact(h5_path))
+    run_isolated(file, [&] { read_lot_statistics(h5_path); });
   Handle f = open_summary_file(file);
   if (H5Lexists(f.get(), "statistics", H5P_DEFAULT) <= 0) return {};
   return read_compound(f.get(), "statistics", schema::statistics_columns(), file);
