@@ -151,6 +151,10 @@ bool in_isolated_child() {
   return g_in_child;
 }
 
+void read_in_process() {
+  g_in_child = true;
+}
+
 void run_isolated(const std::string& file, const std::function<void()>& work,
                   const IsolationLimits& limits) {
   if (g_in_child) {

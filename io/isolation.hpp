@@ -44,7 +44,12 @@ struct IsolationLimits {
 void run_isolated(const std::string& file, const std::function<void()>& work,
                   const IsolationLimits& limits = {});
 
-/// True in the child process of run_isolated.
+/// True in the child process of run_isolated, and after read_in_process().
 bool in_isolated_child();
+
+/// From now on, this process reads as the child does: nothing is isolated. For the fuzz targets
+/// over allanlot's own code on well-formed files (fuzz/fuzz_recording.cpp), whose crashes must
+/// reach the fuzzer rather than end a child.
+void read_in_process();
 
 }  // namespace allanlot::io
