@@ -3,6 +3,7 @@
 // crash, a kill or a full disk never leaves a half-written file under the final name.
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
 #include <initializer_list>
 #include <string>
@@ -11,8 +12,10 @@ namespace allanlot::io {
 
 class AtomicFile {
 public:
-  /// Chooses a unique temporary path beside `final_path` (same directory, so the rename is
-  /// atomic). Nothing is created yet.
+  /// Creates the temporary file beside `final_path` (same directory, so the rename is atomic)
+  /// with O_CREAT | O_EXCL | O_NOFOLLOW under a name that carries 64 random bits: nothing
+  /// planted in the directory (a symbolic link, a file of another user) can redirect or
+  /// pre-empt it. Throws io::Error naming the final path when it cannot be created.
   explicit AtomicFile(std::filesystem::path final_path);
   /// Removes the temporary file unless commit() succeeded.
   ~AtomicFile();
@@ -21,16 +24,21 @@ public:
 
   const std::filesystem::path& temp_path() const { return temp_; }
   const std::filesystem::path& final_path() const { return final_; }
+  /// Appends `bytes` to the temporary file through the descriptor it was created with (never
+  /// reopened by name). Throws io::Error naming the final path with the system's reason.
+  void write(const char* bytes, std::size_t n) const;
   /// fsyncs the temporary file (once; commit() does it when not done yet). Throws io::Error
   /// naming the final path on failure.
   void sync();
-  /// fsyncs the temporary file, renames it to the final path and fsyncs the directory.
-  /// Throws io::Error naming the final path on failure (the temporary is then removed), also
-  /// when the final path is a device, pipe or directory, which is never replaced.
+  /// fsyncs and closes the temporary file, renames it to the final path (in the same
+  /// directory) and fsyncs the directory. Throws io::Error naming the final path on failure
+  /// (the temporary is then removed), also when the final path is a device, pipe or
+  /// directory, which is never replaced.
   void commit();
 
 private:
   std::filesystem::path final_, temp_;
+  int fd_ = -1;
   bool synced_ = false, committed_ = false;
 };
 
@@ -60,6 +68,7 @@ private:
 };
 
 /// This host's name as temporary file names carry it (letters, digits, '-'; others '_').
+/// Temporary names are `.<name>.tmp.<host>.<pid>.<16 random hex digits>`.
 std::string host_tag();
 
 /// Writes `text` to the temporary file of `f` (not committed). Throws io::Error naming the
@@ -67,7 +76,8 @@ std::string host_tag();
 void write_text(const AtomicFile& f, const std::string& text);
 
 /// Writes `text` to `path` atomically (model files, exports); a character device or a pipe
-/// (`-o /dev/null`, `-o /dev/stdout`) is written through instead.
+/// (`-o /dev/null`, `-o /dev/stdout`) is written through instead, and a named pipe without a
+/// reader is an error, not a wait.
 void write_text_atomic(const std::filesystem::path& path, const std::string& text);
 
 }  // namespace allanlot::io

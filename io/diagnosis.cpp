@@ -106,7 +106,7 @@ void write_diagnosis(const std::filesystem::path& out, const std::filesystem::pa
         h5::check(H5Ldelete(ch.get(), "diagnosis", H5P_DEFAULT), file, object, "H5Ldelete");
       schema::write_diagnosis_group(ch.get(), r, file);
     }
-    h5::write_memory_file(f, atomic.temp_path().string(), file);
+    h5::write_memory_file(f, atomic, file);
   }
   atomic.commit();
 }

@@ -1,4 +1,5 @@
 #include "io/hdf5_handle.hpp"
+#include "io/atomic_file.hpp"
 
 #include "io/seal.hpp"
 #include "io/utf8.hpp"
@@ -234,7 +235,7 @@ Handle open_memory_copy(const std::filesystem::path& path, const std::string& fi
                "H5Fopen (in memory)");
 }
 
-void write_memory_file(Handle& f, const std::string& path, const std::string& file, Sealed sealed) {
+void write_memory_file(Handle& f, const AtomicFile& out, const std::string& file, Sealed sealed) {
   check(H5Fflush(f.get(), H5F_SCOPE_GLOBAL), file, "", "H5Fflush (in memory)");
   const ssize_t size = H5Fget_file_image(f.get(), nullptr, 0);
   if (size < 0) throw Error(file, "", "H5Fget_file_image failed");
@@ -246,21 +247,7 @@ void write_memory_file(Handle& f, const std::string& path, const std::string& fi
     const auto seal = seal_block(image);
     image.insert(image.begin(), seal.begin(), seal.end());
   }
-  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-  if (fd < 0) throw Error(file, "", std::string("cannot create file: ") + std::strerror(errno));
-  std::size_t done = 0;
-  while (done < image.size()) {
-    const ssize_t n = ::write(fd, image.data() + done, image.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      const int err = n < 0 ? errno : ENOSPC;
-      ::close(fd);
-      throw Error(file, "", std::string("write: ") + std::strerror(err));
-    }
-    done += static_cast<std::size_t>(n);
-  }
-  // Some file systems (NFS) report a failed write only at close.
-  if (::close(fd) != 0) throw Error(file, "", std::string("close: ") + std::strerror(errno));
+  out.write(image.data(), image.size());
 }
 
 Handle ensure_groups(hid_t file_id, const std::string& path, const std::string& file) {

@@ -12,6 +12,10 @@
 #include <utility>
 #include <vector>
 
+namespace allanlot::io {
+class AtomicFile;
+}  // namespace allanlot::io
+
 namespace allanlot::io::h5 {
 
 /// Silences HDF5's own error-stack printing: allanlot reports every failure itself, with the
@@ -111,11 +115,10 @@ Handle utf8_string_type(const std::string& file, const std::string& object);
 /// says what was expected: "results file", ...).
 Handle open_sealed(const std::filesystem::path& path, const std::string& kind);
 
-/// Writes the complete image of the in-memory file `f` to `path` (created, must not exist)
-/// with write(2), and closes `f`. Throws io::Error naming `file` with the system's reason
-/// (e.g. "write: No space left on device"); `path` is then incomplete and the caller's
-/// AtomicFile removes it.
-void write_memory_file(Handle& f, const std::string& path, const std::string& file,
+/// Writes the complete image of the in-memory file `f` to the temporary file of `out` with
+/// write(2), and closes `f`. Throws io::Error naming `file` with the system's reason (e.g.
+/// "write: No space left on device"); `out` then removes its incomplete temporary.
+void write_memory_file(Handle& f, const AtomicFile& out, const std::string& file,
                        Sealed sealed = Sealed::Yes);
 
 /// Creates every missing group along `path` ("/a/b/c") under `file_id` and returns the last.

@@ -21,8 +21,15 @@ bool same_file(const fs::path& a, const fs::path& b) {
 }
 
 std::optional<fs::path> replaced_input(const fs::path& output, std::span<const fs::path> inputs) {
-  for (const fs::path& in : inputs)
+  // By identity (a link, another spelling) and by canonical name (an input that vanished
+  // since it was listed is still not to be replaced).
+  std::error_code ec;
+  const fs::path out_name = fs::weakly_canonical(output, ec);
+  for (const fs::path& in : inputs) {
     if (same_file(output, in)) return in;
+    std::error_code ec_in;
+    if (!ec && fs::weakly_canonical(in, ec_in) == out_name && !ec_in) return in;
+  }
   return std::nullopt;
 }
 
@@ -58,7 +65,8 @@ std::string input_file_problem(const fs::path& path) {
 
 namespace {
 
-// io::AtomicFile's names: '.', the final name (cut to fit), ".tmp.", host, '.', pid, '.', n.
+// io::AtomicFile's names: '.', the final name (cut to fit), ".tmp.", host, '.', pid, '.', a
+// random tag of hex digits.
 // Returns the host and pid of such a name, or nullopt. (Parsed by hand: libstdc++'s <regex>
 // trips GCC 12's -Wmaybe-uninitialized under ASan.)
 std::optional<std::pair<std::string, long>> temporary_writer(const std::string& name) {
@@ -79,7 +87,10 @@ std::optional<std::pair<std::string, long>> temporary_writer(const std::string& 
   const bool host_ok = std::all_of(host.begin(), host.end(), [](unsigned char c) {
     return std::isalnum(c) != 0 || c == '-' || c == '_';
   });
-  if (pid.size() > 9 || !digits(pid) || !digits(n) || !host_ok) return std::nullopt;
+  const bool tag_ok = !n.empty() && std::all_of(n.begin(), n.end(), [](unsigned char c) {
+    return std::isxdigit(c) != 0;
+  });
+  if (pid.size() > 9 || !digits(pid) || !tag_ok || !host_ok) return std::nullopt;
   return std::pair{host, std::stol(pid)};
 }
 

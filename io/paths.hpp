@@ -35,8 +35,8 @@ std::string replaced_input_message(const std::filesystem::path& output,
 std::string input_file_problem(const std::filesystem::path& path);
 
 /// Removes from `dir` the temporary files of io::AtomicFile's naming pattern
-/// (`.<name>.tmp.<host>.<pid>.<n>`) that an earlier, interrupted run left: those last modified
-/// before `before` whose writer is not a live process of this host. Returns how many.
+/// (`.<name>.tmp.<host>.<pid>.<random hex>`) that an earlier, interrupted run left: those last
+/// modified before `before` whose writer is not a live process of this host. Returns how many.
 std::size_t remove_stale_temporaries(const std::filesystem::path& dir,
                                      std::filesystem::file_time_type before);
 

@@ -3,18 +3,21 @@
 #include "io/atomic_file.hpp"
 #include "io/error.hpp"
 #include "io/hdf5_handle.hpp"
+#include "io/isolation.hpp"
 #include "io/line_reader.hpp"
 #include "io/text_fields.hpp"
 #include "io/text_recording.hpp"
 #include "kernels/model/units.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fnmatch.h>
 #include <fstream>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <sys/stat.h>
 
@@ -77,27 +80,61 @@ std::string describe_type(hid_t type) {
   }
 }
 
-// The object itself, then each ancestor group up to the root: the lookup order of
-// docs/formats.md "Input recordings" for sample_rate_hz, units, scale, offset and data_type.
-std::vector<std::string> lookup_chain(const std::string& path) {
-  std::vector<std::string> chain{path};
-  std::string p = path;
-  while (p.size() > 1) {
-    const auto slash = p.find_last_of('/');
-    p = slash == 0 ? "/" : p.substr(0, slash);
-    chain.push_back(p);
-  }
-  return chain;
-}
-
-struct Visit {
-  std::vector<std::string> datasets;
+// One hard link of a group, as the walk below lists it.
+struct Link {
+  std::string name;
+  H5O_type_t type = H5O_TYPE_UNKNOWN;
+  haddr_t addr = HADDR_UNDEF;
 };
 
-herr_t collect(hid_t, const char* name, const H5O_info_t* info, void* data) {
-  if (info->type == H5O_TYPE_DATASET && name)
-    static_cast<Visit*>(data)->datasets.push_back(std::string("/") + name);
+herr_t list_link(hid_t group, const char* name, const H5L_info_t* info, void* data) {
+  if (info->type != H5L_TYPE_HARD) return 0;  // as H5Ovisit: soft and external links not followed
+  H5O_info_t oi;
+  if (H5Oget_info_by_name2(group, name, &oi, H5O_INFO_BASIC, H5P_DEFAULT) < 0) return -1;
+  static_cast<std::vector<Link>*>(data)->push_back({name, oi.type, oi.addr});
   return 0;
+}
+
+// Every dataset of the file, each object once, depth first in name order (what H5Ovisit gives),
+// each group opened by its name in its parent: linear in the number of objects, where H5Ovisit
+// took over a minute for 2000 nested groups.
+std::vector<std::string> list_datasets(hid_t file, const std::string& path) {
+  struct Frame {
+    Handle group;
+    std::string path;
+    std::vector<Link> links;
+    std::size_t next = 0;
+  };
+  std::vector<std::string> datasets;
+  std::set<haddr_t> seen;
+  std::vector<Frame> stack;
+  const auto push = [&](Handle group, std::string at) {
+    std::vector<Link> links;
+    if (H5Literate(group.get(), H5_INDEX_NAME, H5_ITER_INC, nullptr, list_link, &links) < 0)
+      throw Error(path, at.empty() ? "/" : at,
+                  "cannot walk the file's objects (corrupt HDF5 file)");
+    stack.push_back({std::move(group), std::move(at), std::move(links)});
+  };
+  Handle root = check(H5Gopen2(file, "/", H5P_DEFAULT), H5Gclose, path, "/", "H5Gopen2");
+  H5O_info_t root_info;
+  if (H5Oget_info2(root.get(), &root_info, H5O_INFO_BASIC) >= 0) seen.insert(root_info.addr);
+  push(std::move(root), "");
+  while (!stack.empty()) {
+    Frame& top = stack.back();
+    if (top.next == top.links.size()) {
+      stack.pop_back();
+      continue;
+    }
+    const Link link = top.links[top.next++];
+    if (!seen.insert(link.addr).second) continue;
+    const std::string at = top.path + "/" + link.name;
+    if (link.type == H5O_TYPE_DATASET) datasets.push_back(at);
+    if (link.type == H5O_TYPE_GROUP)
+      push(check(H5Gopen2(top.group.get(), link.name.c_str(), H5P_DEFAULT), H5Gclose, path, at,
+                 "H5Gopen2"),
+           at);
+  }
+  return datasets;
 }
 
 // No NUL byte and few control characters in the first 4 KiB: text, not binary.
@@ -149,13 +186,12 @@ struct RecordingReader::Impl {
     for (int i = 0; i < n_filters; ++i)
       require_filter(dcpl.get(), static_cast<unsigned>(i), object);
     if (n_filters != 0) return;
-    const hsize_t need = n * H5Tget_size(type.get());
+    hsize_t need = 0;
     const hsize_t stored = H5Dget_storage_size(ds);
-    if (stored < need)
+    if (__builtin_mul_overflow(n, H5Tget_size(type.get()), &need) || stored < need)
       throw Error(path, object,
                   "declares " + std::to_string(n) + " samples but stores only " +
-                      std::to_string(stored) + " of their " + std::to_string(need) +
-                      " bytes (never written?)");
+                      std::to_string(stored) + " bytes of them (never written?)");
   }
 
   // A filter (compression) this HDF5 library lacks, neither built in nor a plugin on
@@ -189,14 +225,70 @@ struct RecordingReader::Impl {
                       " bytes, its HDF5 layout needs " + std::to_string(eoa));
   }
 
-  // Looks `attr` up on `object` and its ancestors; returns the path where it was found, or
-  // "" when absent everywhere.
+  // A channel's dataset, refused when its raw data lie in external files that are not regular
+  // files beside the recording (check_external).
+  Handle open_dataset(const std::string& object) const {
+    Handle ds = check(H5Dopen2(file.get(), object.c_str(), H5P_DEFAULT), H5Dclose, path, object,
+                      "H5Dopen2");
+    check_external(ds.get(), object);
+    return ds;
+  }
+
+  // External raw storage (H5Pset_external) is read from wherever its names point, as the
+  // library resolves them (from the working directory): a FIFO would block the read for ever,
+  // /etc/shadow or /dev/urandom would be read as samples. Only a regular file (not a link) in
+  // the recording's own directory is accepted. (The library's "${ORIGIN}" prefix is no way
+  // out: a dataset opened with one cannot be opened again without it, as attributes are.)
+  void check_external(hid_t ds, const std::string& object) const {
+    Handle dcpl = check(H5Dget_create_plist(ds), H5Pclose, path, object, "H5Dget_create_plist");
+    const int n = H5Pget_external_count(dcpl.get());
+    std::error_code ec;
+    const auto home = std::filesystem::weakly_canonical(path, ec).parent_path();
+    for (int i = 0; i < n; ++i) {
+      char name[4096] = {};
+      off_t offset = 0;
+      hsize_t size = 0;
+      if (H5Pget_external(dcpl.get(), static_cast<unsigned>(i), sizeof name, name, &offset, &size) <
+          0)
+        throw Error(path, object, "its external raw data storage cannot be read");
+      const std::string ext(name, ::strnlen(name, sizeof name));
+      const std::string what = "raw data in the external file '" + ext + "': ";
+      struct stat st {};
+      if (ext.empty() || ::lstat(ext.c_str(), &st) != 0)
+        throw Error(path, object, what + std::strerror(ext.empty() ? ENOENT : errno));
+      if (!S_ISREG(st.st_mode)) throw Error(path, object, what + "not a regular file");
+      if (std::filesystem::weakly_canonical(ext, ec).parent_path() != home || ec)
+        throw Error(path, object, what + "not beside the recording");
+    }
+  }
+
+  // The root, each group on the way to `object`, and `object`, with their paths: each opened
+  // by its name in its parent, so the cost is linear in the depth (opened by full path, each
+  // ancestor costs its own depth again: 2000 nested groups took over a minute).
+  std::vector<std::pair<std::string, Handle>> open_chain(const std::string& object) const {
+    std::vector<std::pair<std::string, Handle>> chain;
+    chain.emplace_back(
+        "/", check(H5Oopen(file.get(), "/", H5P_DEFAULT), H5Oclose, path, "/", "H5Oopen"));
+    std::size_t pos = 1;
+    while (pos < object.size()) {
+      const std::size_t next = std::min(object.find('/', pos), object.size());
+      const std::string at = object.substr(0, next);
+      const std::string name = object.substr(pos, next - pos);
+      chain.emplace_back(at, check(H5Oopen(chain.back().second.get(), name.c_str(), H5P_DEFAULT),
+                                   H5Oclose, path, at, "H5Oopen"));
+      pos = next + 1;
+    }
+    return chain;
+  }
+
+  // Looks `attr` up on `object`, then on each ancestor group up to the root (the lookup order
+  // of docs/formats.md "Input recordings"); returns the path where it was found, or "" when
+  // absent everywhere.
   template <class T>
   std::string find_attribute(const std::string& object, const std::string& attr, T& out) const {
-    for (const std::string& p : lookup_chain(object)) {
-      Handle obj = check(H5Oopen(file.get(), p.c_str(), H5P_DEFAULT), H5Oclose, path, p, "H5Oopen");
-      if (h5::read_attribute(obj.get(), attr, out, path, p)) return p;
-    }
+    const auto chain = open_chain(object);
+    for (auto it = chain.rbegin(); it != chain.rend(); ++it)
+      if (h5::read_attribute(it->second.get(), attr, out, path, it->first)) return it->first;
     return "";
   }
 };
@@ -231,6 +323,24 @@ void describe_text(const TextRecording& text, RecordingInfo& info) {
   }
 }
 
+// The root's device_id (else the file's stem) and the facts of a recording (kTextFactNames).
+void read_root(hid_t root, const std::string& path, RecordingInfo& info) {
+  std::string id;
+  if (h5::read_attribute(root, "device_id", id, path, "/") && !id.empty()) {
+    info.device_id = id;
+  } else {
+    info.device_id = std::filesystem::path(path).stem().string();
+  }
+  for (const char* name : kTextFactNames) {
+    std::string value;
+    try {
+      if (h5::read_attribute(root, name, value, path, "/")) info.facts.emplace_back(name, value);
+    } catch (const Error&) {
+      // A root attribute of that name but another type is the file's own, not a fact.
+    }
+  }
+}
+
 }  // namespace
 
 RecordingReader::RecordingReader(const std::string& path, const InputOptions& options)
@@ -248,36 +358,23 @@ RecordingReader::RecordingReader(const std::string& path, const InputOptions& op
   }
   if (H5Fis_hdf5(path.c_str()) <= 0)
     throw Error(path, "", "not an HDF5 file (or truncated/corrupt)");
+  // The metadata is read once in a child process first (io/isolation.hpp): hostile bytes that
+  // crash the HDF5 library fail this input, not the process.
+  if (!in_isolated_child()) run_isolated(path, [&] { RecordingReader probe(path, options); });
   impl_->file = check(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, path, "",
                       "H5Fopen (corrupt or unreadable HDF5 file)");
 
-  std::string id;
   Handle root =
       check(H5Gopen2(impl_->file.get(), "/", H5P_DEFAULT), H5Gclose, path, "/", "H5Gopen2");
-  if (h5::read_attribute(root.get(), "device_id", id, path, "/") && !id.empty()) {
-    info_.device_id = id;
-  } else {
-    info_.device_id = std::filesystem::path(path).stem().string();
-  }
+  read_root(root.get(), path, info_);
   // A recording of `allanlot simulate` (its model at the root) holds rates: simulate
   // synthesizes rate channels only, so their data type is known, not a default.
   const bool simulated = H5Aexists(root.get(), "simulated_model") > 0;
-  for (const char* name : kTextFactNames) {
-    std::string value;
-    try {
-      if (h5::read_attribute(root.get(), name, value, path, "/"))
-        info_.facts.emplace_back(name, value);
-    } catch (const Error&) {
-      // A root attribute of that name but another type is the file's own, not a fact.
-    }
-  }
 
-  Visit visit;
-  if (H5Ovisit2(impl_->file.get(), H5_INDEX_NAME, H5_ITER_INC, collect, &visit, H5O_INFO_BASIC) < 0)
-    throw Error(path, "", "cannot walk the file's objects (corrupt HDF5 file)");
-  std::sort(visit.datasets.begin(), visit.datasets.end());
+  std::vector<std::string> datasets = list_datasets(impl_->file.get(), path);
+  std::sort(datasets.begin(), datasets.end());
 
-  for (const std::string& ds_path : visit.datasets) {
+  for (const std::string& ds_path : datasets) {
     const std::string leaf = ds_path.substr(ds_path.find_last_of('/') + 1);
     if (is_time_name(leaf)) continue;  // time stamps, never a channel
     try {
@@ -286,8 +383,7 @@ RecordingReader::RecordingReader(const std::string& path, const InputOptions& op
       double rate = 0.0;
       const std::string rate_at = impl_->find_attribute(ds_path, "sample_rate_hz", rate);
       if (rate_at.empty()) continue;  // not in any channel's scope: not a channel
-      Handle ds = check(H5Dopen2(impl_->file.get(), ds_path.c_str(), H5P_DEFAULT), H5Dclose, path,
-                        ds_path, "H5Dopen2");
+      Handle ds = impl_->open_dataset(ds_path);
       Handle type = check(H5Dget_type(ds.get()), H5Tclose, path, ds_path, "H5Dget_type");
       const H5T_class_t cls = H5Tget_class(type.get());
       ch.storage_type = describe_type(type.get());
@@ -323,6 +419,12 @@ RecordingReader::RecordingReader(const std::string& path, const InputOptions& op
       ch.sample_rate_hz = rate;
       hsize_t n = 0;
       H5Sget_simple_extent_dims(space.get(), &n, nullptr);
+      if (n > kMaxSamples) {
+        info_.problems.push_back({ds_path, "declares " + std::to_string(n) +
+                                               " samples, more than any memory holds (at most " +
+                                               std::to_string(kMaxSamples) + ")"});
+        continue;
+      }
       ch.n_samples = static_cast<std::int64_t>(n);
       impl_->find_attribute(ds_path, "units", ch.units);
       ch.has_scale = !impl_->find_attribute(ds_path, "scale", ch.scale).empty();
@@ -371,11 +473,13 @@ kernels::LargeVector<double> RecordingReader::read(const ChannelInfo& channel,
     }
     throw Error(file, channel.path, "no such column");
   }
-  Handle ds = check(H5Dopen2(impl_->file.get(), channel.path.c_str(), H5P_DEFAULT), H5Dclose, file,
-                    channel.path, "H5Dopen2");
+  Handle ds = impl_->open_dataset(channel.path);
   Handle fspace = check(H5Dget_space(ds.get()), H5Sclose, file, channel.path, "H5Dget_space");
   hsize_t n = 0;
   H5Sget_simple_extent_dims(fspace.get(), &n, nullptr);
+  if (n > kMaxSamples)
+    throw Error(file, channel.path,
+                "declares " + std::to_string(n) + " samples, more than any memory holds");
   impl_->check_stored(ds.get(), n, channel.path);
   kernels::LargeVector<double> out(static_cast<std::size_t>(n));  // every element is read
   chunk = std::max<std::size_t>(chunk, 1);
@@ -491,8 +595,7 @@ void RecordingWriter::add_root_attribute(const std::string& name, const std::str
 
 void RecordingWriter::commit() {
   impl_->group.close();
-  h5::write_memory_file(impl_->file, impl_->atomic->temp_path().string(), impl_->final_path,
-                        h5::Sealed::No);
+  h5::write_memory_file(impl_->file, *impl_->atomic, impl_->final_path, h5::Sealed::No);
   impl_->atomic->commit();
 }
 

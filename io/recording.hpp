@@ -39,6 +39,9 @@ struct ChannelInfo {
 /// NaN; a channel with such a rate is a named problem instead.
 inline constexpr double kMinSampleRateHz = 1e-9;
 inline constexpr double kMaxSampleRateHz = 1e12;
+/// The most samples a channel may declare: 2^60 doubles are 2^63 bytes, so byte counts of any
+/// channel fit 64 bits (a chunked dataset never written declares any length in a few bytes).
+inline constexpr std::uint64_t kMaxSamples = std::uint64_t{1} << 60;
 
 /// A dataset that looks like a channel (it is in the scope of a sample_rate_hz attribute)
 /// but cannot be analysed; the reason names what is wrong.

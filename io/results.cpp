@@ -5,6 +5,7 @@
 #include "io/atomic_file.hpp"
 #include "io/error.hpp"
 #include "io/hdf5_handle.hpp"
+#include "io/isolation.hpp"
 #include "io/schema_h5.hpp"
 #include "io/seal.hpp"
 
@@ -161,6 +162,9 @@ void find_channel_groups(hid_t g, const std::string& path, const std::string& fi
 
 RecordingResult read(const std::filesystem::path& path, Depth depth) {
   const std::string file = path.string();
+  // A file without a seal (an earlier version's) is read once in a child process first: its
+  // bytes were never checked, and damaged ones can crash the HDF5 library (io/isolation.hpp).
+  if (!in_isolated_child() && !require_intact(path)) run_isolated(file, [&] { read(path, depth); });
   Handle f = h5::open_sealed(path, "results file");
   Handle root = check(H5Gopen2(f.get(), "/", H5P_DEFAULT), H5Gclose, file, "/", "H5Gopen2");
   schema::check_version(root.get(), file);
@@ -190,7 +194,7 @@ void write_results(const std::filesystem::path& path, const RecordingResult& r) 
       for (const ChannelResult& ch : r.channels)
         write_channel(f.get(), ch, file);
     }
-    h5::write_memory_file(f, atomic.temp_path().string(), file);
+    h5::write_memory_file(f, atomic, file);
   }
   atomic.commit();
 }

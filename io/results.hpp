@@ -288,11 +288,17 @@ struct StatisticsRow {
 
 /// A CSV field (RFC 4180): as it is, or in double quotes with inner quotes doubled when it
 /// holds a comma, a quote or a line break; bytes that are not UTF-8 as `\xNN` (io/utf8.hpp).
+/// A field a spreadsheet would take for a formula (first character =, +, -, @, tab or CR, and
+/// not a number such as -1.5e-3) gets a single quote first and is quoted (docs/formats.md).
 std::string csv_field(const std::string& text);
 
 /// A CSV number with `digits` significant digits ("%.*g"); empty for NaN, as pandas and
 /// spreadsheets read a missing value.
 std::string csv_number(double v, int digits);
+
+/// The files of the lot summary in `outdir`: lot_summary.csv, lot_statistics.csv and
+/// lot_summary.h5 (what write_lot_summary writes).
+std::array<std::filesystem::path, 3> lot_summary_files(const std::filesystem::path& outdir);
 
 /// Writes OUTDIR/lot_summary.csv, OUTDIR/lot_statistics.csv and OUTDIR/lot_summary.h5
 /// (compound datasets /summary and /statistics; `attributes` become string attributes of the

@@ -4,6 +4,7 @@
 #include "io/atomic_file.hpp"
 #include "io/error.hpp"
 #include "io/hdf5_handle.hpp"
+#include "io/isolation.hpp"
 #include "io/results.hpp"
 #include "io/schema_h5.hpp"
 #include "io/seal.hpp"
@@ -13,9 +14,11 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <deque>
 #include <sstream>
+#include <string_view>
 #include <type_traits>
 
 namespace allanlot::io {
@@ -367,16 +370,21 @@ std::vector<schema::TableColumn> schema::statistics_table(const std::vector<Stat
   return table_of(rows, statistics_columns());
 }
 
+std::array<std::filesystem::path, 3> lot_summary_files(const std::filesystem::path& outdir) {
+  return {outdir / "lot_summary.csv", outdir / "lot_statistics.csv", outdir / "lot_summary.h5"};
+}
+
 void write_lot_summary(const std::filesystem::path& outdir, const std::vector<SummaryRow>& rows,
                        const std::vector<StatisticsRow>& statistics,
                        const std::vector<std::pair<std::string, std::string>>& attributes) {
   h5::quiet_library();
   // The three files are one summary: each is written to its temporary, and none replaces the
   // earlier summary unless all three were written (io::commit_together).
-  AtomicFile csv(outdir / "lot_summary.csv"), stats(outdir / "lot_statistics.csv");
+  const auto names = lot_summary_files(outdir);
+  AtomicFile csv(names[0]), stats(names[1]);
   write_text(csv, csv_text(rows, schema::summary_columns()));
   write_text(stats, csv_text(statistics, schema::statistics_columns()));
-  const std::filesystem::path h5path = outdir / "lot_summary.h5";
+  const std::filesystem::path& h5path = names[2];
   const std::string file = h5path.string();
   AtomicFile atomic(h5path);
   {
@@ -389,19 +397,28 @@ void write_lot_summary(const std::filesystem::path& outdir, const std::vector<Su
         h5::write_attribute(root.get(), name, value, file, "/");
       schema::write_version(root.get(), file);
     }
-    h5::write_memory_file(f, atomic.temp_path().string(), file);
+    h5::write_memory_file(f, atomic, file);
   }
   commit_together({&csv, &stats, &atomic});
 }
 
 std::vector<SummaryRow> read_lot_summary(const std::filesystem::path& h5_path) {
   const std::string file = h5_path.string();
+  // A summary without a seal (an earlier version's) is read once in a child process first
+  // (io/isolation.hpp), as results files are.
+  if (!in_isolated_child() && !require_intact(h5_path))
+    run_isolated(file, [&] {
+      read_lot_summary(h5_path);
+      read_lot_statistics(h5_path);
+    });
   Handle f = open_summary_file(file);
   return read_compound(f.get(), "summary", schema::summary_columns(), file);
 }
 
 std::vector<StatisticsRow> read_lot_statistics(const std::filesystem::path& h5_path) {
   const std::string file = h5_path.string();
+  if (!in_isolated_child() && !require_intact(h5_path))
+    run_isolated(file, [&] { read_lot_statistics(h5_path); });
   Handle f = open_summary_file(file);
   if (H5Lexists(f.get(), "statistics", H5P_DEFAULT) <= 0) return {};
   return read_compound(f.get(), "statistics", schema::statistics_columns(), file);
@@ -414,9 +431,26 @@ std::string csv_number(double v, int digits) {
   return buf;
 }
 
+namespace {
+
+// A cell that a spreadsheet would run as a formula (=, +, -, @, or a tab or carriage return
+// first: OWASP "CSV Injection"), unless the whole cell is a number such as -1.5e-3.
+bool formula_like(const std::string& s) {
+  if (s.empty() || std::string_view("=+-@\t\r").find(s[0]) == std::string_view::npos) return false;
+  char* end = nullptr;
+  std::strtod(s.c_str(), &end);
+  return end != s.c_str() + s.size();
+}
+
+}  // namespace
+
 std::string csv_field(const std::string& text) {
-  const std::string s = valid_utf8(text);
-  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
+  std::string s = valid_utf8(text);
+  // Neutralised as OWASP recommends: a single quote first, and the cell quoted, so that the
+  // text reads as text (a device_id "=HYPERLINK(...)" stays that string, plus the quote).
+  const bool formula = formula_like(s);
+  if (formula) s.insert(s.begin(), '\'');
+  if (!formula && s.find_first_of(",\"\n\r") == std::string::npos) return s;
   std::string q = "\"";
   for (const char c : s) {
     if (c == '"') q += '"';

@@ -24,6 +24,7 @@ import os
 import numpy as np
 
 from . import _allanlot
+from . import _checks
 from ._allantools import FUNCTIONS as _FUNCTIONS
 from ._allantools import tau_m
 
@@ -79,12 +80,7 @@ class Deviation:
             self.tau[-1] if len(self) else float("nan"))
 
 
-def _threads(threads):
-    if threads is None:
-        return 0
-    if int(threads) < 1:
-        raise ValueError("threads must be >= 1 (None: every core), got %r" % (threads,))
-    return int(threads)
+_threads = _checks.threads
 
 
 def deviation(data, stat="oadev", rate=1.0, data_type="phase", taus=None,
@@ -97,13 +93,15 @@ def deviation(data, stat="oadev", rate=1.0, data_type="phase", taus=None,
     taus: None (the command line's default grid, "log:16"), a grid name ("octave", "decade",
     "all", "stable32", "log:K", "m:1,2,5"), or an array of taus in seconds (rounded to the
     nearest m). The taus run to Stable32's largest m for the statistic (max_m), as on the
-    command line. confidence: two-sided level of dev_lo/dev_hi (None or 0: no intervals).
+    command line. confidence: two-sided level of dev_lo/dev_hi, in (0, 1) (None: no intervals).
 
     Formulas: NIST SP1065 (eqs. 7-32) as cited in docs/statistics.md; intervals are chi-square
     with Greenhall-Riley edf (SP1065 sec. 5.3). AllanTools equivalent: allanlot.<stat>(...), or
     allantools.<stat>(...) with its errs = dev/sqrt(n) in place of dev_lo/dev_hi.
     """
-    conf = 0.0 if confidence is None else float(confidence)
+    data = _checks.samples(data)
+    rate = _checks.real(rate, "rate", positive=True)
+    conf = _checks.confidence(confidence)
     m_list, grid = None, "log:16"
     if taus is None:
         pass
@@ -137,6 +135,9 @@ def fit(result, units=None, tau0=None, n_samples=None, lowpass="auto"):
     Method: docs/fit-and-psd.md (weighted NNLS on the squared coefficients, uncertainties from the
     covariance of the OAVAR estimates). AllanTools has no equivalent.
     """
+    if not isinstance(result, (Deviation, dict)):
+        raise TypeError("result must be a Deviation (stat 'oadev') or a dict of arrays m, tau, "
+                        "dev, n, edf, got %s" % type(result).__name__)
     if isinstance(result, Deviation):
         if result.stat != "oadev":
             raise ValueError("fit needs the oadev curve, got %s" % result.stat)
@@ -170,8 +171,9 @@ def psd(data, rate=1.0, segments=16, bins_per_decade=10, threads=None):
     bins per value, binned only), df, segment_length, n_segments, n_skipped.
     AllanTools/scipy equivalent: scipy.signal.welch(data, fs=rate, window="hann").
     """
-    return _allanlot.psd(data, float(rate), int(segments), int(bins_per_decade),
-                         _threads(threads))
+    return _allanlot.psd(_checks.samples(data), _checks.real(rate, "rate", positive=True),
+                         _checks.whole(segments, "segments", 1),
+                         _checks.whole(bins_per_decade, "bins_per_decade", 0), _threads(threads))
 
 
 def _model_text(model):
@@ -214,7 +216,9 @@ def simulate(model=None, duration=60.0, seed=1, threads=None):
     83(5), 1995). AllanTools equivalent: allantools.noise.* one process at a time.
     """
     text, source = _model_text(model)
-    rate, channels = _allanlot.simulate(text, source, float(duration), int(seed),
+    rate, channels = _allanlot.simulate(text, source,
+                                        _checks.real(duration, "duration", positive=True),
+                                        _checks.whole(seed, "seed", 0, 2**64 - 1),
                                         _threads(threads))
     return Simulation(rate, channels)
 
@@ -231,8 +235,11 @@ def diagnose(data, rate, model, channel=None, data_type="freq", replicas=30, see
     text, source = _model_text(model)
     if not text:
         raise ValueError("diagnose needs a model (a file, JSON text or a dict)")
-    out = _allanlot.diagnose(data, float(rate), data_type, text, source, channel or "",
-                             int(replicas), int(seed), _threads(threads), int(max_effects))
+    out = _allanlot.diagnose(_checks.samples(data), _checks.real(rate, "rate", positive=True),
+                             data_type, text, source, channel or "",
+                             _checks.whole(replicas, "replicas", 0),
+                             _checks.whole(seed, "seed", 0, 2**64 - 1), _threads(threads),
+                             _checks.whole(max_effects, "max_effects", 1))
     return json.loads(out)
 
 

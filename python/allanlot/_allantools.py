@@ -20,6 +20,7 @@ data is a gap (AllanTools propagates it); totdev has no rows beyond m = (N - 1) 
 import numpy as np
 
 from . import _allanlot
+from . import _checks
 
 
 def _phase_length(data, data_type):
@@ -98,9 +99,10 @@ _NS = {
 
 def allantools_call(stat, data, rate, data_type, taus, threads):
     """(taus, devs, errs, ns) of `stat` with AllanTools' conventions."""
-    data = np.asarray(data, dtype=np.float64)
-    if data.ndim != 1:
-        raise ValueError("data must be one-dimensional, got %d dimensions" % data.ndim)
+    data = _checks.samples(data)
+    rate = _checks.real(rate, "rate", positive=True)
+    if len(data) < 2:
+        raise ValueError("data must hold at least 2 samples, got %d" % len(data))
     if data_type == "freq":
         data = _trim_nan(data)
         if stat in ("mtie", "tierms"):
@@ -138,8 +140,11 @@ def gcodev(data_1, data_2, rate=1.0, data_type="phase", taus=None, *, threads=No
     sqrt(ns). The sign AllanTools drops is kept by the command line's `allanlot codev`
     (docs/statistics.md). Formula: Vernotte et al., Proc. IFCS 2016, the overlapping form of
     SP1065 eq. (11) with one second difference of each record."""
-    x = np.asarray(data_1, dtype=np.float64)
-    y = np.asarray(data_2, dtype=np.float64)
+    x = _checks.samples(data_1, "data_1")
+    y = _checks.samples(data_2, "data_2")
+    rate = _checks.real(rate, "rate", positive=True)
+    if min(len(x), len(y)) < 2:
+        raise ValueError("data_1 and data_2 must hold at least 2 samples each")
     if data_type == "freq":
         x, y = _trim_nan(x), _trim_nan(y)
     n = _phase_length(x, data_type)
@@ -149,7 +154,7 @@ def gcodev(data_1, data_2, rate=1.0, data_type="phase", taus=None, *, threads=No
     ns = np.maximum(n - 2 * m, 0)
     m = m[ns > 1]
     kernel_type = "freq" if data_type == "freq" else "phase"
-    r = _allanlot.gcodev(x, y, float(rate), kernel_type, m.tolist(), threads or 0)
+    r = _allanlot.gcodev(x, y, rate, kernel_type, m.tolist(), _checks.threads(threads))
     devs = np.abs(r["dev"])
     ns = r["n"]
     return r["m"] / float(rate), devs, devs / np.sqrt(ns.astype(np.float64)), ns
@@ -174,7 +179,7 @@ def three_cornered_hat_phase(phasedata_ab, phasedata_bc, phasedata_ca, rate, tau
 
 def _make(stat):
     def f(data, rate=1.0, data_type="phase", taus=None, *, threads=None):
-        return allantools_call(stat, data, rate, data_type, taus, threads or 0)
+        return allantools_call(stat, data, rate, data_type, taus, _checks.threads(threads))
 
     f.__name__ = stat
     same = ("as allantools.%s(data, rate, data_type, taus)" % stat if stat != "theoh" else

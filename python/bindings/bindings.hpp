@@ -1,6 +1,8 @@
 // The parts of the extension module allanlot._allanlot, one registration function per file.
 #pragma once
 
+#include "kernels/common/thread_cap.hpp"
+
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
@@ -22,6 +24,17 @@ inline std::span<const double> samples_of(const Samples& data) {
     throw std::invalid_argument("data must be one-dimensional, got " + std::to_string(data.ndim()) +
                                 " dimensions");
   return {data.data(), static_cast<std::size_t>(data.size())};
+}
+
+/// The thread count the kernels get for the module's `threads` (0: OMP_NUM_THREADS or every
+/// core): std::invalid_argument (ValueError) outside 0 .. kMaxThreads, and at most thread_cap()
+/// either way, as on the command line (kernels/common/thread_cap.hpp).
+inline int kernel_threads(int threads) {
+  if (threads < 0 || threads > kernels::kMaxThreads)
+    throw std::invalid_argument("threads must be from 1 to " +
+                                std::to_string(kernels::kMaxThreads) + " (None: every core), got " +
+                                std::to_string(threads));
+  return kernels::capped_threads(threads);
 }
 
 void bind_deviation(py::module_& m);  // deviation, gcodev, stats, max_m

@@ -43,7 +43,7 @@ py::dict deviation(const Samples& data, const std::string& stat, double rate,
   const kernels::DataType type = parse_data_type(data_type);
   if (confidence != 0.0 && !(confidence > 0.0 && confidence < 1.0))
     throw std::invalid_argument("confidence must be in (0, 1), got " + std::to_string(confidence));
-  if (threads < 0) throw std::invalid_argument("threads must be >= 0");
+  threads = kernel_threads(threads);
   kernels::PhaseData p;
   kernels::StatResult r;
   {
@@ -86,6 +86,7 @@ py::dict codeviation(const Samples& data_1, const Samples& data_2, double rate,
     throw std::invalid_argument("data_1 and data_2 must have the same length, got " +
                                 std::to_string(x.size()) + " and " + std::to_string(y.size()));
   const kernels::DataType type = parse_data_type(data_type);
+  threads = kernel_threads(threads);
   kernels::StatResult r;
   {
     const py::gil_scoped_release unlocked;
@@ -118,6 +119,7 @@ void bind_deviation(py::module_& m) {
   m.def("gcodev", &codeviation, py::arg("data_1"), py::arg("data_2"), py::arg("rate"),
         py::arg("data_type"), py::arg("m"), py::arg("threads"),
         "Signed Groslambert codeviation at the given m (public wrapper: allanlot.gcodev).");
+  m.attr("max_threads") = kernels::kMaxThreads;
   m.def("stats", &stat_names,
         "The statistics this build computes, in the order results list them.");
   m.def(

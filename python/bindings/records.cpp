@@ -3,6 +3,8 @@
 #include "python/bindings/bindings.hpp"
 #include "python/bindings/convert.hpp"
 
+#include "io/error.hpp"
+#include "io/paths.hpp"
 #include "io/results.hpp"
 #include "io/schema.hpp"
 #include "src/pipeline/channel_fit.hpp"
@@ -74,7 +76,15 @@ py::dict channel_dict(const io::ChannelResult& c) {
   return d;
 }
 
+// A file to read must be a regular file: a FIFO would block open(2) for ever. io::Error
+// (OSError) "no such file", "is a directory", "not a regular file (a FIFO)" otherwise.
+void require_regular(const std::filesystem::path& path) {
+  if (const std::string why = io::input_file_problem(path); !why.empty())
+    throw io::Error(path.string(), "", why);
+}
+
 py::dict read_results(const std::string& path) {
+  require_regular(path);
   io::RecordingResult r;
   {
     const py::gil_scoped_release unlocked;
@@ -115,6 +125,7 @@ void bind_records(py::module_& m) {
       "read_lot_summary",
       [](const std::string& p) {
         const std::filesystem::path file = summary_file(p);
+        require_regular(file);
         std::vector<io::SummaryRow> rows;
         {
           const py::gil_scoped_release unlocked;
@@ -127,6 +138,7 @@ void bind_records(py::module_& m) {
       "read_lot_statistics",
       [](const std::string& p) {
         const std::filesystem::path file = summary_file(p);
+        require_regular(file);
         std::vector<io::StatisticsRow> rows;
         {
           const py::gil_scoped_release unlocked;

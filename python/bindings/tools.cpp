@@ -22,6 +22,7 @@ py::dict psd(const Samples& data, double rate, std::int64_t min_segments, int bi
              int threads) {
   const std::span<const double> y = samples_of(data);
   if (min_segments < 1) throw std::invalid_argument("segments must be >= 1");
+  threads = kernel_threads(threads);
   kernels::PsdResult r;
   kernels::BinnedPsd b;
   {
@@ -62,6 +63,7 @@ py::list simulate(const std::string& json_text, const std::string& source, doubl
                                 std::to_string(m.sample_rate_hz) + " Hz gives " +
                                 std::to_string(n_real) + " samples; need 2 to 4e9");
   const auto n = static_cast<std::size_t>(std::llround(n_real));
+  threads = kernel_threads(threads);
   info["sample_rate_hz"] = m.sample_rate_hz;
   py::list channels;
   kernels::SimulationPlan plan(n);
@@ -106,7 +108,7 @@ std::string diagnose(const Samples& data, double rate, const std::string& data_t
   kernels::DiagnoseOptions opt;
   opt.mc_replicas = replicas;
   opt.mc_seed = seed;
-  opt.nthreads = threads;
+  opt.nthreads = kernel_threads(threads);
   opt.max_effects = max_effects;
   kernels::Diagnosis d;
   {

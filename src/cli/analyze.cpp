@@ -84,18 +84,21 @@ bool read_channel(io::RecordingReader& reader, const std::string& file, const io
     // allocated (a chunked dataset whose chunks were never written declares any length in a
     // few kilobytes), rather than fail the run on the allocation or drive the node into swap.
     if (static_cast<std::uint64_t>(ch.n_samples) > memory_limit / kBytesPerSampleInFlight) {
-      const auto mib = [](std::uint64_t bytes) {
-        const bool gib = bytes >= (std::uint64_t{1} << 30);
-        const double v = static_cast<double>(bytes) / static_cast<double>(gib ? 1 << 30 : 1 << 20);
+      // In double: 32 bytes times a declared length of 2^59 or more does not fit 64 bits.
+      const auto mib = [](double bytes) {
+        const bool gib = bytes >= static_cast<double>(std::uint64_t{1} << 30);
+        const double v = bytes / static_cast<double>(gib ? 1 << 30 : 1 << 20);
         char text[48];
         std::snprintf(text, sizeof text, v < 100 ? "%.3g %s" : "%.0f %s", v, gib ? "GiB" : "MiB");
         return std::string(text);
       };
       throw io::Error(file, ch.path,
                       std::to_string(ch.n_samples) + " samples need about " +
-                          mib(kBytesPerSampleInFlight * static_cast<std::uint64_t>(ch.n_samples)) +
+                          mib(static_cast<double>(kBytesPerSampleInFlight) *
+                              static_cast<double>(ch.n_samples)) +
                           " to analyse (" + std::to_string(kBytesPerSampleInFlight) +
-                          " bytes a sample), more than the memory limit of " + mib(memory_limit) +
+                          " bytes a sample), more than the memory limit of " +
+                          mib(static_cast<double>(memory_limit)) +
                           " (--memory-limit; default half of this machine's memory)");
     }
     samples = reader.read(ch);
@@ -197,12 +200,14 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
                         : unselected_reason(opt.channels, info));
   note_unmatched(file, opt.channels, info, notes);
 
-  const std::uint64_t per_channel =
-      kBytesPerSampleInFlight * static_cast<std::uint64_t>(max_samples);
+  // Channels that fit the limit at once, divided so that nothing overflows: 32 bytes times a
+  // declared length of 2^59 samples wraps to 0 in 64 bits. Such a channel fails unread
+  // (read_channel), so one slot is enough.
+  const std::uint64_t samples_in_limit = memory_limit / kBytesPerSampleInFlight;
   const std::size_t n_selected = selected.size();
-  const std::size_t slots =
-      std::clamp<std::size_t>(static_cast<std::size_t>(memory_limit / per_channel), 1,
-                              std::max<std::size_t>(n_selected, 1));
+  const std::size_t slots = std::clamp<std::size_t>(
+      static_cast<std::size_t>(samples_in_limit / static_cast<std::uint64_t>(max_samples)), 1,
+      std::max<std::size_t>(n_selected, 1));
   // One level of parallelism (docs/development.md): across channels when there are at least as many
   // channels as threads, otherwise inside the kernels over taus. Each worker takes the next
   // channel, reads it (HDF5 calls one at a time, under read_mutex), hashes it outside the lock
@@ -322,15 +327,14 @@ bool prepare_outdir(const fs::path& outdir, std::ostream& err, std::ostream& not
         << ec.message() << "\n";
     return false;
   }
-  const fs::path probe = outdir / (".allanlot-probe." + std::to_string(::getpid()));
-  {
-    std::ofstream f(probe);
-    if (!f) {
-      err << "allanlot: error: output directory " << outdir.string() << " is not writable\n";
-      return false;
-    }
+  try {
+    // Created as every output is (io::AtomicFile: exclusive, never through a planted link) and
+    // removed at once.
+    const io::AtomicFile probe(outdir / ".allanlot-probe");
+  } catch (const io::Error&) {
+    err << "allanlot: error: output directory " << outdir.string() << " is not writable\n";
+    return false;
   }
-  fs::remove(probe, ec);
   // Temporary files of an earlier run that was killed (SIGKILL, a node lost) are removed;
   // a minute's margin spares those another host is writing right now.
   const std::size_t stale = io::remove_stale_temporaries(outdir, fs::file_time_type::clock::now() -
@@ -486,6 +490,15 @@ int run_analyze(const AnalyzeOptions& opt, std::ostream& out, std::ostream& err)
   const InputList inputs = expand_inputs(opt.inputs, opt.outdir);
   check_inputs_need(inputs.files, opt.input);
   run.inputs.assign(inputs.files.begin(), inputs.files.end());
+  // The lot summary never replaces an input (`analyze -o d d/lot_summary.csv`), checked by
+  // identity before any work; a results file is checked when its device_id is known.
+  if (opt.summary) {
+    const auto summary_files = io::lot_summary_files(opt.outdir);
+    if (const std::string clash = io::outputs_conflict(summary_files, run.inputs); !clash.empty()) {
+      err << "allanlot: error: " << clash << "\n";
+      return 2;
+    }
+  }
   for (const auto& [what, reason] : inputs.failures) {
     err << "allanlot: error: " << what << ": " << reason << "\n";
     run.failed(what, "", reason);

@@ -42,16 +42,15 @@ std::string join_args(int argc, char** argv) {
   return s;
 }
 
-// OMP_NUM_THREADS beyond what the machine can run is capped, as --threads is checked: libgomp
-// itself crashes creating a team of 100 000 threads and stalls at 20 000. The cap is four
-// threads per hardware thread, far beyond any speed-up (docs/cli.md "Threads").
+// OMP_NUM_THREADS beyond what the machine can run is capped, as --threads is checked
+// (kernels::thread_cap, docs/cli.md "Threads"); said here once, where the user set it.
 void cap_omp_threads(std::ostream& err) {
 #ifdef _OPENMP
   const char* env = std::getenv("OMP_NUM_THREADS");
   if (!env) return;
   char* end = nullptr;
   const long asked = std::strtol(env, &end, 10);  // the first level of a list "8,2"
-  const long cap = 4L * std::max(1u, std::thread::hardware_concurrency());
+  const long cap = kernels::thread_cap();
   if (end == env || asked <= cap) return;
   omp_set_num_threads(static_cast<int>(cap));
   err << "allanlot: note: OMP_NUM_THREADS=" << env << " is more than this machine runs; using "

@@ -2,6 +2,8 @@
 // subcommands and turns exceptions into exit statuses.
 #pragma once
 
+#include "kernels/common/thread_cap.hpp"
+
 #include <CLI/CLI.hpp>
 
 #include <functional>
@@ -25,8 +27,8 @@ struct Command {
   std::function<int(const std::string& command_line)> run;
 };
 
-/// The largest --threads any command accepts.
-inline constexpr int kMaxThreads = 4096;
+/// The largest --threads any command accepts (kernels/common/parallel.hpp owns it).
+inline constexpr int kMaxThreads = kernels::kMaxThreads;
 
 /// Validators the commands share, for what CLI11 lets through: a number that is neither NaN
 /// nor infinite (CLI::Range passes NaN), and a seed that is a whole number from 0 to 2^64 - 1

@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <random>
 #include <sstream>
 
@@ -191,6 +192,84 @@ TEST(Analyze, UsageErrorsExitTwo) {
   EXPECT_EQ(run_command(binary() + " --version", &out), 0);
   EXPECT_EQ(run_command(binary() + " analyze --help", &out), 0);
   EXPECT_NE(out.find("--taus"), std::string::npos);
+}
+
+// The lot summary never replaces an input: `analyze -o d d/lot_summary.csv` (a text recording
+// that happens to bear the name) and `d/lot_summary.h5` (a recording) are usage errors before any
+// work, the input byte for byte as it was.
+TEST(Analyze, ALotSummaryNamingAnInputIsAUsageError) {
+  const auto dir = test::fresh_dir("analyze_summary_is_input");
+  fs::create_directories(dir / "d");
+  write_unit(dir / "d" / "lot_summary.h5", "", 3, 2000);
+  {
+    std::ofstream csv(dir / "d" / "lot_summary.csv");
+    for (int i = 0; i < 2000; ++i)
+      csv << 0.01 * ((i * 7919) % 101 - 50) << "\n";
+  }
+  for (const char* name : {"lot_summary.csv", "lot_summary.h5"}) {
+    const fs::path input = dir / "d" / name;
+    const std::string before = test::file_bytes(input);
+    std::string out;
+    EXPECT_EQ(run_command(binary() + " analyze -q --sample-rate 100 --data-type rate -o " +
+                              (dir / "d").string() + " " + input.string(),
+                          &out),
+              2)
+        << out;
+    EXPECT_NE(out.find("it would be overwritten"), std::string::npos) << out;
+    EXPECT_EQ(test::file_bytes(input), before) << name;
+    EXPECT_FALSE(fs::exists(dir / "d" / "lot_summary.allan.h5"));
+  }
+  // Through another spelling of OUTDIR, too.
+  std::string out;
+  EXPECT_EQ(run_command(binary() + " analyze -q -o " + (dir / "d" / "." / "").string() + " " +
+                            (dir / "d" / "lot_summary.h5").string(),
+                        &out),
+            2)
+      << out;
+}
+
+// A chunked dataset may declare any length in a few bytes: 2^57 to 2^60 samples fail the memory
+// check by name (32 bytes a sample times 2^59 once wrapped to 0 and the division by it was a
+// SIGFPE), more than 2^60 fail as beyond any memory; the lot goes on.
+TEST(Analyze, HugeDeclaredLengthsFailTheirChannelWithoutOverflow) {
+  const auto dir = test::fresh_dir("analyze_huge_lengths");
+  const int exponents[] = {57, 58, 59, 60, 61, 62};
+  for (const int e : exponents) {
+    const fs::path p = dir / ("huge_" + std::to_string(e) + ".h5");
+    const hid_t f = H5Fcreate(p.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    const hsize_t n = hsize_t{1} << e, max = H5S_UNLIMITED, chunk = 1024;
+    const hid_t space = H5Screate_simple(1, &n, &max);
+    const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+    H5Pset_chunk(dcpl, 1, &chunk);
+    const hid_t ds = H5Dcreate2(f, "gyro_x", H5T_IEEE_F64LE, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+    const double rate = 100.0;
+    const hid_t aspace = H5Screate(H5S_SCALAR);
+    const hid_t a =
+        H5Acreate2(ds, "sample_rate_hz", H5T_IEEE_F64LE, aspace, H5P_DEFAULT, H5P_DEFAULT);
+    H5Awrite(a, H5T_NATIVE_DOUBLE, &rate);
+    H5Aclose(a);
+    H5Sclose(aspace);
+    H5Dclose(ds);
+    H5Pclose(dcpl);
+    H5Sclose(space);
+    H5Fclose(f);
+  }
+  write_unit(dir / "good.h5", "", 3, 2000);
+  std::string out;
+  EXPECT_EQ(run_command(binary() + " analyze -q --no-psd --taus octave --memory-limit 1G -o " +
+                            (dir / "out").string() + " " + dir.string(),
+                        &out),
+            1)
+      << out;
+  for (const int e : exponents) {
+    const std::string n = std::to_string(std::uint64_t{1} << e);
+    EXPECT_NE(out.find("huge_" + std::to_string(e) + ".h5:/gyro_x: " +
+                       (e <= 60 ? n + " samples need about" : "declares " + n + " samples")),
+              std::string::npos)
+        << e << ":\n"
+        << out;
+  }
+  EXPECT_TRUE(fs::exists(dir / "out" / "good.allan.h5"));
 }
 
 TEST(Analyze, DirectoriesManifestsAndDeviceIds) {

@@ -7,6 +7,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sys/stat.h>
 
 namespace allanlot {
 namespace {
@@ -246,6 +249,125 @@ TEST(Recording, WriterProducesTheSimulateLayoutAtomically) {
   }  // destroyed without commit: nothing left behind
   for (const auto& e : std::filesystem::directory_iterator(dir))
     EXPECT_EQ(e.path().filename(), "sim.h5");
+}
+
+// A recording whose /gyro_x keeps its 100 float64 samples in the external file `target`.
+void external_recording(const std::filesystem::path& file, const std::string& target) {
+  const hid_t f = H5Fcreate(file.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  const hsize_t n = 100;
+  const hid_t space = H5Screate_simple(1, &n, nullptr);
+  const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+  H5Pset_external(dcpl, target.c_str(), 0, n * sizeof(double));
+  const hid_t ds = H5Dcreate2(f, "gyro_x", H5T_IEEE_F64LE, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+  const double rate = 10.0;
+  const hid_t aspace = H5Screate(H5S_SCALAR);
+  const hid_t a =
+      H5Acreate2(ds, "sample_rate_hz", H5T_IEEE_F64LE, aspace, H5P_DEFAULT, H5P_DEFAULT);
+  H5Awrite(a, H5T_NATIVE_DOUBLE, &rate);
+  H5Aclose(a);
+  H5Sclose(aspace);
+  H5Dclose(ds);
+  H5Pclose(dcpl);
+  H5Sclose(space);
+  H5Fclose(f);
+}
+
+// External raw storage (H5Pset_external) is read only from a regular file beside the recording:
+// a FIFO would hang the read, /etc/shadow or /dev/urandom would be read as samples.
+TEST(Recording, ExternalRawDataOnlyFromARegularFileBesideTheRecording) {
+  const auto dir = test::fresh_dir("external_storage");
+  {
+    std::vector<double> v(100);
+    for (std::size_t i = 0; i < v.size(); ++i)
+      v[i] = static_cast<double>(i);
+    std::ofstream(dir / "samples.raw", std::ios::binary)
+        .write(reinterpret_cast<const char*>(v.data()), static_cast<std::streamsize>(800));
+  }
+  ASSERT_EQ(::mkfifo((dir / "pipe.raw").c_str(), 0600), 0);
+  std::filesystem::create_symlink("/dev/urandom", dir / "link.raw");
+  external_recording(dir / "good.h5", (dir / "samples.raw").string());
+  {
+    const io::RecordingReader r((dir / "good.h5").string());
+    ASSERT_EQ(r.info().channels.size(), 1u);
+    const auto x = r.read(r.info().channels[0]);
+    EXPECT_EQ(x[99], 99.0);
+  }
+  const std::pair<const char*, const char*> bad[] = {{"fifo.h5", "pipe.raw"},
+                                                     {"device.h5", "/dev/urandom"},
+                                                     {"shadow.h5", "/etc/shadow"},
+                                                     {"up.h5", "../samples.raw"},
+                                                     {"link.h5", "link.raw"},
+                                                     {"missing.h5", "missing.raw"},
+                                                     {"elsewhere.h5", "/proc/self/environ"}};
+  for (const auto& [name, target] : bad) {
+    // Names of files in `dir` as the library resolves them (from the working directory).
+    const std::string t = std::string(target).ends_with(".raw") && target[0] != '.'
+                              ? (dir / target).string()
+                              : std::string(target);
+    external_recording(dir / name, t);
+    const io::RecordingReader r((dir / name).string());
+    EXPECT_TRUE(r.info().channels.empty()) << name;
+    EXPECT_NE(problem(r.info(), "/gyro_x").find("external file"), std::string::npos)
+        << name << ": " << problem(r.info(), "/gyro_x");
+  }
+}
+
+void put_attribute(hid_t obj, const char* name, double value) {
+  const hid_t space = H5Screate(H5S_SCALAR);
+  const hid_t a = H5Acreate2(obj, name, H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT);
+  H5Awrite(a, H5T_NATIVE_DOUBLE, &value);
+  H5Aclose(a);
+  H5Sclose(space);
+}
+
+void put_attribute(hid_t obj, const char* name, const std::string& value) {
+  const hid_t t = H5Tcopy(H5T_C_S1);
+  H5Tset_size(t, value.size() + 1);
+  const hid_t space = H5Screate(H5S_SCALAR);
+  const hid_t a = H5Acreate2(obj, name, t, space, H5P_DEFAULT, H5P_DEFAULT);
+  H5Awrite(a, t, value.c_str());
+  H5Aclose(a);
+  H5Sclose(space);
+  H5Tclose(t);
+}
+
+// 2000 nested groups: the channel at the bottom is discovered with the attributes of its
+// ancestors (sample_rate_hz on the root, units half-way), each lookup opening the chain from the
+// root once (linear in the depth: bench figures in docs/reliability.md).
+TEST(Recording, DeeplyNestedGroupsAreWalkedOnce) {
+  const auto dir = test::fresh_dir("deep_groups");
+  const auto file = dir / "deep.h5";
+  constexpr int kDepth = 2000;
+  std::string channel;
+  {
+    const hid_t f = H5Fcreate(file.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    put_attribute(f, "sample_rate_hz", 50.0);
+    hid_t g = H5Gopen2(f, "/", H5P_DEFAULT);
+    for (int i = 0; i < kDepth; ++i) {
+      const hid_t next = H5Gcreate2(g, "g", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+      H5Gclose(g);
+      g = next;
+      channel += "/g";
+      if (i == kDepth / 2) put_attribute(g, "units", std::string("deg/s"));
+    }
+    const std::vector<double> v(64, 1.0);
+    const hsize_t n = v.size();
+    const hid_t space = H5Screate_simple(1, &n, nullptr);
+    const hid_t ds =
+        H5Dcreate2(g, "x", H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
+    H5Dclose(ds);
+    H5Sclose(space);
+    H5Gclose(g);
+    H5Fclose(f);
+    channel += "/x";
+  }
+  const io::RecordingReader r(file.string());
+  const io::ChannelInfo* ch = find(r.info(), channel);
+  ASSERT_NE(ch, nullptr);
+  EXPECT_EQ(ch->sample_rate_hz, 50.0);
+  EXPECT_EQ(ch->units, "deg/s");
+  EXPECT_EQ(ch->n_samples, 64);
 }
 
 TEST(Recording, DeviceIdsAreSanitized) {

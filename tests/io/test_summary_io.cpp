@@ -10,6 +10,8 @@
 
 #include <cmath>
 #include <cstddef>
+#include <fstream>
+#include <string>
 
 namespace allanlot {
 namespace {
@@ -272,6 +274,35 @@ TEST(SummaryIo, ReadsLotSummaryWrittenBeforeTheNewColumns) {
     EXPECT_EQ(r.spec_term_status[3], "");
   }
   EXPECT_TRUE(io::read_lot_statistics(path).empty());
+}
+
+// CSV injection (OWASP): a cell a spreadsheet would run as a formula starts with a single quote
+// and is quoted; numbers, and text that starts otherwise, are as they were.
+TEST(SummaryIo, CsvCellsThatWouldBeFormulasAreNeutralised) {
+  EXPECT_EQ(io::csv_field("=HYPERLINK(\"http://x\",\"y\")"),
+            "\"'=HYPERLINK(\"\"http://x\"\",\"\"y\"\")\"");
+  EXPECT_EQ(io::csv_field("+cmd|' /C calc'!A0"), "\"'+cmd|' /C calc'!A0\"");
+  EXPECT_EQ(io::csv_field("@SUM(1+1)"), "\"'@SUM(1+1)\"");
+  EXPECT_EQ(io::csv_field("-2+3"), "\"'-2+3\"");
+  EXPECT_EQ(io::csv_field("\tx"), "\"'\tx\"");
+  EXPECT_EQ(io::csv_field("\rx"), "\"'\rx\"");
+  EXPECT_EQ(io::csv_field("-1.5e-3"), "-1.5e-3");
+  EXPECT_EQ(io::csv_field("+7"), "+7");
+  EXPECT_EQ(io::csv_field("unit=7"), "unit=7");
+  EXPECT_EQ(io::csv_field("/imu/gyro_x"), "/imu/gyro_x");
+  EXPECT_EQ(io::csv_field(""), "");
+}
+
+TEST(SummaryIo, ADeviceIdThatIsAFormulaIsTextInLotSummaryCsv) {
+  const auto dir = test::fresh_dir("summary_io_formula");
+  io::SummaryRow row{"=HYPERLINK(\"http://evil\")", "/imu/gyro_x", "deg/s", 100,
+                     io::ChannelStatus::ok(),       "in/unit.h5"};
+  io::write_lot_summary(dir, {row});
+  std::ifstream in(dir / "lot_summary.csv");
+  std::string header, line;
+  std::getline(in, header);
+  std::getline(in, line);
+  EXPECT_TRUE(line.starts_with("\"'=HYPERLINK(")) << line;
 }
 
 }  // namespace
