@@ -1,4 +1,5 @@
 #include "src/cli/analyze.hpp"
+#include "src/cli/analyze_stamp.hpp"
 
 #include "io/atomic_file.hpp"
 #include "io/error.hpp"
@@ -57,15 +58,6 @@ double seconds_since(Clock::time_point t0) {
 struct StageTimes {
   double read = 0, kernels = 0, psd = 0, fit = 0, write = 0, analysis_wall = 0;
 };
-
-std::string join_stats(const std::vector<kernels::Stat>& stats) {
-  std::string s;
-  for (std::size_t i = 0; i < stats.size(); ++i) {
-    if (i) s += ',';
-    s += kernels::stat_name(stats[i]);
-  }
-  return s;
-}
 
 // Bytes one channel of n samples may hold while it is analysed, counted generously: the phase
 // (8 n), the rate rebuilt for the PSD (8 n), the fixed-point prefix sums of MDEV/TDEV (8 n) and
@@ -145,6 +137,25 @@ pipeline::ChannelOptions channel_options(const AnalyzeOptions& opt, int kernel_t
   return copt;
 }
 
+// The results file's root for a recording, before any channel: who the unit is, where it came
+// from, what wrote it and with which options.
+io::RecordingResult recording_header(const std::string& file, const io::RecordingInfo& info,
+                                     const AnalyzeOptions& opt, int threads) {
+  io::RecordingResult rec;
+  rec.device_id = info.device_id;
+  rec.source_file = fs::absolute(file).string();
+  rec.tool_version = std::string(kVersion) + " (" + kGitSha + ")";
+  rec.created_utc = utc_now();
+  rec.command_line = opt.command_line;
+  rec.attributes = {{"stats", join_stats(opt.stats)},
+                    {"taus", kernels::to_string(opt.grid)},
+                    {"threads", std::to_string(threads)},
+                    {"confidence", std::to_string(opt.confidence)},
+                    {"git_sha", kGitSha}};
+  rec.attributes.insert(rec.attributes.end(), info.facts.begin(), info.facts.end());
+  return rec;
+}
+
 // Analyses one recording. Throws io::Error when the input as a whole cannot be analysed
 // (unreadable, no channel, every channel failed); channel failures inside a readable file are
 // recorded in the channel's status and reported on `err`. At most
@@ -161,19 +172,7 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
   for (const std::string& note : info.notes)
     notes << "allanlot: note: " << file << ": " << note << "\n";
 
-  io::RecordingResult rec;
-  rec.device_id = info.device_id;
-  rec.source_file = fs::absolute(file).string();
-  rec.tool_version = std::string(kVersion) + " (" + kGitSha + ")";
-  rec.created_utc = utc_now();
-  rec.command_line = opt.command_line;
-  rec.attributes = {{"stats", join_stats(opt.stats)},
-                    {"taus", kernels::to_string(opt.grid)},
-                    {"threads", std::to_string(threads)},
-                    {"confidence", std::to_string(opt.confidence)},
-                    {"git_sha", kGitSha}};
-  rec.attributes.insert(rec.attributes.end(), info.facts.begin(), info.facts.end());
-
+  io::RecordingResult rec = recording_header(file, info, opt, threads);
   for (const io::ChannelProblem& p : info.problems) {
     if (!opt.channels.selects(p.path)) continue;
     io::ChannelResult cr;
@@ -274,43 +273,6 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
     throw io::Error(file, "", reason);
   }
   return rec;
-}
-
-// The input options that change what is read, only when given: the stamp of a run without
-// them stays that of earlier versions, whose results remain current.
-std::string input_stamp(const io::InputOptions& in) {
-  std::string s;
-  char rate[32];
-  std::snprintf(rate, sizeof rate, "%.17g", in.sample_rate_hz);
-  if (in.data_type)
-    s += in.data_type == kernels::DataType::Rate ? ";data_type=rate" : ";data_type=phase";
-  if (in.sample_rate_hz > 0) s += std::string(";sample_rate=") + rate;
-  if (in.column > 0) s += ";column=" + std::to_string(in.column);
-  if (!in.time_column.empty()) s += ";time_column=" + in.time_column;
-  if (!in.time_unit.empty()) s += ";time_unit=" + in.time_unit;
-  if (!in.units.empty()) s += ";units=" + io::units_text(in.units);
-  return s;
-}
-
-// The gap policy, named in the stamp only when it is not the default: results files written
-// by a default run without the option in their stamp stay current for resume.
-std::string gaps_stamp(const kernels::GapPolicy& gaps) {
-  return gaps == kernels::GapPolicy{} ? "" : ";gaps=" + kernels::to_string(gaps);
-}
-
-// The options that change what a results file holds, canonically written (the resume stamp,
-// io/fingerprint.hpp); --model-poor-fits only when not the default, as the input options. The
-// thread count and the output switches that do not change numbers (--table, --verbose,
-// --quiet, --no-summary, --memory-limit) are not in it.
-std::string options_stamp(const AnalyzeOptions& opt) {
-  char conf[32];
-  std::snprintf(conf, sizeof conf, "%.17g", opt.confidence);
-  return "stats=" + join_stats(opt.stats) + ";taus=" + kernels::to_string(opt.grid) +
-         ";confidence=" + conf + ";channels=" + opt.channels.text() +
-         ";fit=" + (opt.fit ? "1" : "0") + ";lowpass=" + opt.lowpass +
-         (opt.model_poor_fits == "auto" ? "" : ";model_poor_fits=" + opt.model_poor_fits) +
-         ";psd=" + (opt.psd ? "1" : "0") + gaps_stamp(opt.gaps) + ";version=" + kVersion +
-         input_stamp(opt.input);
 }
 
 // Fails with a usage-level message when OUTDIR cannot hold results.

@@ -1,0 +1,22 @@
+// The resume stamp of `analyze` (io/fingerprint.hpp): the options that change what a results
+// file holds, canonically written, so that a results file is current exactly when a rerun
+// with the same options would write the same numbers.
+#pragma once
+
+#include "src/cli/analyze.hpp"
+
+#include <string>
+#include <vector>
+
+namespace allanlot::cli {
+
+/// The statistics' names, comma-separated, in the order given.
+std::string join_stats(const std::vector<kernels::Stat>& stats);
+
+/// The options that change what a results file holds; the thread count and the output switches
+/// that do not change numbers (--table, --verbose, --quiet, --no-summary, --memory-limit) are
+/// not in it, and the options added since the first version only when they are not their
+/// default, so that results files written by default runs stay current.
+std::string options_stamp(const AnalyzeOptions& opt);
+
+}  // namespace allanlot::cli
