@@ -111,8 +111,8 @@ std::vector<std::string> list_datasets(hid_t file, const std::string& path) {
   const auto push = [&](Handle group, std::string at) {
     std::vector<Link> links;
     if (H5Literate(group.get(), H5_INDEX_NAME, H5_ITER_INC, nullptr, list_link, &links) < 0)
-      throw Error(path, at.empty() ? "/" : at,
-                  "cannot walk the file's objects (corrupt HDF5 file)");
+      // A group below the root is named; the root's failure is the file's.
+      throw Error(path, at, "cannot walk the file's objects (corrupt HDF5 file)");
     stack.push_back({std::move(group), std::move(at), std::move(links)});
   };
   Handle root = check(H5Gopen2(file, "/", H5P_DEFAULT), H5Gclose, path, "/", "H5Gopen2");

@@ -15,18 +15,11 @@ namespace allanlot {
 namespace {
 
 using kernels::Effect;
+using test::find_param;
 
 std::vector<Effect> sorted(std::vector<Effect> v) {
   std::sort(v.begin(), v.end());
   return v;
-}
-
-const kernels::Parameter* find_param(const kernels::Diagnosis& d, Effect e, const char* key) {
-  for (std::size_t i = 0; i < d.effects_named.size(); ++i)
-    if (d.effects_named[i] == e)
-      for (const auto& p : d.effect_parameters[i])
-        if (p.name == key) return &p;
-  return nullptr;
 }
 
 // Bound on the gap of a model that explains the data: gap^2 = mean z^2 is about a chi-square

@@ -13,6 +13,17 @@
 
 namespace allanlot::test {
 
+/// The named effect e's parameter `key` (model file key) of a diagnosis, nullptr when e is not
+/// named or has no such parameter.
+inline const kernels::Parameter* find_param(const kernels::Diagnosis& d, kernels::Effect e,
+                                            const char* key) {
+  for (std::size_t i = 0; i < d.effects_named.size(); ++i)
+    if (d.effects_named[i] == e)
+      for (const auto& p : d.effect_parameters[i])
+        if (p.name == key) return &p;
+  return nullptr;
+}
+
 inline constexpr double kRateHz = 100.0;
 inline constexpr double kDurationS = 600.0;
 

@@ -19,16 +19,9 @@ namespace allanlot {
 namespace {
 
 using kernels::Effect;
+using test::find_param;
 
 constexpr int kReplicas = 20;  // enough for the verdict's test (19 or more)
-
-const kernels::Parameter* find_param(const kernels::Diagnosis& d, Effect e, const char* key) {
-  for (std::size_t i = 0; i < d.effects_named.size(); ++i)
-    if (d.effects_named[i] == e)
-      for (const auto& p : d.effect_parameters[i])
-        if (p.name == key) return &p;
-  return nullptr;
-}
 
 // The given model is `truth` without its injected effect: the corrected model of the record
 // without it, within noise but for that effect.
