@@ -281,7 +281,7 @@ void Search::conclude(Fit& base, Fit& fixed_fit) {
 
 // The verdict: the model after against its own replicas.
 void Search::judge() {
-  d.mc_after = d.model_after == d.model_before
+  d.mc_after = opt.mc_given && d.model_after == d.model_before
                    ? d.mc_before
                    : monte_carlo(d.model_after, cv, d.after.avar_model, d.edf_after,
                                  opt.mc_replicas, opt.mc_seed, threads);

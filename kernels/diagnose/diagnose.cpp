@@ -582,8 +582,9 @@ Diagnosis diagnose(std::span<const double> rate, double rate_hz, const ChannelSp
 
   // The replicas' gaps are of the records without their steps, as the curves compared are;
   // their bands are of the records with them (monte_carlo).
-  d.mc_before = monte_carlo(d.model_before, cv, d.before.avar_model, d.edf, opt.mc_replicas,
-                            opt.mc_seed, threads);
+  if (opt.mc_given)
+    d.mc_before = monte_carlo(d.model_before, cv, d.before.avar_model, d.edf, opt.mc_replicas,
+                              opt.mc_seed, threads);
   search.judge();
   // The verdict's test has its level only with enough replicas (19 or more; with 4 the p95 is
   // their largest gap, exceeded by a complete model's record once in 5).

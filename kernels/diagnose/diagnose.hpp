@@ -137,11 +137,16 @@ std::optional<Term> effect_term(Effect e);
 inline constexpr int kMaxEffects = 32;
 
 struct DiagnoseOptions {
-  int taus_per_decade = 8;     // log tau grid of the comparison (kernels/allan/tau_grid.hpp log:K)
-  int mc_replicas = 30;        // Monte Carlo replicas per model (0 = no band)
-  std::uint64_t mc_seed = 7;   // seed of the replicas; replica r is Philox stream r
-  double band_alpha = 0.05;    // probability that a complete model shows any band
-  double select_alpha = 0.05;  // probability that a round adds an effect to a complete model
+  int taus_per_decade = 8;    // log tau grid of the comparison (kernels/allan/tau_grid.hpp log:K)
+  int mc_replicas = 30;       // Monte Carlo replicas per model (0 = no band)
+  std::uint64_t mc_seed = 7;  // seed of the replicas; replica r is Philox stream r
+  // Simulate the model as given too (Diagnosis::mc_before, its band and gap distribution). Nothing
+  // that decides the corrected model or its verdict reads those replicas: off, mc_before stays
+  // empty and the model, the effects named and mc_after are the same (when the model is not
+  // corrected, mc_after is simulated rather than copied from mc_before, with the same seed).
+  bool mc_given = true;
+  double band_alpha = 0.05;        // probability that a complete model shows any band
+  double select_alpha = 0.05;      // probability that a round adds an effect to a complete model
   double line_false_alarm = 1e-4;  // probability of a spurious PSD line in the whole record
   double step_false_alarm = 1e-3;  // probability of a spurious jump in the whole record
   // Probability of a spurious trend per witnessed test under the model as given. The model's

@@ -194,6 +194,7 @@ void model_poor_fit(io::ChannelResult& result, const kernels::PhaseData& phase,
   opt.mc_replicas = choice.replicas;
   opt.mc_seed = choice.seed;
   opt.nthreads = threads;
+  opt.mc_given = false;  // the given model's replicas: analyze reports only the corrected model's
   kernels::Diagnosis d;
   try {
     const LowpassChoice none{LowpassChoice::Mode::None, {}};

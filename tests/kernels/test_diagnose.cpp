@@ -375,6 +375,34 @@ TEST(Diagnose, SameResultForAnyThreadCount) {
   EXPECT_EQ(a.before.gap, b.before.gap);
 }
 
+// Without the given model's replicas (analyze's modelling) the corrected model, the effects named
+// and the verdict's replicas are the same, with a hidden effect (the model corrected) and with a
+// complete model (not corrected: mc_after is then simulated rather than copied from mc_before).
+// 19 replicas, so that a model beyond noise also takes the verdict's round.
+TEST(Diagnose, GivenReplicasChangeNothingElse) {
+  auto hidden = test::base_model();
+  hidden.terms.Q = 3e-4;
+  for (const auto& truth : {hidden, test::base_model()}) {
+    kernels::DiagnoseOptions off;
+    off.mc_given = false;
+    const auto a = test::run_scenario(truth, test::base_model(), 5, 19);
+    const auto b = test::run_scenario(truth, test::base_model(), 5, 19, 0, off);
+    EXPECT_EQ(a.mc_before.replicas, 19);
+    EXPECT_EQ(b.mc_before.replicas, 0);
+    EXPECT_TRUE(b.mc_before.gaps.empty());
+    EXPECT_TRUE(b.mc_before.avar_lo.empty());
+    EXPECT_EQ(a.effects_named, b.effects_named);
+    EXPECT_TRUE(a.model_after == b.model_after);
+    EXPECT_EQ(a.after.avar_model, b.after.avar_model);
+    EXPECT_EQ(a.after.gap, b.after.gap);
+    EXPECT_EQ(a.mc_after.gaps, b.mc_after.gaps);
+    EXPECT_EQ(a.mc_after.avar_lo, b.mc_after.avar_lo);
+    EXPECT_EQ(a.mc_after.avar_hi, b.mc_after.avar_hi);
+    EXPECT_EQ(a.gap_within_noise, b.gap_within_noise);
+    EXPECT_EQ(a.notes, b.notes);
+  }
+}
+
 TEST(Diagnose, GapFollowsTheContract) {
   // z = ln(2) / sqrt(2 / 8) = 1.386 at every tau: gap 1.386.
   const std::vector<double> meas{2.0, 4.0}, model{1.0, 2.0}, edf{8.0, 8.0};
