@@ -56,14 +56,28 @@ std::string spec_cell(const RowExtras& x) {
   return escape(x.spec_detail.empty() ? x.spec : x.spec + ": " + x.spec_detail);
 }
 
+namespace {
+
+// One term of a verdict's detail: the term, its estimate, the relation and the limit with its
+// unit kept on one line; a trailing remark in parentheses ("(fit not within noise)") outside,
+// where the cell may wrap before it.
+std::string spec_term(const std::string& term) {
+  const std::size_t remark = term.rfind(" (");
+  if (term.empty() || term.back() != ')' || remark == std::string::npos || remark == 0)
+    return "<span class=\"term\">" + escape(term) + "</span>";
+  return "<span class=\"term\">" + escape(term.substr(0, remark)) + "</span> " +
+         escape(term.substr(remark + 1));
+}
+
+}  // namespace
+
 std::string spec_cell_terms(const RowExtras& x) {
   if (x.spec.empty()) return "";
   std::string out = "<b>" + escape(x.spec) + "</b>";
   std::size_t start = 0;
   for (bool first = true; start < x.spec_detail.size(); first = false) {
     const std::size_t end = std::min(x.spec_detail.find("; ", start), x.spec_detail.size());
-    out += std::string(first ? ": " : "; ") + "<span class=\"term\">" +
-           escape(x.spec_detail.substr(start, end - start)) + "</span>";
+    out += std::string(first ? ": " : "; ") + spec_term(x.spec_detail.substr(start, end - start));
     start = end + 2;
   }
   return out;

@@ -113,13 +113,13 @@ TEST(ChannelModel, ResonanceAndFilterAreModelledAndTheTermsFollowTheTruth) {
   std::ifstream csv(dir / "out" / "lot_summary.csv");
   const std::string text((std::istreambuf_iterator<char>(csv)), {});
   EXPECT_NE(text.find("eq. (3) + "), std::string::npos);
-  // The report draws the model's curve, its legend naming the model.
+  // The report's unit page draws the model's curve, its legend naming the model.
   ASSERT_EQ(test::run_command(test::binary() + " report -q --unit-pages always " +
                                   (dir / "out").string() + " -o " + (dir / "report.html").string(),
                               &out),
             0)
       << out;
-  std::ifstream html(dir / "report.html");
+  std::ifstream html(dir / "report_units" / "u.html");
   const std::string page((std::istreambuf_iterator<char>(html)), {});
   EXPECT_NE(page.find("model: eq. (3) + "), std::string::npos);
 
