@@ -170,14 +170,26 @@ PhaseData skip_view(const PhaseData& p) {
 
 namespace {
 
+// The one rule: a row with the filled samples' terms left out is kept when it keeps at least
+// kSkipKeepShare of the filled record's terms at the same m.
+bool keeps_enough(std::int64_t n_skipped, std::int64_t n_filled) {
+  return static_cast<double>(n_skipped) >= kSkipKeepShare * static_cast<double>(n_filled);
+}
+
+void append_row(StatResult& out, const StatResult& r, std::size_t i) {
+  out.m.push_back(r.m[i]);
+  out.tau_s.push_back(r.tau_s[i]);
+  out.dev.push_back(r.dev[i]);
+  out.n.push_back(r.n[i]);
+}
+
 // Whether the row of `skipped` at m (its last) is taken over the row of `filled` at m.
 bool taken(const StatResult& filled, const StatResult& skipped) {
   if (skipped.size() == 0) return false;
   const std::int64_t m = skipped.m.back();
   const auto it = std::lower_bound(filled.m.begin(), filled.m.end(), m);
   if (it == filled.m.end() || *it != m) return true;
-  const auto i = static_cast<std::size_t>(it - filled.m.begin());
-  return static_cast<double>(skipped.n.back()) >= kSkipKeepShare * static_cast<double>(filled.n[i]);
+  return keeps_enough(skipped.n.back(), filled.n[static_cast<std::size_t>(it - filled.m.begin())]);
 }
 
 }  // namespace
@@ -192,12 +204,8 @@ StatResult skipped_rows(
     const std::vector<std::int64_t> part(ms.begin() + static_cast<std::ptrdiff_t>(done),
                                          ms.begin() + static_cast<std::ptrdiff_t>(end));
     const StatResult r = run(view, part);
-    for (std::size_t i = 0; i < r.size(); ++i) {
-      out.m.push_back(r.m[i]);
-      out.tau_s.push_back(r.tau_s[i]);
-      out.dev.push_back(r.dev[i]);
-      out.n.push_back(r.n[i]);
-    }
+    for (std::size_t i = 0; i < r.size(); ++i)
+      append_row(out, r, i);
     // The last m of the batch without a row has no term without a filled sample: not taken.
     if (r.size() == 0 || r.m.back() != part.back() || !taken(filled, r)) break;
     done = end;
@@ -208,22 +216,15 @@ StatResult skipped_rows(
 
 StatResult merge_filled_skipped(const StatResult& filled, const StatResult& skipped) {
   StatResult out;
-  const auto take = [&out](const StatResult& r, std::size_t i) {
-    out.m.push_back(r.m[i]);
-    out.tau_s.push_back(r.tau_s[i]);
-    out.dev.push_back(r.dev[i]);
-    out.n.push_back(r.n[i]);
-  };
   std::size_t i = 0, j = 0;
   while (i < filled.size() || j < skipped.size()) {
     if (j == skipped.size() || (i < filled.size() && filled.m[i] < skipped.m[j])) {
-      take(filled, i++);
+      append_row(out, filled, i++);
     } else if (i == filled.size() || skipped.m[j] < filled.m[i]) {
-      take(skipped, j++);
+      append_row(out, skipped, j++);
     } else {
-      const bool keep =
-          static_cast<double>(skipped.n[j]) >= kSkipKeepShare * static_cast<double>(filled.n[i]);
-      take(keep ? skipped : filled, keep ? j : i);
+      const bool keep = keeps_enough(skipped.n[j], filled.n[i]);
+      append_row(out, keep ? skipped : filled, keep ? j : i);
       ++i;
       ++j;
     }
