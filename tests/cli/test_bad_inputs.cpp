@@ -23,18 +23,10 @@ namespace {
 namespace fs = std::filesystem;
 using test::binary;
 using test::H5Fixture;
+using test::noise;
 using test::run_command;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-std::vector<double> noise(std::size_t n, unsigned seed) {
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> g(0.0, 1.0);
-  std::vector<double> v(n);
-  for (auto& x : v)
-    x = 0.01 * g(rng);
-  return v;
-}
 
 // FNV-1a over the file's bytes: enough to see that an input changed (not a security hash).
 std::uint64_t file_hash(const fs::path& p) {

@@ -20,16 +20,8 @@ namespace {
 
 namespace fs = std::filesystem;
 using test::binary;
+using test::noise;
 using test::run_command;
-
-std::vector<double> noise(std::size_t n, unsigned seed) {
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> g(0.0, 1.0);
-  std::vector<double> v(n);
-  for (auto& x : v)
-    x = 0.01 * g(rng);
-  return v;
-}
 
 // A unit in the layout of `allanlot simulate`: variable-length string attributes (device_id,
 // units, data_type) beside the channels.

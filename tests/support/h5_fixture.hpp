@@ -12,6 +12,7 @@
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <random>
 #include <spawn.h>
 #include <stdexcept>
 #include <string>
@@ -201,6 +202,17 @@ inline pid_t spawn(const std::vector<std::string>& args) {
   const int rc = posix_spawn(&pid, argv[0], &fa, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&fa);
   return rc == 0 ? pid : -1;
+}
+
+/// n samples of white noise of sd 0.01 from `seed` (a channel's samples for tests that need
+/// any valid recording).
+inline std::vector<double> noise(std::size_t n, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::vector<double> v(n);
+  for (auto& x : v)
+    x = 0.01 * g(rng);
+  return v;
 }
 
 inline std::string binary() {
