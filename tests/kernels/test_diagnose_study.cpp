@@ -68,7 +68,7 @@ TEST(DiagnoseStudy, DISABLED_DetectionAndFalseAlarmRates) {
         scenarios.push_back(test::at_level(s, level));
   scenarios.push_back({"null", test::base_model(), test::base_model(), {}});
   {
-    // The sensor's filter (issue #23): first order at 15 Hz, and a boxcar of 1.5 samples.
+    // The sensor's filter: first order at 15 Hz, and a boxcar of 1.5 samples.
     auto t = test::base_model();
     t.lowpass.cutoff_hz = 15.0;
     scenarios.push_back({"lowpass_15hz", t, test::base_model(), {Effect::Lowpass}});
