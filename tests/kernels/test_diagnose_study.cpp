@@ -98,7 +98,7 @@ TEST(DiagnoseStudy, DISABLED_DetectionAndFalseAlarmRates) {
       within += d.gap_within_noise ? 1 : 0;
       wrong_flag += d.coefficients_wrong ? 1 : 0;
       gaps.push_back(d.after.gap);
-      // Issue #23's phantoms: an effect named twice (two sinusoids or markovs are allowed only
+      // Phantoms: an effect named twice (two sinusoids or markovs are allowed only
       // as distinct instances) or named with a zero size.
       for (std::size_t i = 0; i < d.effects_named.size(); ++i) {
         const bool twice =
