@@ -108,7 +108,7 @@ void BM_Statistic(benchmark::State& state) {
   tau_counters(state, rows);
 }
 
-// The statistics of issue #19 on the octave grid (m = 2^k), as Stable32's octave runs: MTIE,
+// The further statistics on the octave grid (m = 2^k), as Stable32's octave runs: MTIE,
 // TIE rms and PDEV (O(N) per tau) up to their largest m; Thêo1 (O(N m/2) per tau) at its even
 // octave m 16 .. 256, and the total family (O(N m) per tau, ~18 m operations per window) at
 // m = 1 .. 16. Those two costs grow with m, so the full octave grid of a 5.4 M-sample channel

@@ -1,7 +1,8 @@
-// The real-data study of docs/diagnose.md (issue #23 item 5): every channel of every recording
-// in a folder (the five ADIS16405 units; their licence keeps them out of the repository, so
-// the folder is an argument), each diagnosed against its own eq. (3) fit, the corrected model
-// re-diagnosed, and the eq. (3) fit repeated on the taus a named lowpass leaves alone.
+// The real-data study of docs/validation/2026-11-28-diagnose-real-sensors.md: every channel of
+// every recording in a folder (the five ADIS16405 units; their licence keeps them out of the
+// repository, so the folder is an argument), each diagnosed against its own eq. (3) fit, the
+// corrected model re-diagnosed, and the eq. (3) fit repeated on the taus a named lowpass leaves
+// alone.
 //
 //   bench_diagnose_real FOLDER [REPLICAS] [CHANNEL_SUBSTRING]   (REPLICAS: diagnose's default, 30)
 //

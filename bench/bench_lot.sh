@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Whole-lot throughput through the real binary (issue "Lots at scale", item 6): simulates a lot
+# Whole-lot throughput through the real binary (docs/performance.md "Lots"): simulates a lot
 # of UNITS six-channel 1 kHz units of SECONDS each (the embedded demo model; 5400 s, 5.4 M
 # samples a channel, by default) once into WORKDIR/lot-UNITS[-SECONDS], then times `allanlot
 # analyze` on it at each thread count, with all defaults (six statistics with confidence

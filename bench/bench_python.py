@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The Python API against AllanTools, side by side in one process (issue "Python", Done when):
+"""The Python API against AllanTools, side by side in one process (docs/performance.md "Python"):
 the six default statistics (adev, oadev, mdev, hdev, ohdev, totdev) at the command line's
 default taus (--taus cli: its "log:16" grid, 91 taus, given to both as seconds) or at
 AllanTools' default (--taus octave, 23 taus), on one 90-minute 1 kHz channel (5.4 M

@@ -1,4 +1,4 @@
-// Text recording parser throughput (issue #18: at least 50 MB/s of CSV on one core): a CSV
+// Text recording parser throughput (the aim: at least 50 MB/s of CSV on one core): a CSV
 // in an IMU logger's shape (a time column in ms since the epoch, six channels with units in
 // the header, 400 Hz) and a single-column phase file, plain and gzipped, read whole by
 // io::read_text_recording into the channels' doubles. The files are written once into

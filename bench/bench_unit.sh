@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # End-to-end cost of one six-channel 90-minute 1 kHz unit (the embedded demo model, 5.4 M
-# samples a channel) through the real binary (issue "Performance", item 3): simulates the unit
+# samples a channel) through the real binary (docs/performance.md): simulates the unit
 # once into WORKDIR/unit (kept for later runs), then runs
 #   allanlot analyze --force --quiet --verbose --threads T -o OUT unit_0001.h5
 # RUNS times at each thread count, the thread counts alternating (1 2 1 2 ...) so that a slow

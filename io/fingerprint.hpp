@@ -1,6 +1,6 @@
-// Resume support for `analyze` (issue "Lots at scale"): what a results file records about the
-// input it was made from and the options it was made with, so that rerunning the same command
-// skips recordings whose complete results are present and current.
+// Resume support for `analyze` (docs/lots-and-slurm.md "Running a lot", Resume): what a results
+// file records about the input it was made from and the options it was made with, so that rerunning
+// the same command skips recordings whose complete results are present and current.
 //
 // The stamp is four root attributes of the results file, written by analyze with the others:
 //   input_size      bytes of the input file

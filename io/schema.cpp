@@ -111,7 +111,7 @@ std::span<const Field<FitRecord>> fit_fields() {
        Need::IfPresent, true},
       {"rank", A, &F::rank, "i64: independent regressors"},
       {"chi2_dof", A, &F::chi2_dof, "reduced chi-square", nullptr, Need::IfPresent, true},
-      // fit/ only (written with its taus); absent from files written before issue #23.
+      // fit/ only (written with its taus); absent from files of versions without the filter.
       {"lowpass", A, &F::lowpass, "the sensor's filter: auto, auto-unused, option or none", on_taus,
        Need::IfPresent, true},
       {"lowpass_cutoff_hz", A, &F::lowpass_cutoff_hz, "Hz, first order; NaN otherwise", on_taus,

@@ -55,7 +55,7 @@ std::span<const Stat> all_stats();
 /// Largest averaging factor Stable32 1.60 evaluates for `n_points` phase points N (its
 /// tables in tests/data/stable32): (N-2)/5 for ADEV and HDEV, (N-1)/4 for OADEV, MDEV, TDEV and
 /// OHDEV, (N-1)/2 for TOTDEV (Riley's stop ratios 5, 4, 2), so that every estimate keeps a
-/// reasonable number of terms. For the statistics of issue #19: (N-1)/4 for TIE rms (its
+/// reasonable number of terms. For the further statistics: (N-1)/4 for TIE rms (its
 /// Stable32 table stops at 247 for N = 1001) and PDEV (as OADEV), (N-1)/3 for MTOT, TTOT and
 /// HTOT (3m points per window; Stable32 1.53's all-tau MTOT stops at 332 for N = 1001), N-1
 /// for MTIE (one window of the whole record), Thêo1 and ThêoH (SP1065 eq. (30): m <= N-1; its

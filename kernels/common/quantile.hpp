@@ -13,6 +13,11 @@
 
 namespace allanlot::kernels {
 
+/// The robust scale's constant: 1.4826 = 1 / Phi^-1(3/4), so that 1.4826 times the median
+/// absolute deviation is a consistent estimate of a Gaussian's sigma (Rousseeuw & Croux 1993,
+/// JASA 88, 1273). The one owner for the quality screen's spike sigma and the lot's spread.
+inline constexpr double kMadToSigma = 1.4826;
+
 /// The value at the 0-based position h (0 <= h <= size - 1) of the ascending values `sorted`,
 /// linear between the two values beside it.
 inline double at_position_sorted(std::span<const double> sorted, double h) {

@@ -9,13 +9,13 @@ namespace allanlot::kernels::diagnose_detail {
 // A Gauss-Markov process is a random walk at taus well below its tau_c (K^2 = 2 sigma^2 /
 // tau_c, diagnose.hpp) and white noise well above it (N^2 = 2 sigma^2 tau_c): each is the
 // Gauss-Markov candidate in a limit of tau_c, so the hump is told apart from them by its
-// turnover (issue #23 item 4). When the markov candidate wins a round and the random walk or
+// turnover. When the markov candidate wins a round and the random walk or
 // white candidate is significant too, the hump is named only when its turnover is measured:
 // its peak, near 1.9 tau_c, has at least an octave of taus beyond it on the side of the
 // simpler process's limit (above it for a random walk, below it for white noise). Else the
-// simpler process is named. Before, a random walk whose longest taus fall low by chance was
-// named markov with its peak near the last tau in 1 of 10 records at every level of the study,
-// while real gyroscopes' humps (tau_c 85-520 s in 10^4 s records) turn over well inside.
+// simpler process is named. Without this rule a random walk whose longest taus fall low by
+// chance is named markov with its peak near the last tau in 1 of 10 records at every level of
+// the study, while real gyroscopes' humps (tau_c 85-520 s in 10^4 s records) turn over well inside.
 // A significance test of the turnover on top (the nested chi-square difference above its 95 %
 // quantile) was tried and dropped: it named a random walk on imu5 gyro_y, whose hump fits
 // within noise and the random walk does not (gap 1.13 against 1.29, replicas' p95 1.15-1.22).

@@ -124,7 +124,7 @@ bool Search::given_wrong(const Fit& base, const Fit& fixed) {
   return d.coefficients_wrong;
 }
 
-// No phantom effects (issue #23): after the final refit each added effect must still pay for
+// No phantom effects: after the final refit each added effect must still pay for
 // itself, by the round's criterion (its removal, the rest refitted, must cost more than the
 // penalty of its parameters). It is judged in the model that will be reported: with the given
 // coefficients fixed unless they were found wrong (`free_given`). Judged with them always

@@ -86,7 +86,7 @@ Curve Search::curve_without(const std::vector<Step>& steps) const {
 // A ramp and a random walk both raise the longest taus, and one record of a random walk often
 // holds a trend that a ramp's tau^2 fits there better than the walk's tau, while a ramp's rise
 // is fitted as well by a walk's where the few longest taus' averages leave the two within
-// their spread (issue #23 item 4). What tells them apart is that a ramp is deterministic:
+// their spread. What tells them apart is that a ramp is deterministic:
 // without the record's least-squares line it is gone, while a random walk keeps its rise at
 // the taus below the longest, which the line hardly touches. So whenever one of the two wins a
 // round and the other is there to take its place, the random walk candidate is judged again
@@ -154,7 +154,7 @@ std::size_t Search::ramp_or_random_walk(std::vector<CandidateFit>& cands, std::s
   // without its line shows a walk at 5 %, has z = 3.7 beside that walk's K (p 2.4e-4); it was
   // named random_walk. A walk still significant beside the ramp is named next round, and the
   // final pruning removes the ramp when the walk then explains the slope at trend_false_alarm
-  // (a ramp beside a walk is named as one of the two: docs/diagnose.md, "Known limits, measured").
+  // (a ramp beside a walk is named as one of the two: docs/diagnose.md, "Known limits").
   TrendWitness beside;
   if (walk_stays) {
     beside = trend_under(spec_of(flat.fit.comps, spec));

@@ -374,7 +374,7 @@ std::vector<double> diagnose_model_edf(const ChannelSpec& model, std::span<const
 double diagnose_gap(std::span<const double> avar_measured, std::span<const double> avar_model,
                     std::span<const double> edf);
 
-/// The sensor's filter as analyze's eq. (3) fit needs it (issue #23 item 3), named from a
+/// The sensor's filter as analyze's eq. (3) fit needs it, named from a
 /// measured overlapping Allan curve alone by diagnose's own test: the five terms of eq. (3),
 /// all re-estimated, against the same with diagnose's lowpass candidate (first-order cutoffs
 /// from rate / 200 to 0.45 rate, moving averages of 1.05 to 16 samples, 8 per octave, the best

@@ -1,4 +1,4 @@
-// Diagnose's vocabulary of effects (docs/diagnose.md "What it names"): each effect's name as
+// Diagnose's vocabulary of effects (docs/diagnose.md, the vocabulary): each effect's name as
 // the JSON, the model file and the terminal spell it, and the eq. (3) term a term effect is.
 #include "kernels/diagnose/diagnose.hpp"
 

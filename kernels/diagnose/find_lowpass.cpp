@@ -1,7 +1,7 @@
 // The sensor's filter named from a measured Allan curve alone, for analyze's eq. (3) fit
-// (issue #23 item 3): diagnose's own lowpass candidate and criterion (candidates.cpp,
-// docs/diagnose.md "The sensor's filter"), so that analyze and diagnose name the same filter
-// from the same facts.
+// (docs/fit-and-psd.md "The sensor's filter"): diagnose's own lowpass candidate and criterion
+// (candidates.cpp, docs/diagnose.md "The sensor's filter"), so that analyze and diagnose name the
+// same filter from the same facts.
 #include "kernels/diagnose/internal.hpp"
 
 #include "kernels/model/units.hpp"

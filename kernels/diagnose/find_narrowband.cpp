@@ -1,8 +1,8 @@
-// Diagnose's PSD witness of a narrowband process (docs/diagnose.md "PSD witness"): a
-// periodogram peak wider than a line, and its resonance (f0, q, sigma) fitted to the bins around
-// it. The Allan curve measures a narrow peak's q poorly: beyond a few hundred the curve of a
-// resonance is that of a line at every tau where it matters, so the curve's search ends at the top
-// of q's range (the ADIS16405 accelerometers' peak near 0.47-0.57 Hz: q > 4000 on the curve,
+// Diagnose's PSD witness of a narrowband process (docs/diagnose.md "Witnesses beside the Allan
+// curve"): a periodogram peak wider than a line, and its resonance (f0, q, sigma) fitted to the
+// bins around it. The Allan curve measures a narrow peak's q poorly: beyond a few hundred the curve
+// of a resonance is that of a line at every tau where it matters, so the curve's search ends at the
+// top of q's range (the ADIS16405 accelerometers' peak near 0.47-0.57 Hz: q > 4000 on the curve,
 // 290-1080 in their periodograms, whose resolution is 1e-4 Hz). The resonance candidate's peak
 // is measured here too (fit_peak_shapes: with the model's resonances beside it, wandering where
 // significant), and a wandering resonance's correlation time on its frequency's track.

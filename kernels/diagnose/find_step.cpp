@@ -1,4 +1,4 @@
-// The time-domain witness of a bias jump (docs/diagnose.md "Why", issue #23 item 3): the
+// The time-domain witness of a bias jump (docs/diagnose.md "A bias jump"): the
 // change-point test that names `step`, as the periodogram's line names `sinusoid`.
 //
 // At scale m the second differences of the phase, D_k = (x_{k+2m} - 2 x_{k+m} + x_k) / m (the

@@ -1,5 +1,5 @@
-// The time-domain witness of a ramp (docs/diagnose.md "Ramp, random walk or hump", issue #23
-// item 4): the record's least-squares slope against the spread the model under test gives it.
+// The time-domain witness of a ramp (docs/diagnose.md "Ramp, random walk and hump told
+// apart"): the record's least-squares slope against the spread the model under test gives it.
 //
 // The slope of samples y_k at t_k is b = sum w_k y_k with w_k = (t_k - t_mean) / sum (t -
 // t_mean)^2. For T = n / rate much longer than a sample its variance under a stationary-increment

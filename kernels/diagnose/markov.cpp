@@ -47,8 +47,8 @@ std::vector<double> markov_curve(double sigma, double tau_c_s, const Curve& cv, 
 }
 
 // tau_c of the Markov component comps[idx] by a log grid of 8 per octave from one sample to
-// the record's length (issue #23: the range must not end inside the taus, where a pinned tau_c
-// absorbed ramps and sensor filtering), then golden-section search on ln tau_c between the
+// the record's length (the range must not end inside the taus, where a pinned tau_c would
+// absorb ramps and sensor filtering), then golden-section search on ln tau_c between the
 // neighbours of the best grid point; the free coefficients are fitted at each tau_c. A best
 // point within one grid step of either end is marked as a bound (Component::nl_bound).
 Fit search_tau_c(std::vector<Component> comps, std::size_t idx, const Curve& cv, const Bases& b) {
@@ -93,7 +93,7 @@ CandidateFit hump_candidate(std::vector<Component> comps, const Curve& cv, const
   CandidateFit cf = markov_candidate(std::move(comps), cv, b);
   cf.info.effect = Effect::Markov;
   // A second Gauss-Markov effect is a distinct instance only a decade or more from every
-  // other: closer, two humps are one hump re-split (issue #23's "markov, ramp, markov").
+  // other: closer, two humps are one hump re-split.
   const double tc = cf.fit.comps.back().nl;
   for (std::size_t i = 0; i + 1 < cf.fit.comps.size(); ++i)
     if (cf.fit.comps[i].kind == Kind::Markov &&
@@ -105,8 +105,8 @@ CandidateFit hump_candidate(std::vector<Component> comps, const Curve& cv, const
       return none;
     }
   // A tau_c at the bottom of its range, one sample, is no hump: white noise with a shape at
-  // the shortest taus, which is the sensor's filter's (issue #23: such humps stood in for the
-  // filter; an ADIS16405 z gyroscope named one ahead of the filter by 2127 to 2108).
+  // the shortest taus, which is the sensor's filter's (such humps would stand in for the
+  // filter; an ADIS16405 z gyroscope's scores 2127 against the filter's 2108).
   if (cf.fit.comps.back().nl_bound < 0) {
     CandidateFit none;
     none.info.effect = Effect::Markov;

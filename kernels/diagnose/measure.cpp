@@ -31,7 +31,7 @@ Curve diagnose_detail::curve_of(const StatResult& oadev, double rate_hz, std::in
   if (cv.size() == 0) return cv;
   // The measured curve's own edf (from its noise identification) serves only the eq. (3) fit
   // behind n_eff, capped at what the averages allow: where a line or the last few averages make
-  // the identified alpha +1 or +2 it exceeded the number of averages 10-200 fold (issue #23).
+  // the identified alpha +1 or +2 it would exceed the number of averages 10-200 fold.
   // Every z uses the edf of the model under test instead (model_edf).
   prepare_edf(cv);
   for (std::size_t i = 0; i < cv.size(); ++i)

@@ -1,6 +1,6 @@
-// Diagnose's comparisons (docs/diagnose.md "Where", "PSD witness", "Simulation vs
-// measurement"): z tau by tau and its bands, the effective number of independent taus, the
-// periodogram's line search and the Monte Carlo band of a model.
+// Diagnose's comparisons (docs/diagnose.md "Where", "Witnesses beside the Allan curve"): z tau by
+// tau and its bands, the effective number of independent taus, the periodogram's line search and
+// the Monte Carlo band of a model.
 #include "kernels/diagnose/internal.hpp"
 
 #include "kernels/allan/phase.hpp"

@@ -34,6 +34,7 @@
 // departure of kExact sigmas or more are therefore exact; max_sigmas is exact when it is at
 // least kExact.
 #include "kernels/common/parallel.hpp"
+#include "kernels/common/quantile.hpp"
 #include "kernels/quality/internal.hpp"
 
 #include <algorithm>
@@ -48,7 +49,6 @@ namespace {
 constexpr std::int64_t kBlock = 4096;
 constexpr std::int64_t kSub = 32;
 constexpr std::int64_t kMinResiduals = 32;  // fewer valid residuals in a block: not judged
-constexpr double kMadToSigma = 1.4826;
 constexpr std::int64_t kSigmaStride = 4;
 constexpr double kExact = 6.0;
 

@@ -1,4 +1,4 @@
-// The sensor's own anti-alias and decimation filter (issue #23 item 3): a linear time-invariant
+// The sensor's own anti-alias and decimation filter (docs/fit-and-psd.md): a linear time-invariant
 // low-pass applied to the whole rate signal after synthesis, and what it does to the Allan
 // variance. A real IMU's output is filtered and decimated inside the sensor, so its shortest-tau
 // Allan deviation lies below the white-noise line the longer taus follow.

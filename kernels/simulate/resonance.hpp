@@ -1,6 +1,6 @@
-// Narrowband noise: a resonance, the second-order Gauss-Markov process (issue #23). Every
-// ADIS16405 z gyroscope shows it (docs/diagnose.md "Real sensors"): a PSD peak at 17-21 Hz,
-// about 0.2 Hz wide, holding about 0.06 (deg/s)^2, which no line (`sinusoid`: the periodogram
+// Narrowband noise: a resonance, the second-order Gauss-Markov process. Every ADIS16405 z
+// gyroscope shows it (docs/diagnose.md "Real sensors: five ADIS16405 IMUs"): a PSD peak at 17-21
+// Hz, about 0.2 Hz wide, holding about 0.06 (deg/s)^2, which no line (`sinusoid`: the periodogram
 // resolves no single frequency) and no low-pass hump (`markov`) describes.
 //
 // The process is defined on the samples, as a sensor outputs it: the stationary AR(2)

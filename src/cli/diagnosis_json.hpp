@@ -1,5 +1,5 @@
-// The JSON form of a diagnosis (docs/diagnose.md "JSON"): one owner for what `diagnose --json`
-// prints, the diagnosis/ group stores and the Python module's diagnose() returns.
+// The JSON form of a diagnosis (docs/diagnose.md "The JSON object"): one owner for what `diagnose
+// --json` prints, the diagnosis/ group stores and the Python module's diagnose() returns.
 #pragma once
 
 #include "kernels/diagnose/diagnose.hpp"

@@ -1,6 +1,6 @@
-// Which results file in OUTDIR belongs to which recording (docs/lots-and-slurm.md "Resume"):
-// resume skips a recording whose complete, current results are present, and a recording never
-// replaces the results of another recording that happens to have the same device_id, neither
+// Which results file in OUTDIR belongs to which recording (docs/lots-and-slurm.md "Running a lot",
+// Resume): resume skips a recording whose complete, current results are present, and a recording
+// never replaces the results of another recording that happens to have the same device_id, neither
 // in a later run nor in a concurrent one (two Slurm shards).
 #pragma once
 

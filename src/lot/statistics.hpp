@@ -5,6 +5,7 @@
 #pragma once
 
 #include "io/results.hpp"
+#include "kernels/common/quantile.hpp"
 
 #include <array>
 #include <cstddef>
@@ -30,7 +31,7 @@ inline constexpr std::array<const char*, 5> kTermNames = {"R", "K", "B", "N", "Q
 /// term is undetected (value 0, sigma 0.86) was then "10 spreads" low although it was within
 /// one of its own sigmas of the median. A deviation smaller than the unit's own uncertainty is
 /// no evidence of anything; with sigma_i << spread the rule is Iglewicz & Hoaglin's.
-inline constexpr double kMadToSigma = 1.4826;
+using kernels::kMadToSigma;  // 1.4826, owned by kernels/common/quantile.hpp
 inline constexpr double kOutlierZ = 3.5;
 /// Below 5 units the scale is too coarse to call anyone an outlier: with 3 or 4 values the
 /// MAD is set by one or two deviations, often small by chance, and the rule would flag

@@ -488,7 +488,7 @@ TEST(Analyze, StatsAllWritesEveryStatistic) {
   EXPECT_NE(g.channels[0].notes.find("theo1 not computed"), std::string::npos);
 }
 
-// Issue #19 item 5: a statistic asked for a record it does not apply to is a per-channel
+// A statistic asked for a record it does not apply to is a per-channel
 // outcome, never a crash. Thêo1 needs 11 phase points (m = 10): on 8 samples it has no row; with
 // OADEV beside it the channel is ok and theo1's group is empty; alone, the channel fails with
 // its reason, and with nothing analysed the run ends with status 2 (docs/cli.md "Exit status").

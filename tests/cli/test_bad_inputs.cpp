@@ -1,4 +1,4 @@
-// Bad inputs, in the spirit of FINUFFT's "dumbinputs" (issue #11): every kind of broken,
+// Bad inputs, in the spirit of FINUFFT's "dumbinputs": every kind of broken,
 // hostile or merely odd recording goes through the real binary in one lot beside good units.
 // For each case: the documented exit status (docs/cli.md: 1 when some inputs or channels fail),
 // a message naming the file, the dataset and the reason, the good inputs analysed, no
@@ -187,9 +187,9 @@ std::vector<Case> cases(const fs::path& dir) {
   // Channels too short for any tau, empty, or of the wrong shape or type.
   // Channels too short for any tau: fewer than 2 samples. Two samples give totdev at m = 1 but
   // no tau of the overlapping Allan curve, so no fit and no PSD: a failure with its reason,
-  // not "ok" with empty tables (issue "Nothing lost on a bad night", item 13). Four samples
-  // give one tau of every default statistic. A record too short for the statistics asked for
-  // fails with "too short for any tau", tests/cli/test_analyze.cpp.
+  // not "ok" with empty tables. Four samples give one tau of every default statistic. A record too
+  // short for the statistics asked for fails with "too short for any tau",
+  // tests/cli/test_analyze.cpp.
   for (const std::size_t n : {std::size_t{0}, std::size_t{1}})
     c.push_back({"short_" + std::to_string(n),
                  [n](const fs::path& p) { one_channel(p, std::vector<double>(n, 1.0), 10.0); },

@@ -1,4 +1,4 @@
-// Faults around a lot run (issue #11): an output directory that cannot hold results, a disk
+// Faults around a lot run: an output directory that cannot hold results, a disk
 // that fills up in the middle of a write (a real, small tmpfs), and two `analyze` processes
 // writing into the same OUTDIR at once. In every case: never a corrupt or half-written results
 // file under its final name, a lot summary consistent with the results files present, and a
@@ -275,8 +275,8 @@ TEST(Faults, TwoRunsIntoTheSameOutdirAtOnce) {
 }
 
 // A full disk while simulate writes a recording or diagnose writes its -o file: a clean
-// error naming the file and no file left, never a crash (issue "Nothing lost on a bad night",
-// item 3: before, HDF5 crashed at exit flushing the file that could not be written).
+// error naming the file and no file left, never a crash (HDF5
+// left to flush the file that could not be written would crash at exit).
 TEST(Faults, DiskFullInSimulateAndDiagnoseIsACleanError) {
   const fs::path dir = fresh_test_dir("faults_disk_full_writers");
   std::string text;

@@ -1,5 +1,5 @@
-// The eq. (3) fit and the sensor's filter (docs/fit-and-psd.md "The sensor's filter", issue #23
-// item 3): a simulated filtered record (white + flicker + random walk through a first-order
+// The eq. (3) fit and the sensor's filter (docs/fit-and-psd.md "The sensor's filter"):
+// a simulated filtered record (white + flicker + random walk through a first-order
 // filter, kernels/simulate) fitted with the filter handled recovers N, B and K and fits within
 // the chi-square its degrees of freedom allow; fitted over every tau it does not; an unfiltered
 // record names no filter and its fit is bit for bit the fit over every tau.

@@ -146,7 +146,7 @@ TEST(SimulateAnalyze, DemoLotWithManifest) {
 }
 
 // Regression: on this unit of the demo lot the fit's reweighting contracts slowly (52 steps to
-// the tolerance) and the fit used to end as "no convergence" after 50, leaving the summary row
+// the tolerance): a cap of 50 steps would end it as "no convergence", leaving the summary row
 // without coefficients.
 TEST(SimulateAnalyze, SlowlySettlingFitConverges) {
   const auto dir = test::fresh_dir("e2e_slow_fit");

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The repository stands alone: a user who clones it has nothing beside it, so no tracked file
-# may point at a folder outside the checkout (the sibling folder of the first sessions, with its
+# may point at a folder outside the checkout (such as a sibling folder with
 # reference data, notes and specification). Run from the repository root; in a copy without git every file is read.
 set -euo pipefail
 pattern='shared[/]'

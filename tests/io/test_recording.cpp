@@ -118,7 +118,7 @@ TEST(Recording, ChunkedReadEqualsWholeRead) {
 
 // A recording truncated after it was opened (still being copied, a full disk) reads as zeros
 // past its new end without an HDF5 error: the reader must say so, naming file and channel
-// (issue "Nothing lost on a bad night", item 12: before, the tail was analysed as zeros).
+// (else the tail would be analysed as zeros).
 TEST(Recording, TruncatedWhileItIsReadIsAnError) {
   const auto file = test::fresh_dir("truncated_while_read") / "a.h5";
   {

@@ -424,7 +424,7 @@ TEST(Status, PrintAndParseBothWays) {
     EXPECT_EQ(io::to_string(s), kernels::fit_status_name(s));
   }
   EXPECT_EQ(io::to_string(FitStatus::RankDeficient), "rank deficient");
-  // The synonyms the old report accepted are not statuses.
+  // Synonyms of the statuses are not statuses.
   for (const char* bad : {"OK", "passed", "failed", "failure: x", ""}) {
     const std::string msg = error_of([&] { io::parse_channel_status(bad, "f.h5", "/c@status"); });
     EXPECT_NE(msg.find("f.h5:/c@status"), std::string::npos) << bad << ": " << msg;

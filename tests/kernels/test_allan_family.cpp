@@ -531,7 +531,7 @@ TEST(AllanFamilyProperties, ComputeAppliesStable32Limits) {
   for (const Stat s : {Stat::Oadev, Stat::Mdev, Stat::Tdev, Stat::Ohdev})
     EXPECT_EQ(kernels::max_m(s, 1001), 250);
   EXPECT_EQ(kernels::max_m(Stat::Totdev, 1001), 500);
-  // The statistics of issue #19 (stats.hpp max_m): N-1, (N-1)/4 and (N-1)/3.
+  // The further statistics (stats.hpp max_m): N-1, (N-1)/4 and (N-1)/3.
   for (const Stat s : {Stat::Mtie, Stat::Theo1, Stat::Theoh})
     EXPECT_EQ(kernels::max_m(s, 1001), 1000);
   for (const Stat s : {Stat::Tierms, Stat::Pdev})

@@ -100,7 +100,7 @@ bool has_note(const kernels::Diagnosis& d, const std::string& text) {
 
 TEST(Diagnose, ARandomWalksTrendIsNotARamp) {
   // Seed 1003's random walk holds a trend whose tau^2 rise a ramp fits better at the longest
-  // taus (named ramp before issue #23 item 4, at the weak and medium levels); without the
+  // taus (the curve alone names it ramp, at the weak and medium levels); without the
   // record's line the walk's rise below the longest taus remains, and it is named.
   for (const char* level : {"weak", "medium"}) {
     SCOPED_TRACE(level);
@@ -119,8 +119,8 @@ TEST(Diagnose, ARandomWalksTrendIsNotARamp) {
 
 // Seed 1004's weak step (6.4 rms of the witness's differences) is seen by the change-point test
 // at p = 0.004, short of its own level of 1e-3, and the curve alone scores a random walk (+36.6)
-// about as high as the step (+37.3, its size charged as the walk's K): named random_walk before
-// session 23. The jump decides between the two look-alikes, and the step is named.
+// about as high as the step (+37.3, its size charged as the walk's K): the curve alone would
+// name random_walk. The jump decides between the two look-alikes, and the step is named.
 TEST(Diagnose, AJumpShortOfTheWitnesssLevelTellsAStepFromAWalk) {
   const test::Scenario s = scenario_at("step", "weak");
   const auto d = test::run_scenario(s.truth, s.given, 1004, 0, 2);
@@ -153,8 +153,8 @@ TEST(Diagnose, ARampTheCurveTakesForAWalkIsNamedByItsSlope) {
   // (K = 2.5e-4, a thirty-second of the weak level's variance) is fitted better by a random
   // walk on the curve (4 of seeds 1001-1030 are). Without the record's line the walk improves
   // the chi-square by less than its 95 % quantile under no walk, and the slope is far outside
-  // the model's spread: the ramp is named, with a note (a 20-sigma ramp injected into the real
-  // imu3 x gyroscope was named random_walk before).
+  // the model's spread: the ramp is named, with a note (as a 20-sigma ramp injected into the
+  // real imu3 x gyroscope is).
   expect_ramp_over_unnamed_walk(2.5e-4, 1006, "no longer shows the random walk");
   // In doubt the walk keeps its name: seed 1008's walk of K = 1e-3 holds a trend (slope z = 7
   // under the base model) and, without its line, still improves the chi-square by 6.8, which no

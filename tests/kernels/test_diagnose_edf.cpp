@@ -1,4 +1,4 @@
-// kernels/diagnose's edf (diagnose_model_edf, issue #23 item 1): computed from the model under
+// kernels/diagnose's edf (diagnose_model_edf): computed from the model under
 // test, it makes the gap of a complete model about 1 whichever effect dominates the curve, and
 // it never exceeds what the number of averages allows.
 #include "kernels/allan/phase.hpp"
@@ -126,7 +126,7 @@ TEST(DiagnoseEdf, ReplicaGapsOfACompleteModelAreAboutOneWhateverDominates) {
   // gap with n_eff ~ 8 has a standard deviation of about 1 / sqrt(2 n_eff) = 0.25; the sample
   // 95 % quantile of R = 32 draws then has a standard deviation of
   // sqrt(0.95 0.05 / R) / pdf(q95) ~ 0.09 (about 7 %), their ratio about 10 %: 1.35 is 3 of
-  // them. The measured curve's edf gave p95 ~ 3 against ~ 1.3 (issue #23).
+  // them. The measured curve's edf gave p95 ~ 3 against ~ 1.3.
   for (std::size_t c = 1; c < p95s.size(); ++c) {
     EXPECT_LT(p95s[c], 1.35 * p95s[0]) << cases()[c].name;
     EXPECT_GT(p95s[c], p95s[0] / 1.35) << cases()[c].name;

@@ -1,4 +1,4 @@
-// kernels/diagnose's tau_c search (issue #23 item 2): it spans one sample to the record's
+// kernels/diagnose's tau_c search: it spans one sample to the record's
 // length, and a tau_c at either end is reported as a limit with no sigma; inside, it is an
 // estimate with one. Exact model curves (no noise), so that where the search ends is known.
 #include "kernels/diagnose/internal.hpp"
@@ -150,7 +150,7 @@ TEST(DiagnoseSearch, ResonanceAsNarrowAsALineIsALowerLimitOfQ) {
 // The ADIS16405 x and y gyroscopes' filter is a 2-tap boxcar (lag-1 autocorrelation 0.17 to
 // 0.29, none beyond): each form's best grid point is refined before the forms are compared, so
 // the boxcar is found, not the one-pole filter whose grid point happened to lie nearer its own
-// optimum (a one-pole beside a broad resonance was named on those gyroscopes before).
+// optimum (which would come with a broad resonance beside it on those gyroscopes).
 TEST(DiagnoseSearch, TwoTapBoxcarIsFoundAsABoxcar) {
   for (const double taps : {1.17, 1.21, 1.33}) {
     auto truth = white();

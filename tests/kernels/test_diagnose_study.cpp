@@ -68,7 +68,7 @@ TEST(DiagnoseStudy, DISABLED_DetectionAndFalseAlarmRates) {
         scenarios.push_back(test::at_level(s, level));
   scenarios.push_back({"null", test::base_model(), test::base_model(), {}});
   {
-    // The sensor's filter (issue #23): first order at 15 Hz, and a boxcar of 1.5 samples.
+    // The sensor's filter: first order at 15 Hz, and a boxcar of 1.5 samples.
     auto t = test::base_model();
     t.lowpass.cutoff_hz = 15.0;
     scenarios.push_back({"lowpass_15hz", t, test::base_model(), {Effect::Lowpass}});
@@ -98,7 +98,7 @@ TEST(DiagnoseStudy, DISABLED_DetectionAndFalseAlarmRates) {
       within += d.gap_within_noise ? 1 : 0;
       wrong_flag += d.coefficients_wrong ? 1 : 0;
       gaps.push_back(d.after.gap);
-      // Issue #23's phantoms: an effect named twice (two sinusoids or markovs are allowed only
+      // Phantoms: an effect named twice (two sinusoids or markovs are allowed only
       // as distinct instances) or named with a zero size.
       for (std::size_t i = 0; i < d.effects_named.size(); ++i) {
         const bool twice =

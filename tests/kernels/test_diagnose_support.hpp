@@ -76,7 +76,7 @@ struct Scenario {
 ///    is no line to the PSD witness;
 ///  - two at once: the sinusoid and the random walk; the sinusoid and the markov, whose bump
 ///    (0.74 s) and hump (0.95 s) overlap; the markov and the quantization; the ramp and the
-///    markov (issue #23: once named markov, ramp, markov with the first at sigma = 0).
+///    markov (the look-alikes could name markov, ramp, markov with the first at sigma = 0).
 inline std::vector<Scenario> hidden_scenarios() {
   std::vector<Scenario> out;
   const auto add = [&](std::string name, kernels::ChannelSpec truth, kernels::ChannelSpec given,
@@ -168,7 +168,7 @@ inline std::vector<Scenario> hidden_scenarios() {
   return out;
 }
 
-/// The levels of the detection study (issue #23 item 5). The scenarios above are `medium`; a
+/// The levels of the detection study. The scenarios above are `medium`; a
 /// level scales every hidden effect's amplitude (the eq. (3) coefficients the given model
 /// lacks, a sinusoid's amplitude, a Gauss-Markov or resonance sigma, a step's size) so that its
 /// variance is half (`weak`: amplitude / sqrt 2) or four times (`strong`: amplitude x 2) the medium

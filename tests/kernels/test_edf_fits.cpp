@@ -1,9 +1,9 @@
-// The published edf fits of the statistics of issue #19 (kernels/uncertainty/edf.hpp:
+// The published edf fits of the further statistics (kernels/uncertainty/edf.hpp:
 // edf_theo1, edf_pvar, edf_htotvar) against the spread of the estimates themselves on
 // simulated white PM, white FM and random-walk FM: nu * estimate / truth is chi-square with nu
 // degrees of freedom, so over R independent records nu_hat = 2 mean^2 / var of the variance
 // estimates, and nu_hat / nu must be near 1. Plus the dispatch of stat_edf and the intervals
-// add_confidence now gives Thêo1, ThêoH and PDEV.
+// add_confidence gives Thêo1, ThêoH and PDEV.
 #include "kernels/allan/phase.hpp"
 #include "kernels/allan/stats.hpp"
 #include "kernels/uncertainty/confidence.hpp"

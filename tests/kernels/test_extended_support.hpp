@@ -1,4 +1,4 @@
-// Shared by the tests of the statistics of issue #19 (test_tie.cpp, test_theo.cpp,
+// Shared by the tests of the further statistics (test_tie.cpp, test_theo.cpp,
 // test_total_family.cpp, test_parabolic.cpp): PHASE.DAT, seeded random phase, the row-by-row
 // comparison with a Stable32 table, and the thread-invariance check.
 #pragma once

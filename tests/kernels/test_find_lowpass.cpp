@@ -1,4 +1,4 @@
-// kernels::find_lowpass (issue #23 item 3): the sensor's filter named from an Allan curve alone,
+// kernels::find_lowpass: the sensor's filter named from an Allan curve alone,
 // as analyze's eq. (3) fit uses it. Over seeds, white + flicker + random walk through a
 // first-order filter or a fractional boxcar is named (and says where the fit may start), and the
 // same noise unfiltered is not named beyond the test's level

@@ -1,4 +1,4 @@
-// The step effect (issue #23 item 3): a bias jump's Allan variance (kernels::step_avar_sampled)
+// The step effect: a bias jump's Allan variance (kernels::step_avar_sampled)
 // against a direct long-double evaluation of the simulated jump, and its time-domain witness
 // (kernels::find_step) on null records of every noise kind, on jumps of a few rms, and on
 // look-alikes (a spike, a ramp, a strong line).

@@ -1,4 +1,4 @@
-// The ramp's witness (issue #23 item 4, kernels::find_trend): the variance of a record's
+// The ramp's witness (kernels::find_trend): the variance of a record's
 // least-squares slope under a model, against closed forms, a direct long-double sum and
 // simulated records, and the witness's false alarm and power.
 #include "kernels/diagnose/diagnose.hpp"

@@ -1,4 +1,4 @@
-// kernels/simulate's low-pass filter (issue #23 item 3): the filtered simulation's overlapping
+// kernels/simulate's low-pass filter: the filtered simulation's overlapping
 // Allan variance is model_avar_sampled's, the factors have their closed forms where there is
 // one, a filtered Gauss-Markov effect's is the direct sum's, and the filter is sequential (the
 // same bytes for any thread count).

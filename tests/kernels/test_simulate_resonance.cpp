@@ -1,4 +1,4 @@
-// kernels/simulate's resonance (issue #23): its closed-form autocovariance is the AR(2)
+// kernels/simulate's resonance: its closed-form autocovariance is the AR(2)
 // recursion's, its Allan variance (plain and under the sensor's filter) the direct sum's in
 // long double, its PSD the autocovariance's Fourier series, and the simulated process has the
 // model's autocovariance and Allan variance within what its degrees of freedom allow.

@@ -1,4 +1,4 @@
-// Naive implementations of the statistics of issue #19 (MTIE, TIE rms, Theo1, MTOTDEV, TTOTDEV,
+// Naive implementations of the further statistics (MTIE, TIE rms, Theo1, MTOTDEV, TTOTDEV,
 // HTOTDEV, PDEV) straight from their published definitions, in long double, with none of the
 // kernels' tricks (no deques, no prefix sums, no mean removal): O(N m) or O(N m^2) per m, for
 // the short random records of the tests. They take the phase as given (no trend removed), so
