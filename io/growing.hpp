@@ -8,13 +8,14 @@
 
 namespace allanlot::io {
 
-/// The part of a growing recording that a RecordingReader can read now. A text recording is
-/// copied up to its last complete line into `dir` under its own file name (a writer's partial
-/// last line waits for the next look; the recording itself is only read); the copy is made
-/// only when the recording grew since `*bytes_seen` (updated). An HDF5 recording is read in
-/// place (its writer appends whole chunks). Returns the path to read, "" when a text recording
-/// has not grown. Throws io::Error naming the recording when it cannot be read or the copy
-/// cannot be written.
+/// The part of a growing recording that a RecordingReader can read now, "" when it has not
+/// grown since `*bytes_seen` (its size, updated). A text recording is copied up to its last
+/// complete line into `dir` under its own file name (a writer's partial last line waits for the
+/// next look). An HDF5 recording that a writer extends in SWMR mode (single writer, multiple
+/// readers; HDF5 1.10) is opened with SWMR read access and its objects copied into `dir` as they
+/// stand (a reader without SWMR access would be refused); any other HDF5 file is read in place.
+/// The recording itself is only read. Throws io::Error naming the recording when it cannot be
+/// read or the copy cannot be written.
 std::string growing_snapshot(const std::string& path, const std::filesystem::path& dir,
                              std::uintmax_t* bytes_seen);
 
