@@ -10,7 +10,7 @@
 
 namespace allanlot::kernels {
 
-FitResult fit_record(std::span<const double> rate, double rate_hz, Eq3Fit& fitter, int threads) {
+StatResult record_curve(std::span<const double> rate, double rate_hz, int threads) {
   const PhaseData phase = phase_from_rate(rate, rate_hz, threads);
   const std::int64_t m_max = max_m(Stat::Oadev, phase.n_points());
   if (m_max < 8)
@@ -21,6 +21,11 @@ FitResult fit_record(std::span<const double> rate, double rate_hz, Eq3Fit& fitte
   grid.per_decade = kPlanTausPerDecade;
   StatResult oadev = compute(Stat::Oadev, phase, make_m_list(grid, m_max), threads);
   add_confidence(Stat::Oadev, phase, oadev, kDefaultConfidence, threads);
+  return oadev;
+}
+
+FitResult fit_record(std::span<const double> rate, double rate_hz, Eq3Fit& fitter, int threads) {
+  const StatResult oadev = record_curve(rate, rate_hz, threads);
   fitter.set_threads(threads);
   return fitter.fit(oadev, 1.0 / rate_hz, static_cast<std::int64_t>(rate.size()));
 }

@@ -17,6 +17,11 @@ namespace allanlot::kernels {
 /// The log grid's density of the fits made here: 16 taus per decade, as `analyze`.
 inline constexpr int kPlanTausPerDecade = 16;
 
+/// The overlapping Allan deviation of `rate` (samples at rate_hz) on the plan grid, with its
+/// edf (kernels::add_confidence). Throws std::invalid_argument when the record spans fewer than
+/// 3 octaves of tau (33 samples).
+StatResult record_curve(std::span<const double> rate, double rate_hz, int threads = 1);
+
 /// Fits eq. (3) to the overlapping Allan variance of `rate` (samples at rate_hz). `fitter`
 /// keeps the covariance basis of the last curve shape, so records of one length share it.
 /// Throws std::invalid_argument when the record spans fewer than 3 octaves of tau (33 samples).

@@ -7,6 +7,7 @@
 #include "kernels/plan/record_fit.hpp"
 #include "kernels/plan/sequential.hpp"
 #include "src/lot/spec.hpp"
+#include "src/pipeline/channel_fit.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -81,7 +82,6 @@ std::string estimate_text(const Limit& lim, const kernels::TermFit& t, double k,
 // Judges the first t seconds of every channel at quantile k; prints what this look decided.
 void look(const io::RecordingReader& reader, std::vector<Watched>& ws, double t, double k,
           int threads, std::ostream& out) {
-  kernels::Eq3Fit fitter;  // the channels' prefixes share one curve shape
   for (Watched& w : ws) {
     bool open = false;
     for (const Limit& l : w.limits)
@@ -89,11 +89,11 @@ void look(const io::RecordingReader& reader, std::vector<Watched>& ws, double t,
     if (!open) continue;
     const auto all = reader.read(w.info);
     const auto n = std::min<std::size_t>(all.size(), std::llround(t * w.info.sample_rate_hz));
-    const kernels::FitResult f = kernels::fit_record(std::span<const double>(all.data(), n),
-                                                     w.info.sample_rate_hz, fitter, threads);
+    const LookFit f = look_fit(std::span<const double>(all.data(), n), w.info.sample_rate_hz,
+                               w.info.units, threads);
     for (Limit& l : w.limits) {
       if (l.outcome != Outcome::Undecided) continue;
-      const kernels::TermFit& tf = f[l.l.term];
+      const kernels::TermFit& tf = f.terms[static_cast<std::size_t>(l.l.term)];
       // A fit whose model misses the curve decides nothing (as spec::judge): its sigmas hold
       // only for the model.
       if (f.status != kernels::FitStatus::Ok) continue;
@@ -140,6 +140,16 @@ std::vector<Watched> carried_over(std::vector<Watched> fresh, const std::vector<
 }
 
 }  // namespace
+
+LookFit look_fit(std::span<const double> rate, double rate_hz, const std::string& units,
+                 int threads) {
+  const kernels::StatResult oadev = kernels::record_curve(rate, rate_hz, threads);
+  LookFit f;
+  const io::FitRecord rec = pipeline::fit_channel(
+      oadev, 1.0 / rate_hz, static_cast<std::int64_t>(rate.size()), units, {}, &f.terms, threads);
+  f.status = rec.status;
+  return f;
+}
 
 int run_watch(const WatchOptions& opt, std::ostream& out, std::ostream& err) {
   spec::Spec s;

@@ -7,7 +7,11 @@
 #include "src/cli/cli.hpp"
 #include "src/cli/input_options.hpp"
 
+#include "kernels/model/fit.hpp"
+
+#include <array>
 #include <iosfwd>
+#include <span>
 #include <string>
 
 namespace allanlot::cli {
@@ -29,6 +33,17 @@ struct WatchOptions {
   bool quiet = false;
   InputArgs input;
 };
+
+/// What a look judges: the fit of a channel's record so far, made as `analyze` makes it (the
+/// overlapping Allan curve on 16 taus per decade with its edf, the eq. (3) fit from the first tau
+/// the sensor's filter leaves unbiased, src/pipeline/channel_fit.hpp), so that a real sensor's
+/// filter does not leave every look a poor fit.
+struct LookFit {
+  kernels::FitStatus status = kernels::FitStatus::NoData;
+  std::array<kernels::TermFit, kernels::kNumTerms> terms{};
+};
+LookFit look_fit(std::span<const double> rate, double rate_hz, const std::string& units,
+                 int threads);
 
 /// Returns 0 when every limit is decided pass, 1 when one is decided fail, kExitUndecided
 /// when watching ended with limits undecided (named on out), 2 on a usage error or a

@@ -1,5 +1,6 @@
 // `allanlot watch` and its sequential rule. Over 40 simulated units near a B limit, judged at
-// looks with the alpha-spending quantiles (kernels/plan/sequential.hpp) as watch judges them,
+// looks with the alpha-spending quantiles (kernels/plan/sequential.hpp) and the fit watch
+// makes (cli::look_fit),
 // wrong decisions stay within the stated rate (with its binomial margin) and the mean
 // recording time is at least 30 % shorter than the fixed length `plan --spec` gives for the
 // same limit. The command itself: a unit far inside the limit passes, one far outside fails,
@@ -63,41 +64,45 @@ double fixed_length_s() {
 
 TEST(WatchRule, FewWrongDecisionsAndShorterThanThePlan) {
   const double fixed = fixed_length_s();
-  kernels::ChannelSpec spec = model::to_spec(model::parse_model(kModel, "model"), 0);
+  const kernels::ChannelSpec model = model::to_spec(model::parse_model(kModel, "model"), 0);
   constexpr int kUnits = 40, kLooks = 8;
-  const auto n_fix = static_cast<std::int64_t>(std::llround(fixed * spec.rate_hz));
-  const double alpha = 0.05;
-  std::vector<kernels::Eq3Fit> fitters(kLooks);  // one curve shape per look, shared by units
-  kernels::SimulationPlan sim(static_cast<std::size_t>(n_fix));
-  std::vector<double> y(static_cast<std::size_t>(n_fix));
-  int wrong = 0, decided = 0;
-  double time_sum = 0.0;
+  const auto n_fix = static_cast<std::size_t>(std::llround(fixed * model.rate_hz));
+  kernels::SimulationPlan sim(n_fix);
+  // Units from 40 % below to 40 % above the limit, none on it: near it, on both sides.
+  std::vector<double> truth(kUnits);
+  std::vector<std::vector<double>> y(kUnits, std::vector<double>(n_fix));
   for (int u = 0; u < kUnits; ++u) {
-    // Units from 40 % below to 40 % above the limit, none on it: near it, on both sides.
-    const double d = -0.4 + 0.8 * (u + 0.5) / kUnits;
-    spec.terms.B = kLimit * (1.0 + d);
-    sim.run(spec, 11, static_cast<std::uint64_t>(u), y, 1);
-    double stop = fixed, prev = 0.0;
-    for (int j = 1; j <= kLooks; ++j) {
-      const double t = fixed * j / kLooks;
-      const auto n = static_cast<std::size_t>(std::llround(t * spec.rate_hz));
-      const auto f = kernels::fit_record(std::span<const double>(y.data(), n), spec.rate_hz,
-                                         fitters[static_cast<std::size_t>(j - 1)], 1);
-      const double k = kernels::look_quantile(alpha, prev, t, fixed);
-      prev = t;
+    kernels::ChannelSpec spec = model;
+    spec.terms.B = truth[u] = kLimit * (1.0 - 0.4 + 0.8 * (u + 0.5) / kUnits);
+    sim.run(spec, 11, static_cast<std::uint64_t>(u), y[u], 1);
+  }
+  // Look by look, every unit still recording (so that the units' fits of one look share
+  // their curve shape's covariance model), with the quantile watch uses at that look.
+  std::vector<double> stop(kUnits, fixed);
+  std::vector<bool> open(kUnits, true);
+  int wrong = 0, decided = 0;
+  for (int j = 1; j <= kLooks; ++j) {
+    const double t = fixed * j / kLooks;
+    const double k = kernels::look_quantile(0.05, fixed * (j - 1) / kLooks, t, fixed);
+    const auto n = static_cast<std::size_t>(std::llround(t * model.rate_hz));
+    for (int u = 0; u < kUnits; ++u) {
+      if (!open[u]) continue;
+      const cli::LookFit f =
+          cli::look_fit(std::span<const double>(y[u].data(), n), model.rate_hz, "deg/s", 1);
       if (f.status != kernels::FitStatus::Ok) continue;
-      const auto& b = f[kernels::Term::B];
+      const auto& b = f.terms[static_cast<std::size_t>(kernels::Term::B)];
       const spec::Estimate e{b.value, b.sigma, std::nan(""), b.detected};
       const spec::Outcome o = spec::decide(e, std::nullopt, kLimit, k);
       if (o == spec::Outcome::Undecided) continue;
       ++decided;
-      wrong += (o == spec::Outcome::Pass) != (spec.terms.B <= kLimit);
-      stop = t;
-      break;
+      wrong += (o == spec::Outcome::Pass) != (truth[u] <= kLimit);
+      stop[u] = t;
+      open[u] = false;
     }
-    time_sum += stop;
   }
-  const double mean = time_sum / kUnits;
+  double mean = 0.0;
+  for (const double s : stop)
+    mean += s / kUnits;
   std::cout << "fixed length " << fixed << " s; " << decided << " of " << kUnits << " decided, "
             << wrong << " wrong; mean recording " << mean << " s (" << mean / fixed
             << " of the fixed)\n";
