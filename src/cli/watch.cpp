@@ -211,6 +211,7 @@ int run_watch(const WatchOptions& opt, std::ostream& out, std::ostream& err) {
       const double k = kernels::look_quantile(alpha, prev, t, opt.max_duration_s);
       out << "look " << j << " at " << t << " s (k = " << std::setprecision(4) << k << ")\n";
       look(*reader, ws, t, k, threads, out);
+      out.flush();  // each look as it is made: the recording may run for hours
       prev = t;
       bool fail = false, open = false;
       for (const Watched& w : ws)

@@ -101,11 +101,14 @@ TEST(WatchRule, FewWrongDecisionsAndShorterThanThePlan) {
     }
   }
   double mean = 0.0;
-  for (const double s : stop)
-    mean += s / kUnits;
+  std::string undecided;
+  for (int u = 0; u < kUnits; ++u) {
+    mean += stop[u] / kUnits;
+    if (open[u]) undecided += " " + std::to_string(truth[u] / kLimit - 1.0);
+  }
   std::cout << "fixed length " << fixed << " s; " << decided << " of " << kUnits << " decided, "
             << wrong << " wrong; mean recording " << mean << " s (" << mean / fixed
-            << " of the fixed)\n";
+            << " of the fixed); undecided at B / limit - 1 =" << undecided << "\n";
   // Binomial(40, 0.05): P(X <= 5) = 0.986; more than 5 wrong would contradict the rate.
   EXPECT_LE(wrong, 5);
   EXPECT_LE(mean, 0.7 * fixed);
