@@ -32,4 +32,5 @@ PYBIND11_MODULE(_allanlot, m) {
   allanlot::python::bind_deviation(m);
   allanlot::python::bind_records(m);
   allanlot::python::bind_tools(m);
+  allanlot::python::bind_plan(m);
 }

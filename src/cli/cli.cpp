@@ -6,10 +6,12 @@
 #include "src/cli/diagnose.hpp"
 #include "src/cli/export.hpp"
 #include "src/cli/hat.hpp"
+#include "src/cli/plan.hpp"
 #include "src/cli/progress.hpp"
 #include "src/cli/report.hpp"
 #include "src/cli/simulate.hpp"
 #include "src/cli/summarize.hpp"
+#include "src/cli/watch.hpp"
 
 #include <allanlot/version.hpp>
 
@@ -77,7 +79,8 @@ int run(int argc, char** argv) {
   const std::vector<Command> commands = {
       add_analyze_command(app),  add_simulate_command(app), add_summarize_command(app),
       add_diagnose_command(app), add_report_command(app),   add_export_command(app),
-      add_convert_command(app),  add_hat_command(app),      add_codev_command(app)};
+      add_convert_command(app),  add_hat_command(app),      add_codev_command(app),
+      add_plan_command(app),     add_watch_command(app)};
 
   try {
     app.parse(argc, argv);
