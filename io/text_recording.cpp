@@ -14,6 +14,7 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <new>
 #include <sstream>
 
 namespace allanlot::io {
@@ -67,12 +68,21 @@ void check_rows(const std::string& path, std::int64_t line, std::size_t rows, st
                   std::to_string(columns) + " value(s), 8 bytes each");
 }
 
-// push_back whose doubling stops at `max_rows`: past an estimate, a vector's growth would
-// otherwise reserve up to twice what the memory limit allows (check_rows stops the rows).
+// push_back that, past the estimate, reserves at once the room the memory limit leaves
+// (`max_rows`): address space of which only the values written become resident, so that no
+// doubling copies a vector near the limit (old and new arrays together, up to twice the limit).
+// Without a limit, or where that much address space is refused, it doubles.
 void push_within(std::vector<double>& v, double x, std::size_t max_rows) {
-  if (v.size() == v.capacity())
-    v.reserve(
-        std::max(std::min(std::max<std::size_t>(2 * v.capacity(), 16), max_rows), v.size() + 1));
+  if (v.size() == v.capacity()) {
+    const std::size_t doubled = std::max<std::size_t>(2 * v.capacity(), 16);
+    try {
+      v.reserve(max_rows != std::numeric_limits<std::size_t>::max() && max_rows > v.size()
+                    ? max_rows
+                    : doubled);
+    } catch (const std::bad_alloc&) {
+      v.reserve(doubled);
+    }
+  }
   v.push_back(x);
 }
 

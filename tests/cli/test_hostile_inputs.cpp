@@ -25,6 +25,13 @@ void write_csv(const fs::path& path, std::size_t n, unsigned seed) {
     f << static_cast<double>(i) / 100.0 << "," << a[i] << "," << b[i] << "\n";
 }
 
+// `analyze` of dir/in into dir/out (quick options), its status; its output in `text`.
+int analyze(const fs::path& dir, std::string& text, const std::string& options = "") {
+  return run_command(binary() + " analyze -q --taus octave --no-psd " + options + " -o " +
+                         (dir / "out").string() + " " + (dir / "in").string(),
+                     &text);
+}
+
 std::string read_file(const fs::path& p) {
   std::ifstream f(p);
   return {std::istreambuf_iterator<char>(f), {}};
@@ -43,11 +50,7 @@ TEST(HostileInputs, AGzipBombFailsAtTheMemoryLimitAndTheLotGoesOn) {
             0);
   ASSERT_LT(fs::file_size(bomb), std::uintmax_t{4} << 20);
   std::string text;
-  EXPECT_EQ(run_command(binary() + " analyze -q --taus octave --no-psd --memory-limit 8M -o " +
-                            (dir / "out").string() + " " + (dir / "in").string(),
-                        &text),
-            1)
-      << text;
+  EXPECT_EQ(analyze(dir, text, "--memory-limit 8M"), 1) << text;
   EXPECT_NE(text.find("allanlot: error: " + bomb.string() + ":line "), std::string::npos) << text;
   EXPECT_NE(text.find("its values need more than the memory limit of 8.0 MiB (--memory-limit)"),
             std::string::npos)
@@ -69,11 +72,7 @@ TEST(HostileInputs, AFifoAtTheReportIsAnErrorNotAWait) {
   fs::create_directories(dir / "in");
   write_csv(dir / "in" / "u1.csv", 2000, 5);
   std::string text;
-  ASSERT_EQ(run_command(binary() + " analyze -q --taus octave --no-psd -o " +
-                            (dir / "out").string() + " " + (dir / "in").string(),
-                        &text),
-            0)
-      << text;
+  ASSERT_EQ(analyze(dir, text), 0) << text;
   const fs::path fifo = dir / "out" / "report.html";
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   // `timeout` ends a hang with 124: the test fails instead of blocking CTest.
@@ -94,11 +93,7 @@ TEST(HostileInputs, UnitsNamedInOtherScriptsKeepTheirOwnResults) {
   for (std::size_t i = 0; i < names.size(); ++i)
     write_csv(dir / "in" / (names[i] + ".csv"), 2000, 10 + static_cast<unsigned>(i));
   std::string text;
-  EXPECT_EQ(run_command(binary() + " analyze -q --taus octave --no-psd -o " +
-                            (dir / "out").string() + " " + (dir / "in").string(),
-                        &text),
-            0)
-      << text;
+  EXPECT_EQ(analyze(dir, text), 0) << text;
   for (const std::string& name : names) {
     const fs::path results = dir / "out" / (name + ".allan.h5");
     ASSERT_TRUE(fs::exists(results)) << name << "\n" << text;
@@ -114,11 +109,7 @@ TEST(HostileInputs, FormulaDeviceIdsAreTextInEveryCsv) {
   write_csv(dir / "in" / "=SUM(1+1).csv", 2000, 20);
   write_csv(dir / "in" / "@cmd.csv", 2000, 21);
   std::string text;
-  ASSERT_EQ(run_command(binary() + " analyze -q --taus octave --no-psd -o " +
-                            (dir / "out").string() + " " + (dir / "in").string(),
-                        &text),
-            0)
-      << text;
+  ASSERT_EQ(analyze(dir, text), 0) << text;
   ASSERT_EQ(run_command(binary() + " export " + (dir / "out").string() + " -o " +
                             (dir / "export.csv").string(),
                         &text),
