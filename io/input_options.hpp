@@ -4,6 +4,7 @@
 
 #include "kernels/allan/phase.hpp"
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -31,6 +32,11 @@ struct InputOptions {
   /// path, as --channels), over its header's unit; else its header's unit; else the first rule
   /// without a glob.
   std::vector<ColumnUnits> units;
+  /// Bytes a text recording's parsed samples (and its longest line) may hold, so that a gzip
+  /// bomb or an endless line ends with an error naming the file and the limit instead of
+  /// exhausting memory; 0 = no bound. The commands set --memory-limit, or their default (half
+  /// of the machine's memory, src/cli/memory.hpp).
+  std::uint64_t memory_limit = 0;
 };
 
 /// The rules as one list, `gyro_*=deg/s,accel_*=g` (a bare unit alone as it is given).

@@ -5,6 +5,7 @@
 #include "io/usage_error.hpp"
 #include "kernels/model/units.hpp"
 #include "src/cli/cli.hpp"
+#include "src/cli/memory.hpp"
 
 #include <sstream>
 
@@ -82,6 +83,8 @@ io::InputOptions input_options(const InputArgs& a) {
     throw CLI::ValidationError("--sample-rate", "outside 1e-9 .. 1e12 Hz");
   o.time_unit = a.time_unit;
   o.units = column_units(a.units);
+  // Commands without --memory-limit bound a text recording as analyze does by default.
+  o.memory_limit = physical_memory() / 2;
   return o;
 }
 
