@@ -31,6 +31,12 @@ struct InputOptions {
   /// path, as --channels), over its header's unit; else its header's unit; else the first rule
   /// without a glob.
   std::vector<ColumnUnits> units;
+  /// --topic GLOB, repeatable: the sensor_msgs/Imu topics of a ROS bag or MCAP file to read
+  /// (docs/robotics.md); empty reads every Imu topic.
+  std::vector<std::string> topics;
+  /// --receive-time: a bag's messages timed by when they were recorded, not by their header
+  /// stamps.
+  bool receive_time = false;
 };
 
 /// The rules as one list, `gyro_*=deg/s,accel_*=g` (a bare unit alone as it is given).
