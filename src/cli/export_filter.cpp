@@ -82,8 +82,10 @@ Field field(const std::vector<Axis>& axes, Family f, Term t, AxisCombine combine
     const double to_si = 1.0 / kernels::units::from_datasheet(t, 1.0, si_unit(f, t), a.units);
     const double v = (term->detected ? term->value : term->upper) * to_si;
     if (!term->detected) bounded.push_back(a.path);
-    each += (each.empty() ? "" : "; ") + a.path + " " + number(v) + " sigma " +
-            number(term->sigma * to_si) + " (" + taus_used(*a.fit) + ")";
+    each += (each.empty() ? "" : "; ") + a.path +
+            (term->detected ? " " + number(v)
+                            : " < " + number(v) + " (fit " + number(term->value * to_si) + ")") +
+            " sigma " + number(term->sigma * to_si) + " (" + taus_used(*a.fit) + ")";
     out.value = std::max(out.value, v);
     sum += v;
   }
