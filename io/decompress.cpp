@@ -46,8 +46,11 @@ std::string zstd(std::span<const unsigned char> in, std::vector<unsigned char>& 
 
 }  // namespace
 
-bool known_compression(std::string_view codec) {
-  return codec == "bz2" || codec == "lz4" || codec == "zstd";
+std::string declared_size_problem(std::uint64_t declared, std::size_t compressed) {
+  constexpr std::uint64_t kMaxChunk = std::uint64_t{1} << 30;
+  if (declared <= kMaxChunk && declared <= 1000 * std::uint64_t{compressed} + (1 << 20)) return "";
+  return "declares " + std::to_string(declared) + " bytes uncompressed from " +
+         std::to_string(compressed) + " (more than 1 GiB, or 1000 times its size)";
 }
 
 std::string decompress(std::string_view codec, std::span<const unsigned char> in,

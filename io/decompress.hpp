@@ -3,6 +3,7 @@
 // (libzstd).
 #pragma once
 
+#include <cstdint>
 #include <span>
 #include <string>
 #include <string_view>
@@ -10,8 +11,11 @@
 
 namespace allanlot::io {
 
-/// True for "bz2", "lz4" and "zstd".
-bool known_compression(std::string_view codec);
+/// "" when a chunk of `compressed` bytes may declare `declared` bytes uncompressed, else why
+/// not: at most 1 GiB (writers make chunks of 1 to a few MiB) and at most 1000 times its
+/// compressed size plus 1 MiB (IMU records never compress 1000:1), so that a corrupt size
+/// is refused before it is allocated.
+std::string declared_size_problem(std::uint64_t declared, std::size_t compressed);
 
 /// Decompresses `in` into `out`, which holds the size the chunk declares; returns "" or why
 /// it cannot (corrupt data, or a size other than declared).

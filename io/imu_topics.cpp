@@ -2,6 +2,7 @@
 
 #include "io/error.hpp"
 #include "io/time_axis.hpp"
+#include "io/utf8.hpp"
 
 #include <algorithm>
 #include <filesystem>
@@ -153,7 +154,9 @@ std::string device_of(const std::string& file) {
 ImuTopics::ImuTopics(std::string file, std::string layout, const InputOptions& options)
     : file_(std::move(file)), layout_(std::move(layout)), options_(options) {}
 
-int ImuTopics::add_topic(const std::string& topic, const std::string& type) {
+int ImuTopics::add_topic(const std::string& raw_topic, const std::string& raw_type) {
+  // Names from the file may hold any bytes; channel paths and messages are valid UTF-8.
+  const std::string topic = valid_utf8(raw_topic), type = valid_utf8(raw_type);
   // A topic again (a second publisher, the next file of a split bag): the same channels.
   for (std::size_t i = 0; i < names_.size(); ++i)
     if (names_[i] == topic) return static_cast<int>(i);

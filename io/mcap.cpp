@@ -9,6 +9,7 @@
 #include "io/error.hpp"
 #include "io/imu_topics.hpp"
 #include "io/mapped_file.hpp"
+#include "io/utf8.hpp"
 
 #include <map>
 #include <string_view>
@@ -105,8 +106,8 @@ private:
   void channel(Cursor& c, std::size_t at, bool in_chunk) {
     const auto id = c.get<std::uint16_t>();
     const auto schema = c.get<std::uint16_t>();
-    const std::string topic = c.str();
-    const std::string encoding = c.str();
+    const std::string topic = valid_utf8(c.str());
+    const std::string encoding = valid_utf8(c.str());
     if (!c.ok) throw corrupt(at, in_chunk, "channel");
     if (channels_.count(id)) return;  // repeated in the summary
     const auto s = schemas_.find(schema);
@@ -156,9 +157,10 @@ private:
     }
     if (compression != "zstd" && compression != "lz4")
       throw Error(file_, where(at, false),
-                  "chunk compression '" + compression.substr(0, 40) + "' is none of zstd, lz4");
-    if (size > (std::uint64_t{1} << 40))
-      throw Error(file_, where(at, false), "chunk declares " + std::to_string(size) + " bytes");
+                  "chunk compression '" + valid_utf8(compression.substr(0, 40)) +
+                      "' is none of zstd, lz4");
+    if (const std::string why = declared_size_problem(size, data.size()); !why.empty())
+      throw Error(file_, where(at, false), "chunk " + why + " (corrupt MCAP)");
     std::vector<unsigned char> out(static_cast<std::size_t>(size));
     if (const std::string why = decompress(compression, data, out); !why.empty())
       throw Error(file_, where(at, false), "chunk: " + why + " (corrupt MCAP)");

@@ -7,6 +7,7 @@
 #include "io/cdr_imu.hpp"
 #include "io/error.hpp"
 #include "io/imu_topics.hpp"
+#include "io/utf8.hpp"
 
 #include "io/decompress.hpp"
 #include "io/mapped_file.hpp"
@@ -124,8 +125,10 @@ private:
     }
     if (compression != "bz2" && compression != "lz4")
       throw Error(file_, where(at, false),
-                  "chunk compression '" + compression.substr(0, 40) +
+                  "chunk compression '" + valid_utf8(compression.substr(0, 40)) +
                       "' is none of none, bz2, lz4");
+    if (const std::string why = declared_size_problem(size, r.data.size()); !why.empty())
+      throw Error(file_, where(at, false), "chunk " + why + " (corrupt bag)");
     buffer_.resize(size);
     if (const std::string why = decompress(compression, r.data, buffer_); !why.empty())
       throw Error(file_, where(at, false), "chunk: " + why + " (corrupt bag)");
@@ -140,7 +143,7 @@ private:
     if (!int_field(r.header, "conn", conn))
       throw Error(file_, where(base + r.at, in_chunk), "connection without its id (corrupt bag)");
     if (conns_.count(conn)) return;  // repeated in each chunk that uses it and at the end
-    const std::string topic = text_field(r.header, "topic");
+    const std::string topic = valid_utf8(text_field(r.header, "topic"));
     conns_[conn] = {topic, topics_.add_topic(topic, text_field(r.data, "type"))};
   }
 

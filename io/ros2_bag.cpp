@@ -5,6 +5,7 @@
 #include "io/imu_topics.hpp"
 #include "io/mapped_file.hpp"
 #include "io/mcap.hpp"
+#include "io/utf8.hpp"
 
 #include <sqlite3.h>
 
@@ -53,8 +54,8 @@ void read_db3(const std::string& file, ImuTopics& topics) {
   {
     const Statement st(db, "SELECT id, name, type, serialization_format FROM topics", file);
     while (sqlite3_step(st.get()) == SQLITE_ROW) {
-      const std::string name = text(st.get(), 1), type = text(st.get(), 2);
-      const std::string format = text(st.get(), 3);
+      const std::string name = valid_utf8(text(st.get(), 1)), type = text(st.get(), 2);
+      const std::string format = valid_utf8(text(st.get(), 3));
       if (type == kRos2ImuType && format != "cdr")
         throw Error(file, name, "Imu messages serialized as '" + format + "' (read: cdr)");
       by_id[sqlite3_column_int64(st.get(), 0)] = {name, topics.add_topic(name, type)};
