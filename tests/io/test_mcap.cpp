@@ -11,6 +11,7 @@
 #include <array>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 
@@ -119,6 +120,19 @@ TEST(McapErrors, TruncatedAndUnknownCompressionNamed) {
       message_of([&] { io::RecordingReader r((dir / "other.mcap").string()); });
   EXPECT_NE(unknown.find("chunk compression 'zxxd' is none of zstd, lz4"), std::string::npos)
       << unknown;
+
+  // The first chunk (after the magic and the header record) declaring 2^39 bytes: refused
+  // before anything is allocated.
+  std::string huge = bytes;
+  std::uint64_t header_len = 0;
+  std::memcpy(&header_len, huge.data() + 9, 8);
+  const std::size_t chunk = 8 + 9 + static_cast<std::size_t>(header_len);
+  ASSERT_EQ(huge[chunk], '\x06');
+  const std::uint64_t declared = std::uint64_t{1} << 39;
+  std::memcpy(huge.data() + chunk + 9 + 16, &declared, 8);
+  std::ofstream(dir / "huge.mcap", std::ios::binary) << huge;
+  const std::string big = message_of([&] { io::RecordingReader r((dir / "huge.mcap").string()); });
+  EXPECT_NE(big.find("chunk declares 549755813888 bytes uncompressed"), std::string::npos) << big;
 }
 
 }  // namespace
