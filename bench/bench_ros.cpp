@@ -3,8 +3,8 @@
 // chunk threshold), read whole by io::RecordingReader into six channels. The bag is written
 // once into ${TMPDIR:-/tmp} outside the timed loop, by the minimal writer below (format 2.0
 // records as rosbag writes them, without the index, which the reader does not use).
-// bytes_per_second counts the bag's bytes per second of CPU time. Argument: messages (2.9 M is 1 GB).
-// `bench_ros --write-bag FILE MESSAGES` only writes a bag (for the end-to-end run of
+// bytes_per_second counts the bag's bytes per second of CPU time. Argument: messages (2.9 M
+// is 1 GB). `bench_ros --write-bag FILE MESSAGES` only writes a bag (for the end-to-end run of
 // docs/performance.md). Run: build/bench/bench_ros --benchmark_repetitions=3
 // --benchmark_report_aggregates_only=true.
 #include "io/recording.hpp"
