@@ -10,6 +10,12 @@ find_package(HDF5 REQUIRED COMPONENTS C)
 find_package(CLI11 REQUIRED)
 find_package(nlohmann_json 3.10 REQUIRED)
 find_package(ZLIB REQUIRED)  # gzip-compressed text recordings (io/line_reader.cpp)
+# ROS bags and MCAP files (io/decompress.cpp): bz2, lz4 and zstd chunks
+find_package(BZip2 REQUIRED)
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(LZ4 REQUIRED IMPORTED_TARGET liblz4)
+pkg_check_modules(ZSTD REQUIRED IMPORTED_TARGET libzstd)
+find_package(SQLite3 REQUIRED)  # ROS 2 bags (io/ros2_bag.cpp)
 include(AllanlotFFTW)
 
 if(HDF5_VERSION VERSION_LESS 1.10)

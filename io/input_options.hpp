@@ -37,6 +37,12 @@ struct InputOptions {
   /// exhausting memory; 0 = no bound. The commands set --memory-limit, or their default (half
   /// of the machine's memory, src/cli/memory.hpp).
   std::uint64_t memory_limit = 0;
+  /// --topic GLOB, repeatable: the sensor_msgs/Imu topics of a ROS bag or MCAP file to read
+  /// (docs/robotics.md); empty reads every Imu topic.
+  std::vector<std::string> topics;
+  /// --receive-time: a bag's messages timed by when they were recorded, not by their header
+  /// stamps.
+  bool receive_time = false;
 };
 
 /// The rules as one list, `gyro_*=deg/s,accel_*=g` (a bare unit alone as it is given).

@@ -1,6 +1,6 @@
 // Input recordings (docs/formats.md "Input recordings"): channel discovery and chunked
-// reading of one unit's HDF5 file or text recording (io/text_recording.hpp), and the writer
-// that `allanlot simulate` and `allanlot convert` use for the HDF5 layout.
+// reading of one unit's recording in any format of io/recording_source.hpp (HDF5, text, ...),
+// and the writer that `allanlot simulate` and `allanlot convert` use for the HDF5 layout.
 #pragma once
 
 #include "io/input_options.hpp"
@@ -76,6 +76,8 @@ bool is_text_recording(const std::string& path);
 /// work, so that a missing option is a usage error and never a night of failed inputs.
 void check_input_options(const std::string& path, const InputOptions& options);
 
+class RecordingSource;  // io/recording_source.hpp
+
 /// Opens a recording read-only (inputs are never modified) and discovers its channels; a text
 /// recording is parsed whole here. `options` (--data-type and the text options) apply to
 /// every channel. Throws io::Error naming the file when it cannot be opened or parsed,
@@ -95,8 +97,7 @@ public:
   kernels::LargeVector<double> read(const ChannelInfo& channel, std::size_t chunk = 1 << 20) const;
 
 private:
-  struct Impl;
-  std::unique_ptr<Impl> impl_;
+  std::unique_ptr<RecordingSource> source_;  // the format that recognised the file
   RecordingInfo info_;
 };
 

@@ -3,6 +3,7 @@
 #include "io/error.hpp"
 #include "io/line_reader.hpp"
 #include "io/recording.hpp"
+#include "io/rostopic_csv.hpp"
 #include "io/text_fields.hpp"
 #include "io/time_axis.hpp"
 #include "io/usage_error.hpp"
@@ -104,6 +105,8 @@ struct Layout {
   std::int64_t pending_line = 0;
   int time_col = -1;   // with a header: the time column, -1 when there is none
   int value_col = -1;  // headerless: the 0-based column of the values
+  // Columns a known header says are no channel (io/rostopic_csv.hpp).
+  std::vector<bool> not_channel;
 };
 
 char delimiter_for(const std::string& path, std::string_view line) {
@@ -134,7 +137,7 @@ Layout sniff(LineReader& in, const std::string& path, const InputOptions& opt) {
   bool found = false;
   while (in.next(line)) {
     if (in.line_number() == 1 && line.starts_with("\xEF\xBB\xBF")) line.remove_prefix(3);
-    if (!is_comment(line)) {
+    if (!is_comment(line) || is_rostopic_header(line)) {
       found = true;
       break;
     }
@@ -153,6 +156,7 @@ Layout sniff(LineReader& in, const std::string& path, const InputOptions& opt) {
     l.header_line = in.line_number();
     for (const auto f : fields)
       l.cells.push_back(parse_header_cell(f));
+    if (is_rostopic_header(line)) l.not_channel = rostopic_cells(l.cells);
     l.time_col = find_time_column(path, l, opt);
     if (l.time_col < 0 && !(opt.sample_rate_hz > 0))
       throw UsageError(path, "",
@@ -349,6 +353,7 @@ private:
     for (std::size_t c = 0; c < fields_.size(); ++c) {
       double v = 0;
       if (static_cast<int>(c) == l_.time_col) continue;
+      if (c < l_.not_channel.size() && l_.not_channel[c]) continue;
       const std::string column =
           "column " + std::to_string(c + 1) + " (" + printable(l_.cells[c].name) + ")";
       if (is_time_name(l_.cells[c].name)) {

@@ -22,6 +22,9 @@ std::string input_stamp(const io::InputOptions& in) {
   if (!in.time_column.empty()) s += ";time_column=" + in.time_column;
   if (!in.time_unit.empty()) s += ";time_unit=" + in.time_unit;
   if (!in.units.empty()) s += ";units=" + io::units_text(in.units);
+  for (const std::string& t : in.topics)
+    s += ";topic=" + t;
+  if (in.receive_time) s += ";receive_time";
   return s;
 }
 

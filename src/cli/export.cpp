@@ -20,6 +20,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <optional>
 #include <ostream>
 #include <sstream>
 #include <string_view>
@@ -128,6 +129,14 @@ void readout_rows(std::ostream& text, const io::RecordingResult& r, const io::Ch
   }
 }
 
+// The formats of src/cli/export_filter.cpp, nullopt for the tables of this file.
+std::optional<FilterFormat> filter_format(ExportFormat f) {
+  if (f == ExportFormat::Kalibr) return FilterFormat::Kalibr;
+  if (f == ExportFormat::OpenVins) return FilterFormat::OpenVins;
+  if (f == ExportFormat::Vins) return FilterFormat::Vins;
+  return std::nullopt;
+}
+
 // The results files named (directories expanded, sorted); false after a usage error on `err`.
 bool results_files(const ExportOptions& opt, std::vector<fs::path>& files, std::ostream& err) {
   for (const fs::path& in : opt.inputs) {
@@ -184,6 +193,14 @@ int run_export(const ExportOptions& opt, std::ostream& out, std::ostream& err) {
   }
   std::vector<fs::path> files;
   if (!results_files(opt, files, err)) return kExitUsage;
+  if (const auto f = filter_format(opt.format)) {
+    if (!opt.stats.empty()) {
+      err << "allanlot: usage error: --stats selects deviation tables; --format kalibr, "
+             "openvins and vins have none\n";
+      return kExitUsage;
+    }
+    return run_filter_export({*f, opt.combine, opt.output, opt.channels}, files, out, err);
+  }
   std::error_code ec;
   const bool to_dir = !opt.output.empty() && fs::is_directory(opt.output, ec);
   if (to_dir && opt.format != ExportFormat::Stable32) {
@@ -270,9 +287,17 @@ Command add_export_command(CLI::App& app) {
   sub->add_option("results", *inputs, "Results files (*.allan.h5) or directories of them")
       ->required();
   sub->add_option("--format", *format,
-                  "stable32 (Stable32 1.60 run tables), csv (tidy deviations) or readouts (tidy "
-                  "N at 1 s, bias instability, K at 3 s)")
-      ->check(CLI::IsMember({"stable32", "csv", "readouts"}))
+                  "stable32 (Stable32 1.60 run tables), csv (tidy deviations), readouts (tidy "
+                  "N at 1 s, bias instability, K at 3 s), or one IMU's noise for kalibr "
+                  "(imu.yaml), openvins (kalibr_imu_chain.yaml) or vins (acc_n, gyr_n, acc_w, "
+                  "gyr_w)")
+      ->check(CLI::IsMember({"stable32", "csv", "readouts", "kalibr", "openvins", "vins"}))
+      ->capture_default_str();
+  auto combine = std::make_shared<std::string>("max");
+  sub->add_option("--combine", *combine,
+                  "kalibr, openvins, vins: the three axes' values as their largest (max) or "
+                  "their mean")
+      ->check(CLI::IsMember({"max", "mean"}))
       ->capture_default_str();
   sub->add_option("-o,--output", *output,
                   "File to write (default: standard output); with --format stable32 an existing "
@@ -283,9 +308,12 @@ Command add_export_command(CLI::App& app) {
   add_channel_options(sub, *channels, *exclude);
   return {sub, [=](const std::string&) {
             opt->inputs.assign(inputs->begin(), inputs->end());
-            opt->format = *format == "stable32"   ? ExportFormat::Stable32
-                          : *format == "readouts" ? ExportFormat::Readouts
-                                                  : ExportFormat::Csv;
+            const std::map<std::string, ExportFormat> formats{
+                {"stable32", ExportFormat::Stable32}, {"csv", ExportFormat::Csv},
+                {"readouts", ExportFormat::Readouts}, {"kalibr", ExportFormat::Kalibr},
+                {"openvins", ExportFormat::OpenVins}, {"vins", ExportFormat::Vins}};
+            opt->format = formats.at(*format);
+            opt->combine = *combine == "mean" ? AxisCombine::Mean : AxisCombine::Max;
             opt->output = *output;
             opt->channels = channel_selection(*channels, *exclude);
             std::stringstream ss(*stats);

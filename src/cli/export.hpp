@@ -3,11 +3,13 @@
 // Stable32 1.60 prints for a run (io/stable32_table.hpp), one file per table when -o is a
 // directory, so that the two can be diffed; `csv` is one tidy table (one row per tau) for
 // spreadsheets and pandas; `readouts` one tidy table of the fit's read-outs (N at 1 s also as
-// ARW/VRW, bias instability with its tau, K at 3 s; one row per channel and read-out).
+// ARW/VRW, bias instability with its tau, K at 3 s; one row per channel and read-out);
+// `kalibr`, `openvins` and `vins` one IMU's noise for those tools (src/cli/export_filter.hpp).
 #pragma once
 
 #include "kernels/allan/stats.hpp"
 #include "src/cli/cli.hpp"
+#include "src/cli/export_filter.hpp"
 #include "src/cli/inputs.hpp"
 
 #include <filesystem>
@@ -17,14 +19,15 @@
 
 namespace allanlot::cli {
 
-enum class ExportFormat { Stable32, Csv, Readouts };
+enum class ExportFormat { Stable32, Csv, Readouts, Kalibr, OpenVins, Vins };
 
 struct ExportOptions {
   std::vector<std::filesystem::path> inputs;  // results files, or directories of them
   ExportFormat format = ExportFormat::Csv;
-  std::filesystem::path output;    // "" = standard output; a directory: one file per table
-  std::vector<std::string> stats;  // only these statistics (empty = all)
-  ChannelSelection channels;       // --channels, --exclude-channels (all by default)
+  std::filesystem::path output;            // "" = standard output; a directory: one file per table
+  std::vector<std::string> stats;          // only these statistics (empty = all)
+  ChannelSelection channels;               // --channels, --exclude-channels (all by default)
+  AxisCombine combine = AxisCombine::Max;  // --combine: the kalibr/openvins/vins axes
 };
 
 /// Writes the tables of every readable results file, in sorted file order. Returns 0; 1 when

@@ -68,6 +68,12 @@ void add_input_options(CLI::App* sub, InputArgs& a) {
                   "Units of text columns: UNIT for those whose header names none, GLOB=UNIT for "
                   "the columns the glob matches (comma-separated, repeatable)")
       ->allow_extra_args(false);
+  sub->add_option("--topic", a.options.topics,
+                  "sensor_msgs/Imu topics of a ROS bag or MCAP file to read (globs, repeatable; "
+                  "default every Imu topic)")
+      ->allow_extra_args(false);
+  sub->add_flag("--receive-time", a.options.receive_time,
+                "Time a bag's messages by when they were recorded, not by their header stamps");
 }
 
 io::InputOptions input_options(const InputArgs& a) {

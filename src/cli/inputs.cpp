@@ -1,6 +1,7 @@
 #include "src/cli/inputs.hpp"
 
 #include "io/paths.hpp"
+#include "io/recording_source.hpp"
 #include "io/text_fields.hpp"
 
 #include <CLI/CLI.hpp>
@@ -25,8 +26,8 @@ namespace {
 // What a directory search takes for a recording, by the end of its name in any case
 // (`UNIT.H5` as well). Not .txt or .dat, which a data folder also holds as notes, READMEs and
 // manifests: those are recordings only when given by name.
-constexpr const char* kDirectoryExtensions[] = {".h5",  ".hdf5",   ".csv",
-                                                ".tsv", ".csv.gz", ".tsv.gz"};
+constexpr const char* kDirectoryExtensions[] = {".h5",     ".hdf5", ".csv",  ".tsv", ".csv.gz",
+                                                ".tsv.gz", ".bag",  ".mcap", ".db3"};
 
 // Results files and lot summaries are outputs, never recordings: a directory holding earlier
 // results (an OUTDIR inside the input tree) must not have them analysed as units.
@@ -59,10 +60,17 @@ struct Expansion {
   fs::path exclude;  // OUTDIR: never searched
 };
 
+// A folder that is one recording (a ROS 2 bag: metadata.yaml beside its storage files).
+bool is_recording_folder(const std::string& path) {
+  std::error_code ec;
+  return fs::is_directory(path, ec) && io::find_source_format(path) != nullptr;
+}
+
 void add_file(Expansion& x, const std::string& path) {
   // open(2) of a FIFO blocks until a writer comes: refuse anything but a regular file before
   // any reader opens it.
-  if (const std::string problem = io::input_file_problem(path); !problem.empty()) {
+  if (const std::string problem = io::input_file_problem(path);
+      !problem.empty() && !is_recording_folder(path)) {
     x.out.failures.emplace_back(path, problem);
     return;
   }
@@ -106,7 +114,9 @@ void add_directory(Expansion& x, const std::string& dir) {
     const fs::path& p = it->path();
     const bool hidden = p.filename().string().starts_with(".");
     if (it->is_directory(ec)) {
-      if (hidden || !enter_directory(*it, x, visited)) it.disable_recursion_pending();
+      if (!hidden && is_recording_folder(p.string())) found.push_back(p.string());
+      if (hidden || is_recording_folder(p.string()) || !enter_directory(*it, x, visited))
+        it.disable_recursion_pending();
       continue;
     }
     if (!hidden && is_recording_name(p)) found.push_back(p.string());
@@ -167,7 +177,7 @@ InputList expand_inputs(const std::vector<std::string>& inputs, const fs::path& 
     std::error_code ec;
     if (in.starts_with("@"))
       add_manifest(x, in.substr(1));
-    else if (fs::is_directory(in, ec))
+    else if (fs::is_directory(in, ec) && !is_recording_folder(in))
       add_directory(x, in);
     else if (looks_like_manifest(in))
       throw CLI::ValidationError(in +

@@ -34,7 +34,7 @@ TEST(Inputs, ADirectoryOfTextAndHdfRecordingsIsALot) {
   ASSERT_EQ(none.failures.size(), 1u);
   EXPECT_EQ(none.failures[0].second,
             "directory contains no recording (looked for *.h5, *.hdf5, *.csv, *.tsv, *.csv.gz, "
-            "*.tsv.gz; give other files by name)");
+            "*.tsv.gz, *.bag, *.mcap, *.db3; give other files by name)");
 }
 
 TEST(Inputs, ChannelSelectionListsAndExcludes) {

@@ -1,13 +1,12 @@
-#include "io/recording.hpp"
+#include "io/hdf5_source.hpp"
 
 #include "io/atomic_file.hpp"
 #include "io/error.hpp"
 #include "io/hdf5_handle.hpp"
 #include "io/isolation.hpp"
-#include "io/line_reader.hpp"
+#include "io/recording_source.hpp"
 #include "io/text_fields.hpp"
 #include "io/text_recording.hpp"
-#include "io/utf8.hpp"
 #include "io/virtual_dataset.hpp"
 #include "kernels/model/units.hpp"
 
@@ -16,9 +15,6 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
-#include <fnmatch.h>
-#include <fstream>
-#include <optional>
 #include <set>
 #include <sstream>
 #include <sys/stat.h>
@@ -28,48 +24,22 @@ namespace allanlot::io {
 using h5::check;
 using h5::Handle;
 
-std::string sanitize_device_id(const std::string& id) {
-  std::string out;
-  out.reserve(id.size());
-  for (std::size_t i = 0; i < id.size(); ++i) {
-    bool letter = false;
-    if (const std::size_t n = name_letter_length(id, i, letter); n > 0) {
-      // Another script's letters: device ids in Cyrillic stay apart. Anything else one '_'.
-      if (letter)
-        out.append(id, i, n);
-      else
-        out.push_back('_');
-      i += n - 1;
-      continue;
-    }
-    const char c = id[i];
-    const bool ok = (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') ||
-                    c == '.' || c == '_' || c == '-';
-    out.push_back(ok ? c : '_');
-  }
-  if (out.empty()) out.push_back('_');  // not `out = "_"`: GCC 12 bug 105329 (-Wrestrict)
-  if (out[0] == '.') out[0] = '_';      // never ".", "..", or a hidden file
-  return out;
-}
-
-bool channel_glob_matches(const std::string& glob, const std::string& path) {
-  if (glob.empty()) return true;
-  const std::string name = path.substr(path.find_last_of('/') + 1);
-  return fnmatch(glob.c_str(), path.c_str(), 0) == 0 || fnmatch(glob.c_str(), name.c_str(), 0) == 0;
-}
-
 namespace {
 
-// The channel's unit in the one vocabulary (kernels/model/units.hpp): "dps" is deg/s, "m/s2"
-// m/s^2; a clock's phase in ns or frequency in ppb is scaled to s or 1. Units outside the
-// vocabulary stay as written (analyze warns about them).
-void in_canonical_units(ChannelInfo& ch) {
-  const auto known = kernels::units::parse_channel_units(ch.units);
-  if (!known) return;
-  ch.units = known->canonical;
-  ch.scale *= known->scale;
-  ch.offset *= known->scale;
-}
+// An HDF5 recording (docs/formats.md "Input recordings"): its channels are the 1-D numeric
+// datasets in the scope of a sample_rate_hz attribute.
+class Hdf5Source final : public RecordingSource {
+public:
+  Hdf5Source(const std::string& path, const InputOptions& options);
+  ~Hdf5Source() override;
+  RecordingInfo describe() const override { return info_; }
+  kernels::LargeVector<double> read(const ChannelInfo& channel, std::size_t chunk) const override;
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  RecordingInfo info_;
+};
 
 std::string describe_type(hid_t type) {
   const H5T_class_t cls = H5Tget_class(type);
@@ -150,43 +120,11 @@ std::vector<std::string> list_datasets(hid_t file, const std::string& path) {
   return datasets;
 }
 
-// No NUL byte and few control characters in the first 4 KiB: text, not binary.
-bool looks_like_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  char buf[4096];
-  in.read(buf, sizeof buf);
-  const auto n = static_cast<std::size_t>(in.gcount());
-  if (n == 0) return false;
-  std::size_t control = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const auto c = static_cast<unsigned char>(buf[i]);
-    if (c == 0) return false;
-    if (c < 0x20 && c != '\n' && c != '\r' && c != '\t') ++control;
-  }
-  return control * 100 < n;
-}
-
 }  // namespace
 
-bool is_text_recording(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (ext == ".h5" || ext == ".hdf5") return false;
-  return is_text_name(path) || is_gzip_file(path) || looks_like_text(path);
-}
-
-void check_input_options(const std::string& path, const InputOptions& options) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) return;
-  h5::quiet_library();
-  if (H5Fis_hdf5(path.c_str()) <= 0 && is_text_recording(path)) check_text_options(path, options);
-}
-
-struct RecordingReader::Impl {
+struct Hdf5Source::Impl {
   std::string path;
   Handle file;
-  std::optional<TextRecording> text;  // a text recording, parsed whole
 
   // A dataset without filters stores every sample it declares; one that stores less was never
   // (wholly) written, and HDF5 would return its fill value (zeros) for the rest: a 1.4 KB file
@@ -308,35 +246,6 @@ struct RecordingReader::Impl {
 };
 
 namespace {
-
-// The channels of a text recording, all with the recording's rate and data type.
-void describe_text(const TextRecording& text, RecordingInfo& info) {
-  info.device_id = text.device_id;
-  info.facts = text.facts;
-  info.notes = text.notes;
-  for (const TextChannel& tc : text.channels) {
-    ChannelInfo ch;
-    ch.path = tc.path;
-    ch.units = tc.units;
-    ch.sample_rate_hz = text.sample_rate_hz;
-    ch.data_type = text.data_type.value_or(kernels::DataType::Rate);
-    ch.data_type_default = !text.data_type;
-    ch.n_samples = static_cast<std::int64_t>(tc.samples.size());
-    ch.storage_type = "text";
-    ch.time_stamps = text.time_stamps;
-    in_canonical_units(ch);
-    const double rate = text.sample_rate_hz;
-    if (!(rate >= kMinSampleRateHz && rate <= kMaxSampleRateHz)) {
-      std::ostringstream msg;
-      msg << "sample rate " << rate << " Hz is outside " << kMinSampleRateHz << " .. "
-          << kMaxSampleRateHz << " Hz, where the statistics stay within double precision";
-      info.problems.push_back({tc.path, msg.str()});
-      continue;
-    }
-    info.channels.push_back(std::move(ch));
-  }
-}
-
 // The root's device_id (else the file's stem) and the facts of a recording (kTextFactNames).
 void read_root(hid_t root, const std::string& path, RecordingInfo& info) {
   std::string id;
@@ -357,24 +266,14 @@ void read_root(hid_t root, const std::string& path, RecordingInfo& info) {
 
 }  // namespace
 
-RecordingReader::RecordingReader(const std::string& path, const InputOptions& options)
+Hdf5Source::Hdf5Source(const std::string& path, const InputOptions& options)
     : impl_(std::make_unique<Impl>()) {
   h5::quiet_library();
   impl_->path = path;
   info_.file = path;
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) throw Error(path, "", "no such file");
-  if (std::filesystem::is_directory(path, ec)) throw Error(path, "", "is a directory");
-  if (H5Fis_hdf5(path.c_str()) <= 0 && is_text_recording(path)) {
-    impl_->text = read_text_recording(path, options);
-    describe_text(*impl_->text, info_);
-    return;
-  }
-  if (H5Fis_hdf5(path.c_str()) <= 0)
-    throw Error(path, "", "not an HDF5 file (or truncated/corrupt)");
   // The metadata is read once in a child process first (io/isolation.hpp): hostile bytes that
   // crash the HDF5 library fail this input, not the process.
-  if (!in_isolated_child()) run_isolated(path, [&] { RecordingReader probe(path, options); });
+  if (!in_isolated_child()) run_isolated(path, [&] { Hdf5Source probe(path, options); });
   impl_->file = check(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, path, "",
                       "H5Fopen (corrupt or unreadable HDF5 file)");
 
@@ -471,22 +370,10 @@ RecordingReader::RecordingReader(const std::string& path, const InputOptions& op
   }
 }
 
-RecordingReader::~RecordingReader() = default;
+Hdf5Source::~Hdf5Source() = default;
 
-kernels::LargeVector<double> RecordingReader::read(const ChannelInfo& channel,
-                                                   std::size_t chunk) const {
+kernels::LargeVector<double> Hdf5Source::read(const ChannelInfo& channel, std::size_t chunk) const {
   const std::string& file = impl_->path;
-  if (impl_->text) {
-    for (const TextChannel& tc : impl_->text->channels) {
-      if (tc.path != channel.path) continue;
-      kernels::LargeVector<double> out(tc.samples.begin(), tc.samples.end());
-      if (channel.scale != 1.0 || channel.offset != 0.0)  // a clock's ns or ppb (units.hpp)
-        for (double& v : out)
-          v = v * channel.scale + channel.offset;
-      return out;
-    }
-    throw Error(file, channel.path, "no such column");
-  }
   Handle ds = impl_->open_dataset(channel.path);
   Handle fspace = check(H5Dget_space(ds.get()), H5Sclose, file, channel.path, "H5Dget_space");
   hsize_t n = 0;
@@ -516,101 +403,23 @@ kernels::LargeVector<double> RecordingReader::read(const ChannelInfo& channel,
   return out;
 }
 
-struct RecordingWriter::Impl {
-  std::string final_path;
-  std::unique_ptr<AtomicFile> atomic;
-  Handle file, group;
-  std::string group_path;
-  int deflate = -1;  // no compression
+namespace {
 
-  std::string object(const std::string& name) const {
-    return (group_path == "/" ? group_path : group_path + "/") + name;
-  }
-
-  // Contiguous by default; chunked (at most 2^16 samples a chunk), shuffled and deflated when
-  // asked: chunks of whole samples keep a reader's hyperslabs cheap.
-  Handle create_plist(hsize_t n, const std::string& object) const {
-    Handle dcpl = h5::dataset_create_plist(final_path, object);
-    if (deflate < 0 || n == 0) return dcpl;
-    const hsize_t chunk = std::min<hsize_t>(n, hsize_t{1} << 16);
-    check(H5Pset_chunk(dcpl.get(), 1, &chunk), final_path, object, "H5Pset_chunk");
-    check(H5Pset_shuffle(dcpl.get()), final_path, object, "H5Pset_shuffle");
-    check(H5Pset_deflate(dcpl.get(), static_cast<unsigned>(deflate)), final_path, object,
-          "H5Pset_deflate");
-    return dcpl;
-  }
-};
-
-RecordingWriter::RecordingWriter(const std::string& path, const std::string& device_id,
-                                 double sample_rate_hz, const std::string& group)
-    : impl_(std::make_unique<Impl>()) {
+bool is_hdf5_recording(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) return false;
   h5::quiet_library();
-  impl_->final_path = path;
-  impl_->atomic = std::make_unique<AtomicFile>(path);
-  // Built in memory and written by one checked write(2), like results files: an HDF5 file on
-  // disk whose write fails (a full disk) stays open in the library, which then crashes
-  // flushing it at exit.
-  impl_->file = h5::create_memory_file(path, h5::Sealed::No);
-  Handle root =
-      check(H5Gopen2(impl_->file.get(), "/", H5P_DEFAULT), H5Gclose, path, "/", "H5Gopen2");
-  h5::write_attribute(root.get(), "device_id", device_id, path, "/");
-  impl_->group_path = "/" + group;
-  impl_->group = group.empty() ? std::move(root)
-                               : h5::ensure_groups(impl_->file.get(), impl_->group_path, path);
-  if (sample_rate_hz > 0)
-    h5::write_attribute(impl_->group.get(), "sample_rate_hz", sample_rate_hz, path,
-                        impl_->group_path);
+  return H5Fis_hdf5(path.c_str()) > 0;
 }
 
-void RecordingWriter::set_deflate(int level) {
-  impl_->deflate = level;
+std::unique_ptr<RecordingSource> open_hdf5(const std::string& path, const InputOptions& options) {
+  return std::make_unique<Hdf5Source>(path, options);
 }
 
-void RecordingWriter::add_channel_attribute(const std::string& name, const std::string& attr,
-                                            const std::string& value) {
-  const std::string object = impl_->object(name);
-  Handle ds = check(H5Dopen2(impl_->file.get(), object.c_str(), H5P_DEFAULT), H5Dclose,
-                    impl_->final_path, object, "H5Dopen2");
-  h5::write_attribute(ds.get(), attr, value, impl_->final_path, object);
-}
+}  // namespace
 
-RecordingWriter::~RecordingWriter() = default;
-
-void RecordingWriter::add_channel(const ChannelData& channel, const ChannelAttributes& attributes) {
-  const std::string& path = impl_->final_path;
-  const std::string object = impl_->object(channel.name);
-  const hsize_t n = channel.samples.size();
-  Handle space =
-      check(H5Screate_simple(1, &n, nullptr), H5Sclose, path, object, "H5Screate_simple");
-  Handle dcpl = impl_->create_plist(n, object);
-  // Groups on the way to a channel named with a path ("imu/gyro_x") are created as needed.
-  Handle lcpl = check(H5Pcreate(H5P_LINK_CREATE), H5Pclose, path, object, "H5Pcreate");
-  check(H5Pset_create_intermediate_group(lcpl.get(), 1), path, object,
-        "H5Pset_create_intermediate_group");
-  Handle ds = check(H5Dcreate2(impl_->group.get(), channel.name.c_str(), H5T_IEEE_F64LE,
-                               space.get(), lcpl.get(), dcpl.get(), H5P_DEFAULT),
-                    H5Dclose, path, object, "H5Dcreate2");
-  if (n > 0)
-    check(H5Dwrite(ds.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT,
-                   channel.samples.data()),
-          path, object, "H5Dwrite (disk full?)");
-  if (!channel.units.empty()) h5::write_attribute(ds.get(), "units", channel.units, path, object);
-  if (!attributes.data_type.empty())
-    h5::write_attribute(ds.get(), "data_type", attributes.data_type, path, object);
-  if (attributes.sample_rate_hz > 0)
-    h5::write_attribute(ds.get(), "sample_rate_hz", attributes.sample_rate_hz, path, object);
-}
-
-void RecordingWriter::add_root_attribute(const std::string& name, const std::string& value) {
-  Handle root = check(H5Gopen2(impl_->file.get(), "/", H5P_DEFAULT), H5Gclose, impl_->final_path,
-                      "/", "H5Gopen2");
-  h5::write_attribute(root.get(), name, value, impl_->final_path, "/");
-}
-
-void RecordingWriter::commit() {
-  impl_->group.close();
-  h5::write_memory_file(impl_->file, *impl_->atomic, impl_->final_path, h5::Sealed::No);
-  impl_->atomic->commit();
+SourceFormat hdf5_format() {
+  return {"HDF5", is_hdf5_recording, nullptr, open_hdf5};
 }
 
 }  // namespace allanlot::io
