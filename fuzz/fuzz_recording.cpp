@@ -1,4 +1,4 @@
-// libFuzzer target: channel discovery and attribute handling of io/recording.cpp. The input
+// libFuzzer target: channel discovery and attribute handling of io/hdf5_source.cpp. The input
 // does not feed the HDF5 library's own file parser (that is HDF5's to fuzz, and its crashes on
 // corrupt files are not ours to fix); it is a recipe: the fuzzer chooses the groups, datasets
 // (type, byte order, rank, extent, values) and attributes (name, type, shape, value, where) of
