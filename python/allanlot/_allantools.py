@@ -33,6 +33,8 @@ def _phase_length(data, data_type):
 
 
 def _trim_nan(data):
+    if not (np.isnan(data[0]) or np.isnan(data[-1])):
+        return data  # the common case, without a pass over the record
     valid = np.flatnonzero(~np.isnan(data))
     if len(valid) == 0:
         raise ValueError("data holds no number (every sample is NaN)")
@@ -121,7 +123,9 @@ _NS = {
 
 
 def allantools_call(stat, data, rate, data_type, taus, threads):
-    """(taus, devs, errs, ns) of `stat` with AllanTools' conventions."""
+    """(taus, devs, errs, ns) of `stat` with AllanTools' conventions; `threads` as the caller
+    gave it (None: every core, one below _checks.SMALL_RECORD samples)."""
+    _checks.threads(threads)
     data = _checks.samples(data)
     rate = _checks.real(rate, "rate", positive=True)
     if len(data) < 2:
@@ -141,7 +145,7 @@ def allantools_call(stat, data, rate, data_type, taus, threads):
     m, ns = m[keep], ns[keep]
     kernel_type = "freq" if data_type == "freq" else "phase"
     r = _allanlot.deviation(data, stat, float(rate), kernel_type, m.tolist(), "", 0.0,
-                            threads, True)
+                            _checks.threads_for(threads, len(data)), True)
     got = dict(zip(r["m"].tolist(), r["dev"].tolist()))
     rows = [i for i, k in enumerate(m.tolist()) if k in got]
     m, ns = m[rows], ns[rows]
@@ -203,7 +207,8 @@ def gcodev(data_1, data_2, rate=1.0, data_type="phase", taus=None, *, threads=No
     ns = np.maximum(n - 2 * m, 0)
     m = m[ns > 1]
     kernel_type = "freq" if data_type == "freq" else "phase"
-    r = _allanlot.gcodev(x, y, rate, kernel_type, m.tolist(), _checks.threads(threads))
+    r = _allanlot.gcodev(x, y, rate, kernel_type, m.tolist(),
+                         _checks.threads_for(threads, len(x)))
     devs = np.abs(r["dev"])
     ns = r["n"]
     return r["m"] / float(rate), devs, devs / np.sqrt(ns.astype(np.float64)), ns
@@ -278,7 +283,8 @@ data_type : {{"phase", "freq"}}
 taus : None, str or array_like
     None or "octave", "all", "decade", "log10", or taus in seconds (tau_generator).
 threads : int, optional
-    Keyword only, not in AllanTools: OpenMP threads (None: every core).
+    Keyword only, not in AllanTools: OpenMP threads (None: every core; one for records
+    under 65 536 samples, where starting threads costs more than it saves).
 
 Returns
 -------
@@ -299,7 +305,7 @@ References
 
 def _make(stat):
     def f(data, rate=1.0, data_type="phase", taus=None, *, threads=None):
-        return allantools_call(stat, data, rate, data_type, taus, _checks.threads(threads))
+        return allantools_call(stat, data, rate, data_type, taus, threads)
 
     f.__name__ = stat
     f.__qualname__ = stat

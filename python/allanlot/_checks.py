@@ -79,3 +79,16 @@ def count(value, name, minimum=None):
         if not math.isfinite(float(value)) or float(value) != math.floor(float(value)):
             raise TypeError("%s must be a whole number, got %r" % (name, value))
     return whole(int(value), name, minimum)
+
+
+#: Below this many samples `threads=None` runs on one thread: starting and joining an OpenMP
+#: team costs tens of microseconds (milliseconds on a loaded machine), more than the kernels
+#: take on such a record. Results are the same bits for any thread count.
+SMALL_RECORD = 1 << 16
+
+
+def threads_for(value, n_samples):
+    """threads(value), with None meaning one thread for records below SMALL_RECORD samples."""
+    if value is None and n_samples < SMALL_RECORD:
+        return 1
+    return threads(value)

@@ -114,7 +114,7 @@ class Dataset:
                 "AF", width, "Tau", "N", "alpha", width, "min_" + stat, width, stat, width,
                 "max_" + stat))
             for t, d, e, n in zip(taus, devs, errs, ns):
-                fp.write("%5d %.*e %10d %5s %.*e %.*e %.*e \n" % (
+                fp.write("%5d %.*e %10d %-5s %.*e %.*e %.*e \n" % (
                     int(round(t / taus[0])), prec, t, int(n), "NaN", prec, d - e / 2, prec, d,
                     prec, d + e / 2))
 

@@ -118,5 +118,5 @@ def deviation(data, stat="oadev", rate=1.0, data_type="phase", taus=None,
         if not m_list:
             raise ValueError("no tau of %r is at least one sample interval" % (taus,))
     d = _allanlot.deviation(data, stat, float(rate), data_type, m_list, grid, conf,
-                            _checks.threads(threads), False)
+                            _checks.threads_for(threads, len(data)), False)
     return Deviation(d, units)
