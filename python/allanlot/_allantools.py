@@ -243,7 +243,8 @@ def three_cornered_hat_phase(phasedata_ab, phasedata_bc, phasedata_ca, rate, tau
 
     References
     ----------
-    J. E. Gray and D. W. Allan, Proc. 28th FCS (1974), eq. (4); the method NIST SP1065 calls the three-cornered hat.
+    J. E. Gray and D. W. Allan, Proc. 28th FCS (1974), eq. (4); the method NIST SP1065 calls
+    the three-cornered hat.
     """
     tau_ab, dev_ab, _, ns_ab = function(phasedata_ab, data_type="phase", rate=rate, taus=taus)
     _, dev_bc, _, _ = function(phasedata_bc, data_type="phase", rate=rate, taus=taus)
