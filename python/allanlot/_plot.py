@@ -52,6 +52,18 @@ def _draw_fit(ax, fit):
                     label="%s = %.3g" % (name, value))
 
 
+def _limit_to_curves(ax, deviations, fit):
+    """y range of the measured and fitted curves: a term's line alone (a ramp R at small tau)
+    may run decades below them and would squeeze the curves into a corner."""
+    values = [np.asarray(d.dev, float) for d in deviations]
+    if fit is not None:
+        values.append(np.asarray(fit["adev_model"], float))
+    v = np.concatenate(values) if values else np.zeros(0)
+    v = v[np.isfinite(v) & (v > 0)]
+    if len(v):
+        ax.set_ylim(v.min() / 3.0, v.max() * 3.0)
+
+
 def plot(*deviations, fit=None, psd=None, title=None, units=None):
     """Sigma-tau plot of allanlot results, returned as a matplotlib Figure.
 
@@ -102,6 +114,7 @@ def plot(*deviations, fit=None, psd=None, title=None, units=None):
             _draw_fit(ax, fit)
         ax.set_xscale("log")
         ax.set_yscale("log")
+        _limit_to_curves(ax, deviations, fit)
         ax.set_xlabel("tau (s)")
         ax.set_ylabel("deviation" + (" (%s)" % units if units else ""))
         ax.grid(True, which="both", alpha=0.3)
