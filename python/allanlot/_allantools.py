@@ -33,6 +33,8 @@ def _phase_length(data, data_type):
 
 
 def _trim_nan(data):
+    if not (np.isnan(data[0]) or np.isnan(data[-1])):
+        return data  # the common case, without a pass over the record
     valid = np.flatnonzero(~np.isnan(data))
     if len(valid) == 0:
         raise ValueError("data holds no number (every sample is NaN)")
@@ -40,7 +42,30 @@ def _trim_nan(data):
 
 
 def tau_m(n_data, rate, taus=None, even=False, maximum_m=None):
-    """AllanTools' tau_generator: the averaging factors m for a record of n_data points."""
+    """AllanTools' tau_generator as int averaging factors m for a record of n_data points.
+
+    Parameters
+    ----------
+    n_data : int
+        Number of points.
+    rate : float
+        Samples per second.
+    taus : None, str or array_like
+        None or [] ("octave"), "all", "octave", "decade", "log10", or taus in seconds.
+    even : bool
+        Keep even m only (Thêo1).
+    maximum_m : float, optional
+        Largest m (default n_data).
+
+    Returns
+    -------
+    numpy.ndarray of int64
+        m = round(tau * rate), 0 < m < n_data, m <= maximum_m, sorted, without repeats.
+
+    References
+    ----------
+    NIST SP1065 sec. 5.2.4 (tau = m tau0).
+    """
     if rate == 0:
         raise ValueError("rate must not be 0")
     rate = float(rate)
@@ -98,7 +123,9 @@ _NS = {
 
 
 def allantools_call(stat, data, rate, data_type, taus, threads):
-    """(taus, devs, errs, ns) of `stat` with AllanTools' conventions."""
+    """(taus, devs, errs, ns) of `stat` with AllanTools' conventions; `threads` as the caller
+    gave it (None: every core, one below _checks.SMALL_RECORD samples)."""
+    _checks.threads(threads)
     data = _checks.samples(data)
     rate = _checks.real(rate, "rate", positive=True)
     if len(data) < 2:
@@ -118,7 +145,7 @@ def allantools_call(stat, data, rate, data_type, taus, threads):
     m, ns = m[keep], ns[keep]
     kernel_type = "freq" if data_type == "freq" else "phase"
     r = _allanlot.deviation(data, stat, float(rate), kernel_type, m.tolist(), "", 0.0,
-                            threads, True)
+                            _checks.threads_for(threads, len(data)), True)
     got = dict(zip(r["m"].tolist(), r["dev"].tolist()))
     rows = [i for i, k in enumerate(m.tolist()) if k in got]
     m, ns = m[rows], ns[rows]
@@ -134,12 +161,38 @@ def allantools_call(stat, data, rate, data_type, taus, threads):
 
 
 def gcodev(data_1, data_2, rate=1.0, data_type="phase", taus=None, *, threads=None):
-    """Groslambert codeviation of two records measured against the same reference, with
-    AllanTools' arguments and return value (taus, devs, errs, ns), as allantools.gcodev: devs
-    are |codeviation| (sqrt of the absolute Allan covariance), ns = N - 2m, errs = devs /
-    sqrt(ns). The sign AllanTools drops is kept by the command line's `allanlot codev`
-    (docs/statistics.md). Formula: Vernotte et al., Proc. IFCS 2016, the overlapping form of
-    SP1065 eq. (11) with one second difference of each record."""
+    """Groslambert codeviation of two records measured against the same reference, as
+    allantools.gcodev.
+
+    Parameters
+    ----------
+    data_1, data_2 : array_like
+        Phase (s) or fractional frequency of the two records, of equal length.
+    rate : float
+        Samples per second.
+    data_type : {"phase", "freq"}
+        What the data hold.
+    taus : None, str or array_like
+        As tau_generator.
+    threads : int, optional
+        Keyword only: OpenMP threads (None: every core).
+
+    Returns
+    -------
+    taus : numpy.ndarray
+    devs : numpy.ndarray
+        |codeviation|, the square root of the absolute Allan covariance (the sign AllanTools
+        drops is kept by the command line's ``allanlot codev``).
+    errs : numpy.ndarray
+        devs / sqrt(ns).
+    ns : numpy.ndarray
+        N - 2m.
+
+    References
+    ----------
+    Vernotte et al., Proc. IFCS 2016: the overlapping form of NIST SP1065 eq. (11) (p. 16) with
+    one second difference of each record.
+    """
     x = _checks.samples(data_1, "data_1")
     y = _checks.samples(data_2, "data_2")
     rate = _checks.real(rate, "rate", positive=True)
@@ -154,19 +207,45 @@ def gcodev(data_1, data_2, rate=1.0, data_type="phase", taus=None, *, threads=No
     ns = np.maximum(n - 2 * m, 0)
     m = m[ns > 1]
     kernel_type = "freq" if data_type == "freq" else "phase"
-    r = _allanlot.gcodev(x, y, rate, kernel_type, m.tolist(), _checks.threads(threads))
+    r = _allanlot.gcodev(x, y, rate, kernel_type, m.tolist(),
+                         _checks.threads_for(threads, len(x)))
     devs = np.abs(r["dev"])
     ns = r["n"]
     return r["m"] / float(rate), devs, devs / np.sqrt(ns.astype(np.float64)), ns
 
 
 def three_cornered_hat_phase(phasedata_ab, phasedata_bc, phasedata_ca, rate, taus, function):
-    """Each clock's deviation from three pairwise phase records, as
-    allantools.three_cornered_hat_phase: `function` (e.g. allanlot.oadev) on each pair,
-    var_A = (var_AB + var_CA - var_BC) / 2 (Gray & Allan 1974), negative variances set to 0 as
-    AllanTools does; returns (taus, dev_a, err_a, ns) with err_a = dev_a / sqrt(ns_ab). The
-    command line's `allanlot hat` gives all three clocks with confidence intervals and reports
-    negative variances instead of clipping them."""
+    """Clock A's deviation from three pairwise phase records, as
+    allantools.three_cornered_hat_phase.
+
+    var_A = (var_AB + var_CA - var_BC) / 2, negative variances set to 0 as AllanTools does (the
+    command line's ``allanlot hat`` gives all three clocks with confidence intervals and
+    reports negative variances instead).
+
+    Parameters
+    ----------
+    phasedata_ab, phasedata_bc, phasedata_ca : array_like
+        Phase records of the pairs A-B, B-C and C-A, s.
+    rate : float
+        Samples per second.
+    taus : None, str or array_like
+        As tau_generator.
+    function : callable
+        The statistic, e.g. allanlot.oadev.
+
+    Returns
+    -------
+    taus : numpy.ndarray
+    dev_a : numpy.ndarray
+    err_a : numpy.ndarray
+        dev_a / sqrt(ns_ab).
+    ns_ab : numpy.ndarray
+
+    References
+    ----------
+    J. E. Gray and D. W. Allan, Proc. 28th FCS (1974), eq. (4); the method NIST SP1065 calls
+    the three-cornered hat.
+    """
     tau_ab, dev_ab, _, ns_ab = function(phasedata_ab, data_type="phase", rate=rate, taus=taus)
     _, dev_bc, _, _ = function(phasedata_bc, data_type="phase", rate=rate, taus=taus)
     _, dev_ca, _, _ = function(phasedata_ca, data_type="phase", rate=rate, taus=taus)
@@ -177,19 +256,63 @@ def three_cornered_hat_phase(phasedata_ab, phasedata_bc, phasedata_ca, rate, tau
     return tau_ab, dev_a, dev_a / np.sqrt(np.asarray(ns_ab, dtype=np.float64)), ns_ab
 
 
+# Where each statistic is defined (NIST SP1065, docs/statistics.md), for the docstrings.
+_REFERENCES = {
+    "adev": "NIST SP1065 eq. (7) (p. 14)", "oadev": "NIST SP1065 eq. (11) (p. 16)",
+    "mdev": "NIST SP1065 eq. (14) (p. 17)", "tdev": "NIST SP1065 eq. (16) (p. 18)",
+    "hdev": "NIST SP1065 eq. (17) (p. 19)", "ohdev": "NIST SP1065 eq. (18) (p. 20)",
+    "totdev": "NIST SP1065 eq. (25) (p. 23)", "mtotdev": "NIST SP1065 eq. (27) (p. 25)",
+    "ttotdev": "NIST SP1065 eq. (28) (p. 26)", "htotdev": "NIST SP1065 eq. (29) (p. 27)",
+    "theo1": "NIST SP1065 eq. (30) (p. 29)", "theoh": "NIST SP1065 eqs. (31)-(32) (pp. 30-31)",
+    "mtie": "NIST SP1065 sec. 5.2.15 (p. 32); ITU-T G.810 eq. (II.4)",
+    "tierms": "NIST SP1065 sec. 5.2.16 (p. 33)",
+    "pdev": ("Vernotte et al., IEEE Trans. UFFC 63 (2016) 611 (parabolic variance); at m = 1 "
+             "it is NIST SP1065 eq. (11) (p. 16)"),
+}
+
+_DOC = """{stat} with AllanTools' arguments and return value, {same}.
+
+Parameters
+----------
+data : array_like
+    Phase in seconds (data_type "phase") or fractional frequency ("freq"), 1-D or (n, 1);
+    NaN inside the data is a gap.
+rate : float
+    Samples per second.
+data_type : {{"phase", "freq"}}
+    What data holds; frequency is integrated to phase with its mean removed.
+taus : None, str or array_like
+    None or "octave", "all", "decade", "log10", or taus in seconds (tau_generator).
+threads : int, optional
+    Keyword only, not in AllanTools: OpenMP threads (None: every core; one for records
+    under 65 536 samples, where starting threads costs more than it saves).
+
+Returns
+-------
+taus : numpy.ndarray
+    Averaging times, s.
+devs : numpy.ndarray
+    The deviations.
+errs : numpy.ndarray
+    devs / sqrt(ns) (AllanTools' simple error; allanlot.deviation gives chi-square intervals).
+ns : numpy.ndarray
+    Number of terms of the estimator at each tau.
+
+References
+----------
+{ref}.
+"""
+
+
 def _make(stat):
     def f(data, rate=1.0, data_type="phase", taus=None, *, threads=None):
-        return allantools_call(stat, data, rate, data_type, taus, _checks.threads(threads))
+        return allantools_call(stat, data, rate, data_type, taus, threads)
 
     f.__name__ = stat
+    f.__qualname__ = stat
     same = ("as allantools.%s(data, rate, data_type, taus)" % stat if stat != "theoh" else
             "in the form of AllanTools' functions (AllanTools has no ThêoH)")
-    f.__doc__ = ("%s with AllanTools' arguments and return value: "
-                 "(taus, devs, errs, ns), %s.\n\n"
-                 "data: 1-D array of phase (data_type='phase') or fractional frequency "
-                 "('freq'); rate: samples per second; taus: None, 'all', 'octave', 'decade', "
-                 "'log10' or seconds. threads (keyword only, not in AllanTools): OpenMP "
-                 "threads, None for all. See docs/python.md." % (stat, same))
+    f.__doc__ = _DOC.format(stat=stat, same=same, ref=_REFERENCES[stat])
     return f
 
 

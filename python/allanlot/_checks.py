@@ -12,14 +12,20 @@ from . import _allanlot
 
 
 def samples(data, name="data"):
-    """`data` as a 1-D float64 array (converted once); complex or non-numeric data refused."""
+    """`data` as a 1-D float64 array (converted once): a column (n, 1) or a row (1, n) is
+    flattened as AllanTools does; complex, non-numeric and empty data are refused."""
     a = np.asarray(data)
     if np.iscomplexobj(a):
         raise TypeError("%s must be real numbers, got complex values" % name)
     if a.dtype.kind not in "biuf":
         raise TypeError("%s must be numbers, got an array of %s" % (name, a.dtype))
+    if a.ndim == 2 and 1 in a.shape:
+        a = a.reshape(-1)
     if a.ndim != 1:
-        raise ValueError("%s must be one-dimensional, got %d dimensions" % (name, a.ndim))
+        raise ValueError("%s must be one-dimensional (or one column), got shape %s"
+                         % (name, a.shape))
+    if a.size == 0:
+        raise ValueError("%s is empty" % name)
     return np.ascontiguousarray(a, dtype=np.float64)
 
 
@@ -62,3 +68,27 @@ def confidence(value):
     if not 0.0 < v < 1.0:
         raise ValueError("confidence must be in (0, 1) (None: no intervals), got %r" % (value,))
     return v
+
+
+def count(value, name, minimum=None):
+    """`value` as an int where AllanTools passes counts as floats (m = tau * rate, 4.0): a whole
+    number or an integral float; 1.5, bool and NaN refused."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise TypeError("%s must be a whole number, got %r" % (name, value))
+    if not isinstance(value, numbers.Integral):
+        if not math.isfinite(float(value)) or float(value) != math.floor(float(value)):
+            raise TypeError("%s must be a whole number, got %r" % (name, value))
+    return whole(int(value), name, minimum)
+
+
+#: Below this many samples `threads=None` runs on one thread: starting and joining an OpenMP
+#: team costs tens of microseconds (milliseconds on a loaded machine), more than the kernels
+#: take on such a record. Results are the same bits for any thread count.
+SMALL_RECORD = 1 << 16
+
+
+def threads_for(value, n_samples):
+    """threads(value), with None meaning one thread for records below SMALL_RECORD samples."""
+    if value is None and n_samples < SMALL_RECORD:
+        return 1
+    return threads(value)

@@ -37,9 +37,10 @@ inline int kernel_threads(int threads) {
   return kernels::capped_threads(threads);
 }
 
-void bind_deviation(py::module_& m);  // deviation, gcodev, stats, max_m
-void bind_records(py::module_& m);    // fit, read_results, read_lot_summary, read_lot_statistics
-void bind_tools(py::module_& m);      // psd, simulate, diagnose
-void bind_plan(py::module_& m);       // plan, watch, look_quantile
+void bind_deviation(py::module_& m);    // deviation, gcodev, stats, max_m
+void bind_records(py::module_& m);      // fit, read_results, read_lot_summary, read_lot_statistics
+void bind_tools(py::module_& m);        // psd, simulate, diagnose
+void bind_uncertainty(py::module_& m);  // edf_greenhall, chi2_quantile
+void bind_plan(py::module_& m);         // plan, watch, look_quantile
 
 }  // namespace allanlot::python

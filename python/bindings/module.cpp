@@ -7,6 +7,7 @@
 #include "io/usage_error.hpp"
 #include "src/lot/model.hpp"
 
+#include <allanlot/version.hpp>
 #include <pybind11/pybind11.h>
 
 #include <exception>
@@ -15,6 +16,7 @@ namespace py = pybind11;
 
 PYBIND11_MODULE(_allanlot, m) {
   m.doc() = "allanlot's kernels (use the package allanlot, not this module directly)";
+  m.attr("version") = allanlot::kVersion;
   // The command line's errors keep their messages: a file that cannot be read or is damaged is
   // an OSError (exit status 1 on the command line), a bad model or argument a ValueError (2).
   // std::invalid_argument is pybind11's ValueError already.
@@ -33,4 +35,5 @@ PYBIND11_MODULE(_allanlot, m) {
   allanlot::python::bind_records(m);
   allanlot::python::bind_tools(m);
   allanlot::python::bind_plan(m);
+  allanlot::python::bind_uncertainty(m);
 }

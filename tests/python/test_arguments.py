@@ -82,3 +82,35 @@ def test_readers_open_regular_files_only(tmp_path):
     os.mkfifo(tmp_path / "out" / "lot_summary.h5")
     with pytest.raises(OSError, match="FIFO"):
         allanlot.read_lot_summary(tmp_path / "out")
+
+
+def test_devices_are_refused_as_not_regular_files(tmp_path):
+    # /dev/zero never ends: reading it would grow until memory runs out
+    with pytest.raises(OSError, match="not a regular file"):
+        allanlot.read_results("/dev/zero")
+    (tmp_path / "out").mkdir()
+    os.symlink("/dev/zero", tmp_path / "out" / "lot_summary.h5")
+    with pytest.raises(OSError, match="not a regular file"):
+        allanlot.read_lot_summary(tmp_path / "out")
+
+
+@pytest.mark.parametrize("call, error, name", [
+    (lambda: allanlot.noise.white(-1), ValueError, "num_points"),
+    (lambda: allanlot.noise.white(10, fs=0), ValueError, "fs"),
+    (lambda: allanlot.noise.pink(10.5), TypeError, "num_points"),
+    (lambda: allanlot.Noise(nr=0), ValueError, "nr"),
+    (lambda: allanlot.confidence_interval(1.0, 10, ci=0), ValueError, "ci"),
+    (lambda: allanlot.confidence_interval(1.0, 0), ValueError, "edf"),
+    (lambda: allanlot.edf_greenhall(0, 2, 1.5, 100), TypeError, "m"),
+    (lambda: allanlot.edf_greenhall(0, 4, 1, 100), ValueError, "d"),
+    (lambda: allanlot.frequency2phase(Y + 1j, 1.0), TypeError, "freqdata"),
+    (lambda: allanlot.phase2frequency(Y, rate=0), ValueError, "rate"),
+    (lambda: allanlot.gradev(Y, data_type="angle"), ValueError, "data_type"),
+    (lambda: allanlot.psd2allan(np.ones(10), f=-1.0), ValueError, "f"),
+    (lambda: allanlot.autocorr_noise_id(Y, 0), ValueError, "af"),
+    (lambda: allanlot.fit(allanlot.deviation(Y, "oadev"), lowpass=3), TypeError, "lowpass"),
+    (lambda: allanlot.deviation(Y, 3), TypeError, "stat"),
+])
+def test_each_bad_argument_of_the_allantools_api_is_named(call, error, name):
+    with pytest.raises(error, match=name):
+        call()

@@ -49,3 +49,20 @@ def test_watch_replays_a_recording(tmp_path):
     # White noise of N = 0.001 deg/s*s^0.5 has no flicker: B is decided inside the limit.
     assert status == 0, text
     assert "unit passes" in text
+
+
+def test_public_plan_and_watch_check_their_arguments(tmp_path):
+    import allanlot
+    model = write(tmp_path, "model.json", MODEL)
+    got = allanlot.plan(model, targets={"B": 0.1}, threads=1)
+    assert got == _allanlot.plan(model, {"B": 0.1}, "", 0.2, 0.95, 0, 1, 30 * 86400.0, 1)
+    with pytest.raises(ValueError, match="either targets or spec"):
+        allanlot.plan(model)
+    with pytest.raises(ValueError, match="targets"):
+        allanlot.plan(model, targets={"B": 10})
+    with pytest.raises(ValueError, match="confidence"):
+        allanlot.plan(model, targets={"B": 0.1}, confidence=0)
+    with pytest.raises(TypeError, match="verify"):
+        allanlot.plan(model, targets={"B": 0.1}, verify=1.5)
+    with pytest.raises(ValueError, match="interval"):
+        allanlot.watch(model, model, interval=-1)
