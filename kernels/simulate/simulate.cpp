@@ -135,6 +135,7 @@ void validate(const ChannelSpec& spec) {
   check_finite_nonneg(spec.terms.N, "N");
   check_finite_nonneg(spec.terms.Q, "Q");
   if (!std::isfinite(spec.offset)) throw std::invalid_argument("simulate: offset must be finite");
+  check_finite_nonneg(spec.quantum, "quantum");
   try {
     validate_lowpass(spec.lowpass, spec.rate_hz);
   } catch (const std::invalid_argument& e) {
@@ -478,6 +479,9 @@ void SimulationPlan::run(const ChannelSpec& spec, std::uint64_t seed, std::uint6
                       static_cast<std::uint32_t>(i),
                   out);
   apply_lowpass(spec.lowpass, spec.rate_hz, out);
+  if (spec.quantum > 0)
+    for (double& y : out)
+      y = spec.quantum * std::nearbyint(y / spec.quantum);
 }
 
 void simulate_channel(const ChannelSpec& spec, std::uint64_t seed, std::uint64_t stream,
@@ -575,6 +579,8 @@ double model_avar(const ChannelSpec& spec, double tau_s) {
     v += markov_avar(g, tau);
   for (const auto& r : spec.resonances)
     v += resonance_avar(r, spec.rate_hz, tau * spec.rate_hz);
+  // The output's rounding: white of variance quantum^2 / 12 per sample, so quantum^2 / (12 m).
+  v += spec.quantum * spec.quantum / (12.0 * tau * spec.rate_hz);
   return v;
 }
 
@@ -658,7 +664,8 @@ std::vector<double> model_psd_one_sided(const ChannelSpec& spec, std::span<const
                                   std::to_string(f));
     const double w = 2 * pi * f;
     double s = t.K * t.K / (2 * pi * pi * f * f) + t.B * t.B / (pi * f) + 2 * t.N * t.N +
-               2 * w * w * t.Q * t.Q / spec.rate_hz;
+               2 * w * w * t.Q * t.Q / spec.rate_hz +
+               spec.quantum * spec.quantum / (6.0 * spec.rate_hz);
     for (const auto& g : spec.markovs) {
       const double wt = w * g.tau_c_s;
       s += 4 * g.sigma * g.sigma * g.tau_c_s / (1 + wt * wt);

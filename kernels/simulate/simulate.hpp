@@ -87,6 +87,13 @@ struct ChannelSpec {
   std::vector<Step> steps;            // bias jumps, in any order
   double offset = 0;                  // constant added to every sample [u] (e.g. 1 g)
   Lowpass lowpass;                    // the sensor's filter, applied to the sum (none by default)
+  // The step of the output word [u] (0: none). A sensor quantizes after its filter: its rounding
+  // error is white, of variance quantum^2 / 12 (uniform on one step), and unfiltered. That holds
+  // when the rounded signal's standard deviation is a step or more (Widrow & Kollar,
+  // "Quantization Noise", 2008, ch. 4: the characteristic function at 2 pi / quantum is then
+  // below 3e-9), so simulate_channel rounds the filtered sum to whole steps and model_avar adds
+  // quantum^2 / (12 m) at tau = m / rate_hz.
+  double quantum = 0;
   friend bool operator==(const ChannelSpec&, const ChannelSpec&) = default;
 };
 
