@@ -15,6 +15,8 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace allanlot::kernels {
 
@@ -582,43 +584,6 @@ double model_avar(const ChannelSpec& spec, double tau_s) {
   // The output's rounding: white of variance quantum^2 / 12 per sample, so quantum^2 / (12 m).
   v += spec.quantum * spec.quantum / (12.0 * tau * spec.rate_hz);
   return v;
-}
-
-namespace {
-
-// sum_{k=k1}^{k2} (a - k)^2 in closed form, from b = a - k1 (no cancellation between the large
-// k and a): sum_{j=0}^{c-1} (b - j)^2 = c b^2 - b c (c - 1) + (c - 1) c (2c - 1) / 6.
-double sum_sq_to(double a, std::int64_t k1, std::int64_t k2) {
-  if (k2 < k1) return 0.0;
-  const double b = a - static_cast<double>(k1), c = static_cast<double>(k2 - k1 + 1);
-  return c * b * b - b * c * (c - 1) + (c - 1) * c * (2 * c - 1) / 6;
-}
-
-}  // namespace
-
-double step_avar_sampled(const Step& step, double rate_hz, std::int64_t m, std::int64_t n_samples) {
-  if (m < 1 || n_samples < 2 * m)
-    throw std::invalid_argument("step_avar_sampled: need 1 <= m and 2 m <= n_samples, got m = " +
-                                std::to_string(m) + ", n_samples = " + std::to_string(n_samples));
-  const double s = step.time_s * rate_hz, md = static_cast<double>(m);
-  // Windows k with 0 < s - k < 2 m, inside 0 .. n - 2m; rising where s - k <= m.
-  const std::int64_t k_lo =
-      std::max<std::int64_t>(0, static_cast<std::int64_t>(std::floor(s - 2 * md)) + 1);
-  const std::int64_t k_hi =
-      std::min<std::int64_t>(n_samples - 2 * m, static_cast<std::int64_t>(std::ceil(s)) - 1);
-  if (k_hi < k_lo) return 0.0;
-  const auto k_rise = std::max<std::int64_t>(k_lo, static_cast<std::int64_t>(std::ceil(s - md)));
-  const double rise = sum_sq_to(s, k_rise, k_hi);
-  const double fall = sum_sq_to(s - 2 * md, k_lo, std::min(k_hi, k_rise - 1));
-  return step.size * step.size * (rise + fall) /
-         (md * md * 2.0 * static_cast<double>(n_samples - 2 * m + 1));
-}
-
-double plus_steps_avar(double avar, std::span<const Step> steps, double rate_hz, std::int64_t m,
-                       std::int64_t n_samples) {
-  for (const Step& st : steps)
-    avar += step_avar_sampled(st, rate_hz, m, n_samples);
-  return avar;
 }
 
 double model_avar_sampled(const ChannelSpec& spec, std::int64_t m, std::int64_t n_samples) {
