@@ -188,8 +188,11 @@ double model_avar_sampled(const ChannelSpec& spec, std::int64_t m, std::int64_t 
 /// record's length: its witness is in the time domain (docs/diagnose.md).
 double step_avar_sampled(const Step& step, double rate_hz, std::int64_t m, std::int64_t n_samples);
 
-/// `avar` plus step_avar_sampled of each of `steps`, added in order: a model's Allan variance
-/// with what its jumps add over the record.
+/// `avar` plus what `steps` add over the record (kernels/simulate/steps_avar.cpp):
+/// step_avar_sampled of each, added in order, when no two are within 2 m samples of each other;
+/// otherwise their joint share, exactly (their second differences added before squaring: two
+/// opposite jumps close together, a bias excursion, add far less than their two shares). A
+/// model's Allan variance with its jumps.
 double plus_steps_avar(double avar, std::span<const Step> steps, double rate_hz, std::int64_t m,
                        std::int64_t n_samples);
 
