@@ -201,9 +201,12 @@ Bases filtered_bases(const Bases& raw, const Curve& cv, const Lowpass& lp) {
   return b;
 }
 
-Bases make_bases(const Curve& cv, double rate_hz) {
+Bases make_bases(const Curve& cv, double rate_hz, double quantum) {
   Bases b;
   b.rate_hz = rate_hz;
+  b.fixed.resize(cv.size());
+  for (std::size_t i = 0; i < cv.size(); ++i)
+    b.fixed[i] = quantum * quantum / (12.0 * static_cast<double>(cv.m[i]));
   for (const Term t : all_terms()) {
     ChannelSpec s;
     s.rate_hz = rate_hz;
@@ -269,6 +272,7 @@ ChannelSpec spec_of(const std::vector<Component>& comps, const ChannelSpec& like
   ChannelSpec s;
   s.rate_hz = like.rate_hz;
   s.offset = like.offset;
+  s.quantum = like.quantum;
   for (const Component& c : comps) {
     if (c.kind == Kind::Term) {
       coefficient(s.terms, c.term) = c.coef;
@@ -297,7 +301,8 @@ Fit fit_components(std::vector<Component> comps, const Curve& cv, const Bases& r
   const std::size_t p = cv.size();
   std::vector<std::vector<double>> g;
   std::vector<std::size_t> free_idx;
-  std::vector<double> fixed(p, 0.0);
+  std::vector<double> fixed = b.fixed;
+  fixed.resize(p, 0.0);
   for (std::size_t c = 0; c < comps.size(); ++c) {
     std::vector<double> gc = basis_of(comps[c], cv, b);
     if (comps[c].free) {

@@ -357,6 +357,23 @@ CandidateFit Search::candidate(Effect e, const std::vector<Component>& fixed_now
   return a;
 }
 
+// Every effect's candidate of a round. They are independent fits of the same curve: each is made
+// on one thread, in kAllEffects order whatever the thread count (results do not depend on it).
+std::vector<CandidateFit> Search::candidates(const std::vector<Component>& fixed_now,
+                                             const std::vector<Component>& free_now,
+                                             const Witnesses& seen, double chi2_ref,
+                                             double chi2_refit, int n_free) const {
+  std::vector<CandidateFit> cands(kAllEffects.size());
+  ExceptionCollector ec;
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
+  for (std::size_t k = 0; k < kAllEffects.size(); ++k)
+    ec.run([&] {
+      cands[k] = candidate(kAllEffects[k], fixed_now, free_now, seen, chi2_ref, chi2_refit, n_free);
+    });
+  ec.rethrow();
+  return cands;
+}
+
 // The note's opening for a candidate keep_witnessed sets aside (verdict_round lists them).
 constexpr std::string_view kNoWitness = "no witness beside the curve";
 
@@ -431,9 +448,8 @@ bool Search::round(int& iter) {
   // must pay for itself beyond what re-estimating alone achieves, or any useless term would
   // ride on the refit's improvement.
   const Fit refit = fit_components(free_now, cv, bases);
-  std::vector<CandidateFit> cands;
-  for (const Effect e : kAllEffects)
-    cands.push_back(candidate(e, fixed_now, free_now, seen, ref.chi2, refit.chi2, n_free));
+  std::vector<CandidateFit> cands =
+      candidates(fixed_now, free_now, seen, ref.chi2, refit.chi2, n_free);
   if (witnessed_only) keep_witnessed(cands, trend);
   std::size_t best = strongest(cands, [](Effect) { return true; });
   // The witnesses decide between look-alikes: an unexplained significant line is direct
@@ -554,7 +570,7 @@ Diagnosis diagnose(std::span<const double> rate, double rate_hz, const ChannelSp
   search.alpha_tau = opt.band_alpha / d.n_eff;
   d.z_threshold = std::sqrt(chi2_quantile(1.0 - search.alpha_tau, 1.0));
   search.crit.scale = d.n_eff / static_cast<double>(cv.size());
-  search.bases = make_bases(cv, rate_hz);
+  search.bases = make_bases(cv, rate_hz, spec.quantum);
 
   d.model_before = spec;
   d.edf = model_edf(spec, cv, search.bases);

@@ -359,6 +359,16 @@ struct Diagnosis {
 Diagnosis diagnose(std::span<const double> rate, double rate_hz, const ChannelSpec& model,
                    const DiagnoseOptions& opt = {});
 
+/// `model` (a Diagnosis::model_after) fitted again on `oadev`, the overlapping Allan deviation
+/// of the record of n_samples it was diagnosed on, with its edf (kernels::add_confidence), jumps
+/// included: the levels of the noise terms, humps and resonances (non-negative least squares on
+/// the variances, as diagnose fits them, weighted by that edf), a filter's form and value, each
+/// hump's tau_c and each resonance's f0 and q searched near their values; the model's jumps,
+/// lines and rounding stay as they are, their share of each tau known. The curve to draw beside
+/// `oadev` and the coefficients to report with it (kernels/diagnose/refit.cpp). `model` itself
+/// when fewer than 4 taus have a variance. Throws std::invalid_argument for a bad model.
+ChannelSpec fit_to_curve(const ChannelSpec& model, const StatResult& oadev, std::int64_t n_samples);
+
 /// The edf of the overlapping Allan variance at each averaging factor in `m` over a record of
 /// n_samples, under `model` (docs/diagnose.md "Where"): each noise term and Gauss-Markov effect
 /// has the Greenhall & Riley edf (kernels/uncertainty/edf.hpp) of its power law (a Gauss-Markov

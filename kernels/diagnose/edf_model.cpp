@@ -148,6 +148,11 @@ std::vector<double> model_edf(const ChannelSpec& s, const Curve& cv, const Bases
       a_n += a;
       sd_n += a * std::sqrt(2.0 / cv.edf_pl[static_cast<std::size_t>(term_alpha(t) + 2)][i]);
     }
+    if (s.quantum > 0.0) {  // the output's rounding: white FM of quantum^2 / 12 per sample
+      const double a = s.quantum * s.quantum / (12.0 * static_cast<double>(cv.m[i]));
+      a_n += a;
+      sd_n += a * std::sqrt(2.0 / cv.edf_pl[2][i]);
+    }
     for (const GaussMarkov& g : s.markovs) {
       if (!(g.sigma > 0.0)) continue;
       ChannelSpec one;
@@ -203,7 +208,7 @@ std::vector<double> diagnose_model_edf(const ChannelSpec& model, std::span<const
     cv.tau.push_back(static_cast<double>(mi) * cv.tau0);
   }
   prepare_edf(cv);
-  return model_edf(model, cv, make_bases(cv, model.rate_hz));
+  return model_edf(model, cv, make_bases(cv, model.rate_hz, model.quantum));
 }
 
 }  // namespace allanlot::kernels

@@ -83,8 +83,11 @@ struct Component {
 // Under a low-pass filter (a named or given lowpass) the white FM and white PM bases and every
 // sinusoid's carry the filter's factors (model_avar_sampled); bases_for gives the bases of a
 // set of components from the unfiltered ones.
+// The output's rounding (ChannelSpec::quantum) is known, not fitted: its avar, quantum^2 / (12 m),
+// is `fixed`, added to every model curve and never filtered (the sensor rounds after its filter).
 struct Bases {
   std::array<std::vector<double>, kNumTerms> term;
+  std::vector<double> fixed;  // the rounding's avar at each tau (all zero without a quantum)
   double rate_hz = 1.0;
   Lowpass lowpass;
 };
@@ -133,7 +136,8 @@ Component searched_component(Kind kind);
 double threshold(int k, double alpha);
 
 // candidates.cpp: model components, their fits and the candidates.
-Bases make_bases(const Curve& cv, double rate_hz);
+/// The unfiltered term bases at the curve's taus and the rounding's avar of a quantum (>= 0).
+Bases make_bases(const Curve& cv, double rate_hz, double quantum = 0.0);
 /// `raw` (unfiltered bases) under filter lp: the N and Q bases times the filter's factors.
 Bases filtered_bases(const Bases& raw, const Curve& cv, const Lowpass& lp);
 /// The filter of a set of components (inactive when none is a lowpass).

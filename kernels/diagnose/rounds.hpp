@@ -64,6 +64,10 @@ struct Search {
   CandidateFit candidate(Effect e, const std::vector<Component>& fixed_now,
                          const std::vector<Component>& free_now, const Witnesses& seen,
                          double chi2_ref, double chi2_refit, int n_free, int charged = 0) const;
+  std::vector<CandidateFit> candidates(const std::vector<Component>& fixed_now,
+                                       const std::vector<Component>& free_now,
+                                       const Witnesses& seen, double chi2_ref, double chi2_refit,
+                                       int n_free) const;
   void keep_witnessed(std::vector<CandidateFit>& cands, const TrendWitness& trend) const;
   bool round(int& iter);
   void run_rounds();

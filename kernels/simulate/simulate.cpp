@@ -15,6 +15,8 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace allanlot::kernels {
 
@@ -135,6 +137,7 @@ void validate(const ChannelSpec& spec) {
   check_finite_nonneg(spec.terms.N, "N");
   check_finite_nonneg(spec.terms.Q, "Q");
   if (!std::isfinite(spec.offset)) throw std::invalid_argument("simulate: offset must be finite");
+  check_finite_nonneg(spec.quantum, "quantum");
   try {
     validate_lowpass(spec.lowpass, spec.rate_hz);
   } catch (const std::invalid_argument& e) {
@@ -478,6 +481,9 @@ void SimulationPlan::run(const ChannelSpec& spec, std::uint64_t seed, std::uint6
                       static_cast<std::uint32_t>(i),
                   out);
   apply_lowpass(spec.lowpass, spec.rate_hz, out);
+  if (spec.quantum > 0)
+    for (double& y : out)
+      y = spec.quantum * std::nearbyint(y / spec.quantum);
 }
 
 void simulate_channel(const ChannelSpec& spec, std::uint64_t seed, std::uint64_t stream,
@@ -575,44 +581,9 @@ double model_avar(const ChannelSpec& spec, double tau_s) {
     v += markov_avar(g, tau);
   for (const auto& r : spec.resonances)
     v += resonance_avar(r, spec.rate_hz, tau * spec.rate_hz);
+  // The output's rounding: white of variance quantum^2 / 12 per sample, so quantum^2 / (12 m).
+  v += spec.quantum * spec.quantum / (12.0 * tau * spec.rate_hz);
   return v;
-}
-
-namespace {
-
-// sum_{k=k1}^{k2} (a - k)^2 in closed form, from b = a - k1 (no cancellation between the large
-// k and a): sum_{j=0}^{c-1} (b - j)^2 = c b^2 - b c (c - 1) + (c - 1) c (2c - 1) / 6.
-double sum_sq_to(double a, std::int64_t k1, std::int64_t k2) {
-  if (k2 < k1) return 0.0;
-  const double b = a - static_cast<double>(k1), c = static_cast<double>(k2 - k1 + 1);
-  return c * b * b - b * c * (c - 1) + (c - 1) * c * (2 * c - 1) / 6;
-}
-
-}  // namespace
-
-double step_avar_sampled(const Step& step, double rate_hz, std::int64_t m, std::int64_t n_samples) {
-  if (m < 1 || n_samples < 2 * m)
-    throw std::invalid_argument("step_avar_sampled: need 1 <= m and 2 m <= n_samples, got m = " +
-                                std::to_string(m) + ", n_samples = " + std::to_string(n_samples));
-  const double s = step.time_s * rate_hz, md = static_cast<double>(m);
-  // Windows k with 0 < s - k < 2 m, inside 0 .. n - 2m; rising where s - k <= m.
-  const std::int64_t k_lo =
-      std::max<std::int64_t>(0, static_cast<std::int64_t>(std::floor(s - 2 * md)) + 1);
-  const std::int64_t k_hi =
-      std::min<std::int64_t>(n_samples - 2 * m, static_cast<std::int64_t>(std::ceil(s)) - 1);
-  if (k_hi < k_lo) return 0.0;
-  const auto k_rise = std::max<std::int64_t>(k_lo, static_cast<std::int64_t>(std::ceil(s - md)));
-  const double rise = sum_sq_to(s, k_rise, k_hi);
-  const double fall = sum_sq_to(s - 2 * md, k_lo, std::min(k_hi, k_rise - 1));
-  return step.size * step.size * (rise + fall) /
-         (md * md * 2.0 * static_cast<double>(n_samples - 2 * m + 1));
-}
-
-double plus_steps_avar(double avar, std::span<const Step> steps, double rate_hz, std::int64_t m,
-                       std::int64_t n_samples) {
-  for (const Step& st : steps)
-    avar += step_avar_sampled(st, rate_hz, m, n_samples);
-  return avar;
 }
 
 double model_avar_sampled(const ChannelSpec& spec, std::int64_t m, std::int64_t n_samples) {
@@ -658,7 +629,8 @@ std::vector<double> model_psd_one_sided(const ChannelSpec& spec, std::span<const
                                   std::to_string(f));
     const double w = 2 * pi * f;
     double s = t.K * t.K / (2 * pi * pi * f * f) + t.B * t.B / (pi * f) + 2 * t.N * t.N +
-               2 * w * w * t.Q * t.Q / spec.rate_hz;
+               2 * w * w * t.Q * t.Q / spec.rate_hz +
+               spec.quantum * spec.quantum / (6.0 * spec.rate_hz);
     for (const auto& g : spec.markovs) {
       const double wt = w * g.tau_c_s;
       s += 4 * g.sigma * g.sigma * g.tau_c_s / (1 + wt * wt);

@@ -87,6 +87,13 @@ struct ChannelSpec {
   std::vector<Step> steps;            // bias jumps, in any order
   double offset = 0;                  // constant added to every sample [u] (e.g. 1 g)
   Lowpass lowpass;                    // the sensor's filter, applied to the sum (none by default)
+  // The step of the output word [u] (0: none). A sensor quantizes after its filter: its rounding
+  // error is white, of variance quantum^2 / 12 (uniform on one step), and unfiltered. That holds
+  // when the rounded signal's standard deviation is a step or more (Widrow & Kollar,
+  // "Quantization Noise", 2008, ch. 4: the characteristic function at 2 pi / quantum is then
+  // below 3e-9), so simulate_channel rounds the filtered sum to whole steps and model_avar adds
+  // quantum^2 / (12 m) at tau = m / rate_hz.
+  double quantum = 0;
   friend bool operator==(const ChannelSpec&, const ChannelSpec&) = default;
 };
 
@@ -181,8 +188,11 @@ double model_avar_sampled(const ChannelSpec& spec, std::int64_t m, std::int64_t 
 /// record's length: its witness is in the time domain (docs/diagnose.md).
 double step_avar_sampled(const Step& step, double rate_hz, std::int64_t m, std::int64_t n_samples);
 
-/// `avar` plus step_avar_sampled of each of `steps`, added in order: a model's Allan variance
-/// with what its jumps add over the record.
+/// `avar` plus what `steps` add over the record (kernels/simulate/steps_avar.cpp):
+/// step_avar_sampled of each, added in order, when no two are within 2 m samples of each other;
+/// otherwise their joint share, exactly (their second differences added before squaring: two
+/// opposite jumps close together, a bias excursion, add far less than their two shares). A
+/// model's Allan variance with its jumps.
 double plus_steps_avar(double avar, std::span<const Step> steps, double rate_hz, std::int64_t m,
                        std::int64_t n_samples);
 

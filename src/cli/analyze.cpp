@@ -220,7 +220,10 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
       across ? static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(threads), slots))
              : 1;
   const int kernel_threads = std::max(1, threads / workers);
-  const pipeline::ChannelOptions copt = channel_options(opt, kernel_threads);
+  pipeline::ChannelOptions copt = channel_options(opt, kernel_threads);
+  // Poor fits are modelled after the channels, one at a time with every thread, when every
+  // channel's phase fits the memory limit at once (each deferred model keeps its channel's).
+  copt.defer_model = workers > 1 && slots >= n_selected;
   std::vector<pipeline::ChannelAnalysis> done(n_selected);
   std::vector<std::optional<std::uint64_t>> digest(n_selected);  // of the channels read
   std::mutex read_mutex;
@@ -243,6 +246,8 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
     digest[i] = io::channel_digest(selected[i]->path, samples);
     done[i] = pipeline::analyze_channel(*selected[i], std::move(samples), copt);
   }
+  for (pipeline::ChannelAnalysis& c : done)
+    pipeline::model_deferred(c, copt, threads);
   times.analysis_wall += seconds_since(t_analysis);
   for (const pipeline::ChannelAnalysis& c : done) {
     times.kernels += c.times.kernels;

@@ -241,6 +241,11 @@ void parse_channel_body(const Json& j, double rate_hz, Channel& ch, const std::s
   if (j.contains("effects"))
     parse_effects(j["effects"], rate_hz, ch, source, join(path, "effects"));
   if (j.contains("offset")) ch.offset = number(j["offset"], source, join(path, "offset"));
+  if (j.contains("quantum")) {
+    ch.quantum = number(j["quantum"], source, join(path, "quantum"));
+    if (!(ch.quantum >= 0) || !std::isfinite(ch.quantum))
+      fail(source, join(path, "quantum"), "must be finite and >= 0, got " + j["quantum"].dump());
+  }
 }
 
 Json terms_json(const kernels::NoiseTerms& t) {
@@ -278,6 +283,7 @@ Json channel_body_json(const Channel& ch) {
     effects.push_back({{"type", "lowpass"}, {"taps", ch.lowpass.taps}});
   j["effects"] = effects;
   if (ch.offset != 0) j["offset"] = ch.offset;
+  if (ch.quantum != 0) j["quantum"] = ch.quantum;
   return j;
 }
 
@@ -320,15 +326,16 @@ UnitModel parse_model(std::string_view json_text, const std::string& source,
       if (!valid_name(name))
         fail(source, path, "bad channel name (only letters, digits and _ are allowed)");
       object(body, source, path);
-      only_keys(body, {"units", "terms", "effects", "offset"}, source, path);
+      only_keys(body, {"units", "terms", "effects", "offset", "quantum"}, source, path);
       Channel ch;
       ch.name = name;
       parse_channel_body(body, m.sample_rate_hz, ch, source, path);
       m.channels.push_back(std::move(ch));
     }
   } else {
-    only_keys(root, {"units", "sample_rate_hz", "terms", "effects", "offset", "lot_spread"}, source,
-              "");
+    only_keys(root,
+              {"units", "sample_rate_hz", "terms", "effects", "offset", "quantum", "lot_spread"},
+              source, "");
     if (!valid_name(single_channel_name))
       fail(source, "", "bad channel name '" + single_channel_name + "'");
     Channel ch;
@@ -459,6 +466,7 @@ kernels::ChannelSpec to_spec(const UnitModel& m, std::size_t channel) {
   s.resonances = ch.resonances;
   s.steps = ch.steps;
   s.offset = ch.offset;
+  s.quantum = ch.quantum;
   s.lowpass = ch.lowpass;
   return s;
 }

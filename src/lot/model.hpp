@@ -3,18 +3,20 @@
 // compares a recording with it.
 //
 // Two forms are accepted:
-//   single channel: {"units", "sample_rate_hz", "terms", "effects", "offset", "lot_spread"}
+//   single channel: {"units", "sample_rate_hz", "terms", "effects", "offset", "quantum",
+//                    "lot_spread"}
 //   unit:           {"sample_rate_hz", "channels": {NAME: {"units", "terms", "effects",
-//                    "offset"}, ...}, "lot_spread"}
+//                    "offset", "quantum"}, ...}, "lot_spread"}
 // `units` and `sample_rate_hz` are required; `terms` (any of R, K, B, N, Q; missing = 0),
 // `effects` (array of {"type": "sinusoid", "amplitude", "frequency_hz", "phase_rad"?},
 // {"type": "markov", "sigma", "tau_c_s"}, {"type": "resonance", "sigma", "frequency_hz", "q",
 // "spread_hz"?, "wander_s"?},
 // {"type": "lowpass", "cutoff_hz" | "taps"} and
 // {"type": "step", "size", "time_s"}), `offset` (constant added to the channel, e.g.
-// 9.80665 on a vertical accelerometer) and `lot_spread` ({term: relative sd}) are optional.
-// Any other key, a wrong JSON type, a duplicate key, or an impossible value is an error whose
-// message names the source and the key path, e.g.
+// 9.80665 on a vertical accelerometer), `quantum` (the output word's step: the filtered sum is
+// rounded to it, kernels::ChannelSpec::quantum) and `lot_spread` ({term: relative sd}) are
+// optional. Any other key, a wrong JSON type, a duplicate key, or an impossible value is an error
+// whose message names the source and the key path, e.g.
 //   "model.json: channels.gyro_x.terms.X: unknown key".
 #pragma once
 
@@ -44,6 +46,7 @@ struct Channel {
   std::vector<kernels::Resonance> resonances;  // effects of type "resonance", in file order
   std::vector<kernels::Step> steps;            // effects of type "step", in file order
   double offset = 0;                           // constant [units]
+  double quantum = 0;                          // the output's step [units] (0: not rounded)
   kernels::Lowpass lowpass;                    // the effect of type "lowpass" (at most one)
   friend bool operator==(const Channel&, const Channel&) = default;
 };

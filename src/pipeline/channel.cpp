@@ -169,7 +169,10 @@ void run_stages(ChannelAnalysis& a, const io::ChannelInfo& channel,
     a.result.fit = fit_channel(*oadev, phase.tau0_s, phase.n_points() - 1, a.result.units,
                                opt.lowpass, &allan_terms, opt.threads);
     have_allan_terms = kernels::has_terms(a.result.fit->status);
-    model_poor_fit(a.result, phase, *oadev, opt.model, opt.threads);
+    if (opt.defer_model && opt.model.enabled && a.result.fit->status == kernels::FitStatus::PoorFit)
+      a.deferred = std::make_shared<DeferredModel>(DeferredModel{phase, *oadev});
+    else
+      model_poor_fit(a.result, phase, *oadev, opt.model, opt.threads);
     a.times.fit += seconds_since(t_fit);
   }
   if (opt.psd) {
@@ -205,6 +208,20 @@ ChannelAnalysis analyze_channel(const io::ChannelInfo& channel,
     a.result.status = io::ChannelStatus::failed("unexpected error");
   }
   return a;
+}
+
+void model_deferred(ChannelAnalysis& a, const ChannelOptions& opt, int threads) {
+  if (!a.deferred) return;
+  const auto t_fit = Clock::now();
+  try {
+    model_poor_fit(a.result, a.deferred->phase, a.deferred->oadev, opt.model, threads);
+  } catch (const std::exception& e) {
+    a.result.status = io::ChannelStatus::failed(e.what());
+  } catch (...) {
+    a.result.status = io::ChannelStatus::failed("unexpected error");
+  }
+  a.deferred.reset();
+  a.times.fit += seconds_since(t_fit);
 }
 
 }  // namespace allanlot::pipeline

@@ -14,6 +14,7 @@
 #include "kernels/allan/stats.hpp"
 #include "kernels/allan/tau_grid.hpp"
 
+#include <memory>
 #include <vector>
 
 namespace allanlot::pipeline {
@@ -29,6 +30,10 @@ struct ChannelOptions {
   bool psd = true;                   // psd/, psd_fit/ and crosscheck/ (Welch PSD, eq. (2))
   kernels::GapPolicy gaps;           // what missing samples become (analyze --gaps)
   int threads = 1;                   // threads inside the kernels (results do not depend on it)
+  // Leave a poor fit's model to model_deferred, which analyze runs with every thread once the
+  // channels are analysed (the model is most of a poor fit's time; run beside the other
+  // channels on one thread, the last one modelled kept one core while the other waited).
+  bool defer_model = false;
 };
 
 /// Seconds one channel spent per stage: kernels (phase, statistics, confidence intervals),
@@ -37,9 +42,17 @@ struct ChannelTimes {
   double kernels = 0, psd = 0, fit = 0;
 };
 
+/// What a deferred model needs (ChannelOptions::defer_model): the channel's phase and its
+/// overlapping Allan deviation.
+struct DeferredModel {
+  kernels::PhaseData phase;
+  kernels::StatResult oadev;
+};
+
 struct ChannelAnalysis {
   io::ChannelResult result;  // status ok, or failed with its reason and what was computed
   ChannelTimes times;
+  std::shared_ptr<DeferredModel> deferred;  // a poor fit's model still to make (defer_model)
   bool ok() const { return result.status.is_ok(); }
 };
 
@@ -54,5 +67,9 @@ io::ChannelResult describe_channel(const io::ChannelInfo& channel);
 /// its status; a statistic that cannot run on gaps, or a record too short for a PSD, is a note.
 ChannelAnalysis analyze_channel(const io::ChannelInfo& channel,
                                 kernels::LargeVector<double> samples, const ChannelOptions& opt);
+
+/// Makes a deferred model (a.deferred, then freed) with `threads` kernel threads: the same
+/// result as analyze_channel without defer_model. Never throws, as analyze_channel.
+void model_deferred(ChannelAnalysis& a, const ChannelOptions& opt, int threads);
 
 }  // namespace allanlot::pipeline

@@ -13,6 +13,7 @@
 #include <exception>
 #include <limits>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,40 @@ std::string num(double v) {
   return buf;
 }
 
+// The step of the output word when every sample lies on one (the ADIS16405's accelerometers:
+// 0.00333 g, against a sample standard deviation of 1.2 steps), 0 otherwise. The sensor rounds
+// after its filter, so its rounding adds unfiltered white noise of quantum^2 / 12 a sample
+// (kernels::ChannelSpec::quantum) beside the filtered white noise: about 6 % of an accelerometer's
+// variance at tau0, whose shortest taus eq. (3) plus a filter alone then miss by 1-4 %. The step
+// is the smallest gap between distinct values of the first 2^16 samples (values within 1e-6 of
+// the largest magnitude are one: `rate` is rebuilt from the phase, whose sums round), accepted
+// when every sample lies within 1e-3 steps of the lattice and the record's standard deviation is
+// a step or more (where the rounding error is white and uniform: kernels/simulate/simulate.hpp).
+double output_quantum(std::span<const double> rate) {
+  if (rate.size() < 3) return 0.0;
+  std::vector<double> v(
+      rate.begin(), rate.begin() + static_cast<std::ptrdiff_t>(
+                                       std::min<std::size_t>(rate.size(), std::size_t{1} << 16)));
+  std::sort(v.begin(), v.end());
+  if (!std::isfinite(v.front()) || !std::isfinite(v.back())) return 0.0;
+  const double tol = 1e-6 * std::max(std::abs(v.front()), std::abs(v.back()));
+  double q = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 1; i < v.size(); ++i)
+    if (v[i] - v[i - 1] > tol) q = std::min(q, v[i] - v[i - 1]);
+  if (!std::isfinite(q) || !(q > 4.0 * tol)) return 0.0;
+  const double x0 = v.front();
+  double sum = 0.0, sum_sq = 0.0;
+  for (const double y : rate) {
+    const double k = (y - x0) / q;
+    if (!(std::abs(k - std::nearbyint(k)) <= 1e-3)) return 0.0;
+    sum += k;
+    sum_sq += k * k;
+  }
+  const auto n = static_cast<double>(rate.size());
+  const double var_steps = sum_sq / n - (sum / n) * (sum / n);
+  return var_steps >= 1.0 ? q : 0.0;
+}
+
 // The eq. (3) fit over every tau as diagnose's given model (`all_taus`: its terms in channel
 // units, as the study of docs/diagnose.md "Real sensors" gives them), and the filter when
 // --lowpass gave it (`fit`). The fit from a filter's first tau on is no start: where an effect
@@ -43,9 +78,10 @@ std::string num(double v) {
 // form (the ADIS16405 imu2 accel_z's 18.5 Hz first order, given, left its model at gap 3.8
 // against a p95 of 1.3; named by diagnose, 1.14 taps and within noise).
 kernels::ChannelSpec given_model(const io::FitRecord& fit, const io::FitRecord& all_taus,
-                                 double rate_hz) {
+                                 double rate_hz, double quantum) {
   kernels::ChannelSpec spec;
   spec.rate_hz = rate_hz;
+  spec.quantum = quantum;
   // The fit over every tau can fail to converge where a filter's deficit dominates the short
   // taus: then the fit reported is the start.
   for (const io::TermRecord& t : kernels::has_terms(all_taus.status) ? all_taus.terms : fit.terms)
@@ -58,41 +94,63 @@ kernels::ChannelSpec given_model(const io::FitRecord& fit, const io::FitRecord& 
   return spec;
 }
 
-// "eq. (3) + lowpass 1.15 taps, resonance 17.2 Hz, markov 257 s, step at 42.3 s": the effects
-// outside eq. (3) in the order named (a term named is eq. (3)'s own), the filter first when it
-// was given rather than named.
-std::string describe(const kernels::Diagnosis& d) {
+// The value of parameter `name` of the k-th hump, resonance or filter of the drawn model (what
+// kernels::fit_to_curve fitted again); `value` for any other (a line's, a jump's, a term's).
+double drawn_value(const kernels::ChannelSpec& drawn, kernels::Effect e, std::size_t k,
+                   const std::string& name, double value) {
+  using kernels::Effect;
+  if (e == Effect::Lowpass) return name == "taps" ? drawn.lowpass.taps : drawn.lowpass.cutoff_hz;
+  if (e == Effect::Markov && k < drawn.markovs.size())
+    return name == "sigma" ? drawn.markovs[k].sigma : drawn.markovs[k].tau_c_s;
+  if (e == Effect::Resonance && k < drawn.resonances.size()) {
+    const kernels::Resonance& r = drawn.resonances[k];
+    if (name == "sigma") return r.sigma;
+    if (name == "frequency_hz") return r.frequency_hz;
+    if (name == "q") return r.q;
+  }
+  return value;
+}
+
+// "eq. (3) + rounding 0.00333 g, lowpass 1.15 taps, resonance 17.2 Hz, markov 257 s, step at
+// 42.3 s": the output's rounding when the record shows one, then the effects outside eq. (3) in
+// the order named (a term named is eq. (3)'s own), the filter first when it was given rather
+// than named.
+std::string describe(const kernels::Diagnosis& d, const kernels::ChannelSpec& drawn,
+                     const std::string& units) {
   std::vector<std::string> parts;
-  const auto value = [](const std::vector<kernels::Parameter>& ps, const char* name) {
-    for (const auto& p : ps)
-      if (p.name == name) return p.value;
-    return kNaN;
-  };
-  const kernels::Lowpass& lp = d.model_after.lowpass;
+  if (drawn.quantum > 0) parts.push_back("rounding " + num(drawn.quantum) + " " + units);
+  const kernels::Lowpass& lp = drawn.lowpass;
   const auto filter = [&lp] {
     return "lowpass " + (lp.taps > 0 ? num(lp.taps) + " taps" : num(lp.cutoff_hz) + " Hz");
   };
   const bool named_filter = std::find(d.effects_named.begin(), d.effects_named.end(),
                                       kernels::Effect::Lowpass) != d.effects_named.end();
   if (lp.active() && !named_filter) parts.push_back(filter());
+  std::vector<std::size_t> seen(kernels::kNumEffects, 0);
   for (std::size_t i = 0; i < d.effects_named.size(); ++i) {
     const kernels::Effect e = d.effects_named[i];
-    const auto& ps = d.effect_parameters[i];
+    const std::size_t k = seen[static_cast<std::size_t>(e)]++;
+    const auto value = [&](const char* name) {
+      double v = kNaN;
+      for (const auto& p : d.effect_parameters[i])
+        if (p.name == name) v = p.value;
+      return drawn_value(drawn, e, k, name, v);
+    };
     switch (e) {
     case kernels::Effect::Lowpass:
       parts.push_back(filter());
       break;
     case kernels::Effect::Resonance:
-      parts.push_back("resonance " + num(value(ps, "frequency_hz")) + " Hz");
+      parts.push_back("resonance " + num(value("frequency_hz")) + " Hz");
       break;
     case kernels::Effect::Sinusoid:
-      parts.push_back("sinusoid " + num(value(ps, "frequency_hz")) + " Hz");
+      parts.push_back("sinusoid " + num(value("frequency_hz")) + " Hz");
       break;
     case kernels::Effect::Markov:
-      parts.push_back("markov " + num(value(ps, "tau_c_s")) + " s");
+      parts.push_back("markov " + num(value("tau_c_s")) + " s");
       break;
     case kernels::Effect::Step:
-      parts.push_back("step at " + num(value(ps, "time_s")) + " s");
+      parts.push_back("step at " + num(value("time_s")) + " s");
       break;
     default:
       break;  // a term of eq. (3)
@@ -121,7 +179,8 @@ double term_sigma(const kernels::Diagnosis& d, Term t) {
 // fit/'s term table from the corrected model. A term the model holds at zero (or whose sigma
 // is not estimable) keeps the eq. (3) fit's 95 % upper bound: eq. (3) alone gives the term
 // every part of the curve the effects explain, so its bound is conservative for the model.
-std::vector<io::TermRecord> model_terms(const kernels::Diagnosis& d, const io::FitRecord& eq3,
+std::vector<io::TermRecord> model_terms(const kernels::Diagnosis& d,
+                                        const kernels::ChannelSpec& drawn, const io::FitRecord& eq3,
                                         const std::string& units) {
   std::vector<io::TermRecord> out;
   for (const Term t : kernels::units::all_terms()) {
@@ -129,7 +188,7 @@ std::vector<io::TermRecord> model_terms(const kernels::Diagnosis& d, const io::F
     for (const auto& r : eq3.terms)
       if (r.term == kernels::units::term_name(t)) old = &r;
     kernels::TermFit f;
-    f.value = kernels::coefficient(d.model_after.terms, t);
+    f.value = kernels::coefficient(drawn.terms, t);
     f.sigma = term_sigma(d, t);
     if (!std::isfinite(f.sigma) && old && f.value == old->value) f.sigma = old->sigma;
     f.detected = std::isfinite(f.sigma) && f.value > 2.0 * kDetectionSigmas * f.sigma;
@@ -142,13 +201,19 @@ std::vector<io::TermRecord> model_terms(const kernels::Diagnosis& d, const io::F
   return out;
 }
 
-std::vector<io::EffectRecord> effect_records(const kernels::Diagnosis& d) {
+// The named effects with the drawn model's values (diagnose's sigmas and bounds): the k-th
+// effect of a kind named is the k-th of that kind in the model, as diagnose adds them in turn.
+std::vector<io::EffectRecord> effect_records(const kernels::Diagnosis& d,
+                                             const kernels::ChannelSpec& drawn) {
   std::vector<io::EffectRecord> out;
-  for (std::size_t i = 0; i < d.effects_named.size(); ++i)
+  std::vector<std::size_t> seen(kernels::kNumEffects, 0);
+  for (std::size_t i = 0; i < d.effects_named.size(); ++i) {
+    const kernels::Effect e = d.effects_named[i];
+    const std::size_t k = seen[static_cast<std::size_t>(e)]++;
     for (const auto& p : d.effect_parameters[i])
-      out.push_back({static_cast<std::int64_t>(i),
-                     std::string(kernels::effect_name(d.effects_named[i])), p.name, p.value,
-                     p.sigma, p.bound});
+      out.push_back({static_cast<std::int64_t>(i), std::string(kernels::effect_name(e)), p.name,
+                     drawn_value(drawn, e, k, p.name, p.value), p.sigma, p.bound});
+  }
   return out;
 }
 
@@ -196,30 +261,36 @@ void model_poor_fit(io::ChannelResult& result, const kernels::PhaseData& phase,
   opt.nthreads = threads;
   opt.mc_given = false;  // the given model's replicas: analyze reports only the corrected model's
   kernels::Diagnosis d;
+  kernels::ChannelSpec drawn;
+  const auto n = static_cast<std::int64_t>(rate.size());
   try {
     const LowpassChoice none{LowpassChoice::Mode::None, {}};
     const io::FitRecord all_taus = fit_channel(oadev, phase.tau0_s, phase.n_points() - 1,
                                                result.units, none, nullptr, threads);
-    d = kernels::diagnose(rate, rate_hz, given_model(fit, all_taus, rate_hz), opt);
+    d = kernels::diagnose(rate, rate_hz, given_model(fit, all_taus, rate_hz, output_quantum(rate)),
+                          opt);
+    // The structure diagnose named, its levels and shapes fitted on the deviation it is drawn
+    // against (kernels::fit_to_curve): diagnose's fit is on its own grid, without the record's
+    // jumps and with the model's edf, and missed the ADIS16405 accelerometers' curves by 1-2 %
+    // at taus whose intervals are 0.3-1 % wide, and by 1.2-1.7 times at the longest taus.
+    drawn = kernels::fit_to_curve(d.model_after, oadev, n);
   } catch (const std::exception& e) {
     // The eq. (3) fit stands, with the reason: a model that cannot be made fails no channel.
     result.notes +=
         (result.notes.empty() ? "" : "; ") + std::string("poor fit not modelled: ") + e.what();
     return;
   }
-  const auto n = static_cast<std::int64_t>(rate.size());
   fit.adev_model.clear();
   for (const std::int64_t m : oadev.m)
-    fit.adev_model.push_back(
-        std::sqrt(kernels::model_avar_sampled(d.model_after, m, 2 * m <= n ? n : 0)));
-  fit.terms = model_terms(d, fit, result.units);
-  fit.model = describe(d);
+    fit.adev_model.push_back(std::sqrt(kernels::model_avar_sampled(drawn, m, 2 * m <= n ? n : 0)));
+  fit.terms = model_terms(d, drawn, fit, result.units);
+  fit.model = describe(d, drawn, result.units);
   fit.model_gap = d.after.gap;
   fit.model_gap_p95 = d.mc_after.gap_p95;
   fit.model_replicas = d.mc_after.replicas;
   fit.model_within_noise = d.gap_within_noise ? 1 : 0;
-  fit.effects = effect_records(d);
-  model_readouts(fit, d.model_after);
+  fit.effects = effect_records(d, drawn);
+  model_readouts(fit, drawn);
 }
 
 }  // namespace allanlot::pipeline

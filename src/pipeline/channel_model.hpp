@@ -25,9 +25,11 @@ struct ModelChoice {
 
 /// When result.fit is a poor fit (kernels::FitStatus::PoorFit) and `choice` is enabled: runs
 /// kernels::diagnose on the channel's rate (rebuilt from `phase`) against the eq. (3) fit over
-/// every tau (and a filter --lowpass gave), and replaces fit/'s terms, adev_model (on `oadev`'s
-/// taus) and the read-outs' model by the corrected model's, with the model's description, its
-/// gap and verdict and its effects (fit/model*, fit/effects/). A record diagnose cannot model
+/// every tau (and a filter --lowpass gave, and the output's rounding when the samples lie on
+/// one step), fits the structure it names again on `oadev` (kernels::fit_to_curve), and
+/// replaces fit/'s terms, adev_model (on `oadev`'s taus) and the read-outs' model by that
+/// model's, with the model's description, diagnose's gap and verdict and the effects
+/// (fit/model*, fit/effects/). A record diagnose cannot model
 /// (too short, or any other exception of diagnose) keeps its eq. (3) fit, with a note saying
 /// why. Threads: diagnose's (results do not depend on them).
 void model_poor_fit(io::ChannelResult& result, const kernels::PhaseData& phase,
