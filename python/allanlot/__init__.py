@@ -11,7 +11,7 @@ Two faces (docs/python.md):
   ``gradev``, ``psd2allan``; the edf and confidence-interval functions (``ci``);
 - the richer API of the command line: ``deviation`` (confidence intervals, noise
   identification, Stable32's tau grids), ``fit``, ``psd``, ``plot``, ``simulate``,
-  ``diagnose``, ``plan``, ``watch``, ``read_results``, ``read_lot_summary``,
+  ``diagnose``, ``plan``, ``watch``, ``read_recording``, ``read_results``, ``read_lot_summary``,
   ``read_lot_statistics``.
 
 Errors are ValueError or TypeError naming the bad argument (the command line's exit status 2)
@@ -32,7 +32,8 @@ from ._deviation import DEFAULT_CONFIDENCE, Deviation, deviation
 from ._kasdin import Noise
 from ._plot import plot
 from ._production import plan, watch
-from ._readers import read_lot_statistics, read_lot_summary, read_results, stats
+from ._readers import (read_lot_statistics, read_lot_summary, read_recording, read_results,
+                       stats)
 from .ci import (autocorr_noise_id, confidence_interval, confidence_interval_noiseID,
                  edf_greenhall, edf_mtotdev, edf_simple, edf_totdev)
 
@@ -44,7 +45,8 @@ globals().update(_FUNCTIONS)
 
 __all__ = [
     "Deviation", "Simulation", "deviation", "fit", "psd", "plot", "simulate", "diagnose",
-    "read_results", "read_lot_summary", "read_lot_statistics", "stats", "tau_m", "plan", "watch",
+    "read_recording", "read_results", "read_lot_summary", "read_lot_statistics", "stats",
+    "tau_m", "plan", "watch",
     "DEFAULT_CONFIDENCE", "noise", "ci", "Noise", "Dataset", "Plot", "frequency2phase",
     "phase2frequency", "phase2radians", "frequency2fractional", "trim_data", "tau_generator",
     "tau_reduction", "gradev", "psd2allan", "edf_simple", "edf_greenhall", "edf_totdev",

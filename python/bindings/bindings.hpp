@@ -42,5 +42,6 @@ void bind_records(py::module_& m);      // fit, read_results, read_lot_summary, 
 void bind_tools(py::module_& m);        // psd, simulate, diagnose
 void bind_uncertainty(py::module_& m);  // edf_greenhall, chi2_quantile
 void bind_plan(py::module_& m);         // plan, watch, look_quantile
+void bind_recording(py::module_& m);    // read_recording
 
 }  // namespace allanlot::python

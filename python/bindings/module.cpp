@@ -36,4 +36,5 @@ PYBIND11_MODULE(_allanlot, m) {
   allanlot::python::bind_tools(m);
   allanlot::python::bind_plan(m);
   allanlot::python::bind_uncertainty(m);
+  allanlot::python::bind_recording(m);
 }
