@@ -147,6 +147,14 @@ std::string channel_unit(Term t, std::string_view channel_units) {
   return unit;
 }
 
+Quantity to_si(Term t, double value, std::string_view channel_units) {
+  const Family f = family_of(channel_units);
+  if (f == Family::Gyro)
+    return {value * to_base(channel_units) * kRadPerDeg, channel_unit(t, "rad/s")};
+  if (f == Family::Accelerometer) return {value * to_base(channel_units), channel_unit(t, "m/s^2")};
+  return {value, channel_unit(t, channel_units)};
+}
+
 Datasheet to_datasheet(Term t, double value, std::string_view channel_units) {
   const Family f = family_of(channel_units);
   if (!has_forms(f)) return {{value, channel_unit(t, channel_units)}, std::nullopt};

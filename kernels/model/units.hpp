@@ -95,6 +95,12 @@ std::string channel_unit(Term t, std::string_view channel_units);
 /// unknown units the primary form is the value itself in channel_unit(t, channel_units).
 Datasheet to_datasheet(Term t, double value, std::string_view channel_units);
 
+/// A coefficient in channel units (as stored) in SI: gyros in rad/s and seconds ("rad/s*s^0.5"
+/// for N, the continuous-time noise density rad/s/sqrt(Hz)), accelerometers in m/s^2 and
+/// seconds, as robotics tools (Kalibr, OpenVINS) take them; clocks and unknown units as they
+/// are, in channel_unit(t, channel_units).
+Quantity to_si(Term t, double value, std::string_view channel_units);
+
 /// The unit strings from_datasheet accepts for this term and channel: the datasheet forms of
 /// to_datasheet, the other forms datasheets use (deg/s/sqrt(Hz) and rad/s/sqrt(Hz) beside
 /// deg/h/sqrt(Hz), ug/sqrt(Hz) and m/s^2/sqrt(Hz) beside mg/sqrt(Hz), ug beside mg, rad and

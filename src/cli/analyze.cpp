@@ -390,7 +390,7 @@ std::uint64_t Run::analyze_one(const std::string& file, std::size_t n_files) {
   claim_id(id, file);
   write(file, rec, id);
   ++n_ok;
-  if (!opt.quiet && (opt.table || n_files <= 10)) out << unit_tables(rec);
+  if (!opt.quiet && (opt.table || n_files <= 10)) out << unit_tables(rec, opt.si);
   return samples;
 }
 
@@ -648,6 +648,9 @@ Command add_analyze_command(CLI::App& app) {
   sub->add_flag("--no-psd", a->no_psd, "Do not compute the PSD and the eq. (2) cross-check");
   sub->add_flag("--table", a->opt.table,
                 "Print each unit's coefficient table (default: when at most 10 inputs)");
+  sub->add_flag("--si", a->opt.si,
+                "The coefficient table in SI units (rad/s, m/s^2 and seconds, as robotics tools "
+                "take them) instead of datasheet units");
   sub->add_flag("-v,--verbose", a->opt.verbose, "Print per-stage timings");
   sub->add_flag("-q,--quiet", a->opt.quiet, "Print only errors");
   sub->add_flag("--force", a->opt.force,

@@ -36,6 +36,7 @@ struct AnalyzeOptions {
   kernels::GapPolicy gaps;  // --gaps: what missing samples become (default fill:10)
   bool psd = true;       // write psd/ and crosscheck/ (Welch PSD, eq. (2)); --no-psd turns it off
   bool table = false;    // print each unit's fit table (always for <= 10 inputs)
+  bool si = false;       // that table in SI units (rad/s, m/s^2 and seconds)
   bool verbose = false;  // per-stage timings on stderr
   bool quiet = false;    // only errors on stderr, nothing on stdout
   std::string command_line;  // recorded in every results file

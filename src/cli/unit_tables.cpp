@@ -96,7 +96,7 @@ std::string deviation_table(const std::string& device_id, const io::ChannelResul
   return out.str();
 }
 
-std::string unit_tables(const io::RecordingResult& rec) {
+std::string unit_tables(const io::RecordingResult& rec, bool si) {
   io::RecordingResult imu;
   imu.device_id = rec.device_id;
   imu.source_file = rec.source_file;
@@ -107,7 +107,7 @@ std::string unit_tables(const io::RecordingResult& rec) {
     else if (ch.status.is_ok())
       clocks.push_back(&ch);
   }
-  std::string out = pipeline::fit_table(imu);
+  std::string out = pipeline::fit_table(imu, si);
   for (const io::ChannelResult* ch : clocks)
     out += deviation_table(rec.device_id, *ch);
   return out;

@@ -24,7 +24,7 @@ bool is_clock_channel(const io::ChannelResult& ch);
 std::string deviation_table(const std::string& device_id, const io::ChannelResult& ch);
 
 /// Everything printed for one unit: pipeline::fit_table of its IMU channels, then the deviation
-/// table of each clock channel that was analysed.
-std::string unit_tables(const io::RecordingResult& rec);
+/// table of each clock channel that was analysed; `si`: the coefficients in SI units.
+std::string unit_tables(const io::RecordingResult& rec, bool si = false);
 
 }  // namespace allanlot::cli

@@ -306,10 +306,22 @@ std::size_t display_width(const std::string& s) {
 // A read-out cell: value ± sigma in its datasheet form (ARW/VRW for N when there is one), the
 // tau it was read at for B and K, '*' when the fit does not detect the term; '-' when the
 // curve does not reach the read-out's tau.
-std::string format_readout(const io::ReadoutRecord& x, bool* undetected) {
-  const bool alt = !x.unit_datasheet_alt.empty();
-  const double v = alt ? x.value_datasheet_alt : x.value_datasheet;
-  const double sd = alt ? x.sigma_datasheet_alt : x.sigma_datasheet;
+// The term a read-out reads (IEEE Std 952 annex C): N at 1 s, B at the minimum, K at 3 s.
+kernels::Term readout_term(std::string_view name) {
+  if (name == "bias_instability") return kernels::Term::B;
+  return name == "K_3s" ? kernels::Term::K : kernels::Term::N;
+}
+
+std::string format_readout(const io::ReadoutRecord& x, const std::string& units, bool si,
+                           bool* undetected) {
+  const bool alt = !si && !x.unit_datasheet_alt.empty();
+  const kernels::Term t = readout_term(x.name);
+  const double v = si    ? kernels::units::to_si(t, x.value, units).value
+                   : alt ? x.value_datasheet_alt
+                         : x.value_datasheet;
+  const double sd = si    ? kernels::units::to_si(t, x.sigma, units).value
+                    : alt ? x.sigma_datasheet_alt
+                          : x.sigma_datasheet;
   if (!(x.tau_s > 0.0) || !std::isfinite(v)) return "-";
   char buf[96];
   if (x.name == "N_1s")
@@ -356,7 +368,7 @@ void add_filter_rows(const std::vector<const io::ChannelResult*>& chans,
 
 // The read-out rows under a group's coefficients (IEEE Std 952 annex C).
 void add_readout_rows(const std::vector<const io::ChannelResult*>& chans,
-                      std::vector<std::vector<std::string>>& rows, bool* undetected) {
+                      std::vector<std::vector<std::string>>& rows, bool si, bool* undetected) {
   static constexpr std::pair<const char*, const char*> kRows[] = {
       {"N_1s", "N at 1 s"}, {"bias_instability", "B: min/0.664"}, {"K_3s", "K at 3 s"}};
   const auto& first = chans.front()->fit->readouts;
@@ -366,14 +378,16 @@ void add_readout_rows(const std::vector<const io::ChannelResult*>& chans,
     const auto it = std::find_if(first.begin(), first.end(),
                                  [&](const io::ReadoutRecord& x) { return x.name == name; });
     if (it == first.end()) continue;
-    std::vector<std::string> row = {std::string(label), it->unit_datasheet_alt.empty()
-                                                            ? it->unit_datasheet
-                                                            : it->unit_datasheet_alt};
+    const std::string unit =
+        si ? kernels::units::to_si(readout_term(name), 1.0, chans.front()->units).unit
+        : it->unit_datasheet_alt.empty() ? it->unit_datasheet
+                                         : it->unit_datasheet_alt;
+    std::vector<std::string> row = {std::string(label), unit};
     for (const auto* ch : chans) {
       const auto& xs = ch->fit->readouts;
       const auto x = std::find_if(xs.begin(), xs.end(),
                                   [&](const io::ReadoutRecord& r) { return r.name == name; });
-      row.push_back(x == xs.end() ? "-" : format_readout(*x, undetected));
+      row.push_back(x == xs.end() ? "-" : format_readout(*x, ch->units, si, undetected));
     }
     rows.push_back(row);
   }
@@ -388,13 +402,25 @@ std::string model_cell(const io::FitRecord& f) {
   return buf;
 }
 
-std::string format_term(const io::TermRecord& t) {
+// A term's cell in its datasheet form, or in SI (kernels::units::to_si) with `si`.
+std::string format_term(const io::TermRecord& t, const std::string& units, bool si) {
+  const auto term = kernels::parse_term(t.term).value_or(kernels::Term::N);
+  const auto in = [&](double datasheet, double stored) {
+    return si ? kernels::units::to_si(term, stored, units).value : datasheet;
+  };
   char buf[64];
   if (t.detected)
-    std::snprintf(buf, sizeof buf, "%.3g ± %.2g", t.value_datasheet, t.sigma_datasheet);
+    std::snprintf(buf, sizeof buf, "%.3g ± %.2g", in(t.value_datasheet, t.value),
+                  in(t.sigma_datasheet, t.sigma));
   else
-    std::snprintf(buf, sizeof buf, "< %.2g", t.upper_datasheet);
+    std::snprintf(buf, sizeof buf, "< %.2g", in(t.upper_datasheet, t.upper));
   return buf;
+}
+
+std::string term_unit(const io::TermRecord& t, const std::string& units, bool si) {
+  if (!si) return t.unit_datasheet;
+  return kernels::units::to_si(kernels::parse_term(t.term).value_or(kernels::Term::N), 1.0, units)
+      .unit;
 }
 
 }  // namespace
@@ -416,7 +442,7 @@ std::string aligned_rows(const std::vector<std::vector<std::string>>& rows) {
   return out.str();
 }
 
-std::string fit_table(const io::RecordingResult& r) {
+std::string fit_table(const io::RecordingResult& r, bool si) {
   // Channels with a fit, grouped by their datasheet units (gyros, accelerometers, ...) as in
   // the paper's Table.
   std::map<std::string, std::vector<const io::ChannelResult*>> groups;
@@ -430,7 +456,7 @@ std::string fit_table(const io::RecordingResult& r) {
   if (groups.empty()) return "";
   std::ostringstream out;
   out << r.device_id << ": noise coefficients of eq. (3), value ± 1 sigma ('<': not detected, "
-      << "95 % upper bound)\n";
+      << "95 % upper bound)" << (si ? ", in SI units" : "") << "\n";
   bool poor = false, undetected = false;
   // A data type nobody gave is said where the numbers are read (docs/formats.md).
   std::string defaulted;
@@ -448,10 +474,11 @@ std::string fit_table(const io::RecordingResult& r) {
       header.push_back(ch->path.substr(ch->path.find_last_of('/') + 1));
     std::vector<std::vector<std::string>> rows = {header};
     for (std::size_t t = 0; t < chans.front()->fit->terms.size(); ++t) {
-      std::vector<std::string> row = {chans.front()->fit->terms[t].term,
-                                      chans.front()->fit->terms[t].unit_datasheet};
+      std::vector<std::string> row = {
+          chans.front()->fit->terms[t].term,
+          term_unit(chans.front()->fit->terms[t], chans.front()->units, si)};
       for (const auto* ch : chans)
-        row.push_back(format_term(ch->fit->terms[t]));
+        row.push_back(format_term(ch->fit->terms[t], ch->units, si));
       rows.push_back(row);
     }
     std::vector<std::string> status = {"fit", ""};
@@ -462,7 +489,7 @@ std::string fit_table(const io::RecordingResult& r) {
     }
     rows.push_back(status);
     add_filter_rows(chans, rows);
-    add_readout_rows(chans, rows, &undetected);
+    add_readout_rows(chans, rows, si, &undetected);
     out << aligned_rows(rows);
     for (const auto* ch : chans)
       if (!ch->fit->model.empty())

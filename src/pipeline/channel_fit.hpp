@@ -66,8 +66,9 @@ io::FitRecord psd_fit_channel(const kernels::PsdResult& psd, const std::string& 
 
 /// The fitted coefficients of every channel of a unit in datasheet units, laid out as the
 /// paper's Table: one block per sensor family, one row per term, one column per channel;
-/// "v ± s" for detected terms, "< u" (95 % upper bound) for the others.
-std::string fit_table(const io::RecordingResult& r);
+/// "v ± s" for detected terms, "< u" (95 % upper bound) for the others. With `si`, in SI
+/// units instead (kernels::units::to_si: rad/s or m/s^2 and seconds, analyze --si).
+std::string fit_table(const io::RecordingResult& r, bool si = false);
 
 /// Rows of cells as terminal lines, indented by two spaces, columns aligned by UTF-8 code
 /// points (not bytes: "±" is one column), two spaces apart.

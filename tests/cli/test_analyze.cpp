@@ -9,9 +9,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <numbers>
 #include <random>
 #include <sstream>
 
@@ -590,6 +592,42 @@ TEST(Analyze, ClockDataGetADeviationTable) {
     }
   }
   EXPECT_TRUE(std::isfinite(oadev.dev_lo[0]));  // the bounds are there to be shown
+}
+
+}  // namespace
+}  // namespace allanlot
+
+namespace allanlot {
+namespace {
+
+// `--si` prints the coefficient table in rad/s and m/s^2 and seconds: the gyro's N is its
+// stored value (deg/s*s^0.5) times pi/180, the accelerometer's its stored value.
+TEST(Analyze, SiTableInRadiansAndMetres) {
+  const auto dir = test::fresh_dir("analyze_si");
+  write_unit(dir / "u1.h5", "UNIT-SI", 3);
+  std::string si, plain;
+  const std::string args = " analyze --stats oadev -o " + (dir / "out").string() + " --force " +
+                           (dir / "u1.h5").string();
+  ASSERT_EQ(run_command(binary() + args + " --si", &si), 0) << si;
+  ASSERT_EQ(run_command(binary() + args, &plain), 0) << plain;
+  EXPECT_NE(si.find("in SI units"), std::string::npos) << si;
+  EXPECT_NE(si.find("rad/s*s^0.5"), std::string::npos) << si;
+  EXPECT_NE(si.find("m/s^2*s^0.5"), std::string::npos) << si;
+  EXPECT_EQ(plain.find("rad/s*s^0.5"), std::string::npos) << plain;
+  EXPECT_NE(plain.find("deg/h/sqrt(Hz)"), std::string::npos) << plain;
+  const auto r = io::read_results(dir / "out" / "UNIT-SI.allan.h5");
+  for (const auto& [path, factor] :
+       {std::pair<std::string, double>{"/imu/gyro_x", std::numbers::pi / 180.0},
+        {"/imu/accel_z", 1.0}}) {
+    const auto& terms = channel(r, path).fit->terms;
+    const auto n = std::find_if(terms.begin(), terms.end(),
+                                [](const io::TermRecord& t) { return t.term == "N"; });
+    ASSERT_NE(n, terms.end());
+    ASSERT_TRUE(n->detected);
+    char cell[64];
+    std::snprintf(cell, sizeof cell, "%.3g ± %.2g", n->value * factor, n->sigma * factor);
+    EXPECT_NE(si.find(cell), std::string::npos) << path << " " << cell << "\n" << si;
+  }
 }
 
 }  // namespace

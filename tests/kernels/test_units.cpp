@@ -233,5 +233,23 @@ TEST(Units, DatasheetSpellingsAndForms) {
   EXPECT_NEAR(primary(Term::B, 1.0, "ug"), 1e-3, 1e-15);
 }
 
+// SI forms (to_si, analyze --si, the robotics exports): rad/s and m/s^2 and seconds; a deg/h
+// gyro's N of 1 deg/h*s^0.5 is pi/180/3600 rad/s*s^0.5, an mg accelerometer's B of 1 mg is
+// 9.80665e-3 m/s^2; clocks pass through.
+TEST(Units, SiForms) {
+  const auto n = units::to_si(Term::N, 1.0, "deg/h");
+  EXPECT_NEAR(n.value, std::numbers::pi / 180 / 3600, 1e-20);
+  EXPECT_EQ(n.unit, "rad/s*s^0.5");
+  EXPECT_NEAR(units::to_si(Term::N, 2.0, "rad/s").value, 2.0, 1e-15);
+  const auto b = units::to_si(Term::B, 1.0, "mg");
+  EXPECT_NEAR(b.value, 9.80665e-3, 1e-17);
+  EXPECT_EQ(b.unit, "m/s^2");
+  EXPECT_EQ(units::to_si(Term::K, 1.0, "g").unit, "m/s^2/s^0.5");
+  EXPECT_NEAR(units::to_si(Term::K, 1.0, "g").value, 9.80665, 1e-12);
+  const auto clock = units::to_si(Term::N, 3.0, "1");
+  EXPECT_EQ(clock.value, 3.0);
+  EXPECT_EQ(clock.unit, units::channel_unit(Term::N, "1"));
+}
+
 }  // namespace
 }  // namespace allanlot
