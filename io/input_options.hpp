@@ -31,6 +31,10 @@ struct InputOptions {
   /// path, as --channels), over its header's unit; else its header's unit; else the first rule
   /// without a glob.
   std::vector<ColumnUnits> units;
+  /// --nominal-frequency HZ: the oscillator's nominal frequency F, with which a channel in Hz
+  /// is read as fractional frequency (f - F) / F; 0 when not given (a channel in Hz is then a
+  /// usage error).
+  double nominal_frequency_hz = 0.0;
 };
 
 /// The rules as one list, `gyro_*=deg/s,accel_*=g` (a bare unit alone as it is given).

@@ -7,6 +7,7 @@
 #include "io/line_reader.hpp"
 #include "io/text_fields.hpp"
 #include "io/text_recording.hpp"
+#include "io/usage_error.hpp"
 #include "kernels/model/units.hpp"
 
 #include <algorithm>
@@ -18,6 +19,7 @@
 #include <fstream>
 #include <optional>
 #include <set>
+#include <span>
 #include <sstream>
 #include <sys/stat.h>
 
@@ -47,15 +49,38 @@ bool channel_glob_matches(const std::string& glob, const std::string& path) {
 
 namespace {
 
+std::string needs_nominal_frequency(const std::string& units) {
+  return "units '" + units +
+         "' are a frequency: give --nominal-frequency F (Hz) to read it as fractional frequency "
+         "(f - F) / F";
+}
+
 // The channel's unit in the one vocabulary (kernels/model/units.hpp): "dps" is deg/s, "m/s2"
-// m/s^2; a clock's phase in ns or frequency in ppb is scaled to s or 1. Units outside the
+// m/s^2; a clock's phase in ns or frequency in ppb is scaled to s or 1, its frequency in Hz
+// made fractional with --nominal-frequency (a usage error without it). Units outside the
 // vocabulary stay as written (analyze warns about them).
-void in_canonical_units(ChannelInfo& ch) {
+void in_canonical_units(ChannelInfo& ch, const InputOptions& options, const std::string& file) {
   const auto known = kernels::units::parse_channel_units(ch.units);
   if (!known) return;
+  if (known->per_nominal) {
+    if (!(options.nominal_frequency_hz > 0))
+      throw UsageError(file, ch.path, needs_nominal_frequency(ch.units));
+    ch.nominal_hz = options.nominal_frequency_hz;
+  }
   ch.units = known->canonical;
   ch.scale *= known->scale;
   ch.offset *= known->scale;
+}
+
+// Raw samples to the channel's canonical units: the file's scale and offset, the unit's factor,
+// and a frequency in Hz made fractional.
+void to_physical(const ChannelInfo& channel, std::span<double> samples) {
+  if (channel.scale != 1.0 || channel.offset != 0.0)  // a clock's ns or ppb (units.hpp)
+    for (double& v : samples)
+      v = v * channel.scale + channel.offset;
+  if (channel.nominal_hz > 0)
+    for (double& v : samples)
+      v = kernels::units::to_fractional_frequency(v, channel.nominal_hz);
 }
 
 std::string describe_type(hid_t type) {
@@ -167,7 +192,23 @@ void check_input_options(const std::string& path, const InputOptions& options) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) return;
   h5::quiet_library();
-  if (H5Fis_hdf5(path.c_str()) <= 0 && is_text_recording(path)) check_text_options(path, options);
+  if (H5Fis_hdf5(path.c_str()) <= 0 && is_text_recording(path)) {
+    check_text_options(path, options);
+  } else if (H5Fis_hdf5(path.c_str()) > 0 && !(options.nominal_frequency_hz > 0)) {
+    // A channel in Hz needs --nominal-frequency. The reader reads it with any F; the channels
+    // that took one are the ones in Hz. Any other problem of the file is reported when it is
+    // read.
+    InputOptions probe = options;
+    probe.nominal_frequency_hz = 1.0;
+    std::optional<RecordingReader> reader;
+    try {
+      reader.emplace(path, probe);
+    } catch (const std::exception&) {
+      return;
+    }
+    for (const ChannelInfo& ch : reader->info().channels)
+      if (ch.nominal_hz > 0) throw UsageError(path, ch.path, needs_nominal_frequency("Hz"));
+  }
 }
 
 struct RecordingReader::Impl {
@@ -296,7 +337,8 @@ struct RecordingReader::Impl {
 namespace {
 
 // The channels of a text recording, all with the recording's rate and data type.
-void describe_text(const TextRecording& text, RecordingInfo& info) {
+void describe_text(const TextRecording& text, RecordingInfo& info, const InputOptions& options,
+                   const std::string& file) {
   info.device_id = text.device_id;
   info.facts = text.facts;
   info.notes = text.notes;
@@ -310,7 +352,7 @@ void describe_text(const TextRecording& text, RecordingInfo& info) {
     ch.n_samples = static_cast<std::int64_t>(tc.samples.size());
     ch.storage_type = "text";
     ch.time_stamps = text.time_stamps;
-    in_canonical_units(ch);
+    in_canonical_units(ch, options, file);
     const double rate = text.sample_rate_hz;
     if (!(rate >= kMinSampleRateHz && rate <= kMaxSampleRateHz)) {
       std::ostringstream msg;
@@ -353,7 +395,7 @@ RecordingReader::RecordingReader(const std::string& path, const InputOptions& op
   if (std::filesystem::is_directory(path, ec)) throw Error(path, "", "is a directory");
   if (H5Fis_hdf5(path.c_str()) <= 0 && is_text_recording(path)) {
     impl_->text = read_text_recording(path, options);
-    describe_text(*impl_->text, info_);
+    describe_text(*impl_->text, info_, options, path);
     return;
   }
   if (H5Fis_hdf5(path.c_str()) <= 0)
@@ -429,7 +471,7 @@ RecordingReader::RecordingReader(const std::string& path, const InputOptions& op
       impl_->find_attribute(ds_path, "units", ch.units);
       ch.has_scale = !impl_->find_attribute(ds_path, "scale", ch.scale).empty();
       impl_->find_attribute(ds_path, "offset", ch.offset);
-      in_canonical_units(ch);
+      in_canonical_units(ch, options, path);
       if (!std::isfinite(ch.scale) || ch.scale == 0.0 || !std::isfinite(ch.offset)) {
         info_.problems.push_back({ds_path, "scale must be finite and non-zero, offset finite"});
         continue;
@@ -466,9 +508,7 @@ kernels::LargeVector<double> RecordingReader::read(const ChannelInfo& channel,
     for (const TextChannel& tc : impl_->text->channels) {
       if (tc.path != channel.path) continue;
       kernels::LargeVector<double> out(tc.samples.begin(), tc.samples.end());
-      if (channel.scale != 1.0 || channel.offset != 0.0)  // a clock's ns or ppb (units.hpp)
-        for (double& v : out)
-          v = v * channel.scale + channel.offset;
+      to_physical(channel, out);
       return out;
     }
     throw Error(file, channel.path, "no such column");
@@ -496,9 +536,7 @@ kernels::LargeVector<double> RecordingReader::read(const ChannelInfo& channel,
           file, channel.path, "H5Dread (truncated or corrupt data)");
   }
   impl_->check_whole(channel.path);
-  if (channel.scale != 1.0 || channel.offset != 0.0)
-    for (double& v : out)
-      v = v * channel.scale + channel.offset;
+  to_physical(channel, out);
   return out;
 }
 
