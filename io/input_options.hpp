@@ -4,6 +4,7 @@
 
 #include "kernels/allan/phase.hpp"
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -35,6 +36,11 @@ struct InputOptions {
   /// is read as fractional frequency (f - F) / F; 0 when not given (a channel in Hz is then a
   /// usage error).
   double nominal_frequency_hz = 0.0;
+  /// Bytes a text recording's parsed samples (and its longest line) may hold, so that a gzip
+  /// bomb or an endless line ends with an error naming the file and the limit instead of
+  /// exhausting memory; 0 = no bound. The commands set --memory-limit, or their default (half
+  /// of the machine's memory, src/cli/memory.hpp).
+  std::uint64_t memory_limit = 0;
 };
 
 /// The rules as one list, `gyro_*=deg/s,accel_*=g` (a bare unit alone as it is given).

@@ -20,7 +20,8 @@ struct LineReader::Gz {
   }
 };
 
-LineReader::LineReader(const std::string& path) : gz_(std::make_unique<Gz>()), path_(path) {
+LineReader::LineReader(const std::string& path, std::uint64_t max_line)
+    : gz_(std::make_unique<Gz>()), path_(path), max_line_(max_line) {
   gz_->f = gzopen(path.c_str(), "rb");
   if (!gz_->f) throw Error(path, "", std::string("cannot open: ") + std::strerror(errno));
   // zlib's own buffer as large as ours: one read(2) per block for plain files too.
@@ -38,7 +39,13 @@ bool LineReader::refill() {
     end_ -= begin_;
     begin_ = 0;
   }
-  // A line longer than the buffer grows it: lines are never cut.
+  // A line longer than the buffer grows it: lines are never cut, but one longer than the
+  // memory limit (a gzip bomb without line ends) is an error, not an allocation failure.
+  if (max_line_ > 0 && end_ > max_line_)
+    throw Error(path_, "line " + std::to_string(line_number_ + 1),
+                "longer than the memory limit of " + memory_text(max_line_) +
+                    " (--memory-limit) allows for its text: " + std::to_string(end_) +
+                    " bytes without a line end");
   if (buf_.size() - end_ < kBlock) buf_.resize(buf_.size() + kBlock);
   const int got = gzread(gz_->f, buf_.data() + end_, static_cast<unsigned>(kBlock));
   if (got < 0) {
@@ -88,6 +95,12 @@ bool LineReader::next(std::string_view& line) {
   begin_ = end_;
   ++line_number_;
   return true;
+}
+
+std::string memory_text(std::uint64_t bytes) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f MiB", static_cast<double>(bytes) / (1 << 20));
+  return text;
 }
 
 bool is_gzip_file(const std::string& path) {

@@ -14,7 +14,9 @@ namespace allanlot::io {
 class LineReader {
 public:
   /// Opens `path` read-only. Throws io::Error naming the file when it cannot be opened.
-  explicit LineReader(const std::string& path);
+  /// `max_line`: the longest line in bytes (0 = any); a longer one (an endless line of a
+  /// gzip bomb) is an io::Error naming the line and the bound (the memory limit).
+  explicit LineReader(const std::string& path, std::uint64_t max_line = 0);
   ~LineReader();
   LineReader(const LineReader&) = delete;
   LineReader& operator=(const LineReader&) = delete;
@@ -40,7 +42,11 @@ private:
   bool eof_ = false;
   std::int64_t line_number_ = 0;
   std::uint64_t bytes_ = 0;
+  std::uint64_t max_line_ = 0;
 };
+
+/// A memory size as messages give it: "512.0 MiB".
+std::string memory_text(std::uint64_t bytes);
 
 /// True when the file starts with the gzip magic bytes.
 bool is_gzip_file(const std::string& path);

@@ -8,6 +8,8 @@
 #include "io/text_fields.hpp"
 #include "io/text_recording.hpp"
 #include "io/usage_error.hpp"
+#include "io/utf8.hpp"
+#include "io/virtual_dataset.hpp"
 #include "kernels/model/units.hpp"
 
 #include <algorithm>
@@ -31,10 +33,21 @@ using h5::Handle;
 std::string sanitize_device_id(const std::string& id) {
   std::string out;
   out.reserve(id.size());
-  for (const unsigned char c : id) {
+  for (std::size_t i = 0; i < id.size(); ++i) {
+    bool letter = false;
+    if (const std::size_t n = name_letter_length(id, i, letter); n > 0) {
+      // Another script's letters: device ids in Cyrillic stay apart. Anything else one '_'.
+      if (letter)
+        out.append(id, i, n);
+      else
+        out.push_back('_');
+      i += n - 1;
+      continue;
+    }
+    const char c = id[i];
     const bool ok = (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') ||
                     c == '.' || c == '_' || c == '-';
-    out.push_back(ok ? static_cast<char>(c) : '_');
+    out.push_back(ok ? c : '_');
   }
   if (out.empty()) out.push_back('_');  // not `out = "_"`: GCC 12 bug 105329 (-Wrestrict)
   if (out[0] == '.') out[0] = '_';      // never ".", "..", or a hidden file
@@ -266,11 +279,12 @@ struct RecordingReader::Impl {
                       " bytes, its HDF5 layout needs " + std::to_string(eoa));
   }
 
-  // A channel's dataset, refused when its raw data lie in external files that are not regular
-  // files beside the recording (check_external).
+  // A channel's dataset, refused when it is virtual (io/virtual_dataset.hpp) or its raw data
+  // lie in external files that are not regular files beside the recording (check_external).
   Handle open_dataset(const std::string& object) const {
     Handle ds = check(H5Dopen2(file.get(), object.c_str(), H5P_DEFAULT), H5Dclose, path, object,
                       "H5Dopen2");
+    refuse_virtual_dataset(ds.get(), path, object);
     check_external(ds.get(), object);
     return ds;
   }

@@ -142,8 +142,10 @@ private:
   std::unique_ptr<Impl> impl_;
 };
 
-/// Reduces a device id to [A-Za-z0-9._-] (other characters become '_', a leading '.'
-/// becomes '_'), so that OUTDIR/<id>.allan.h5 can never name a path outside OUTDIR.
+/// Reduces a device id to [A-Za-z0-9._-] and the letters of other scripts (UTF-8, see
+/// io/utf8.hpp name_letter_length; every other byte becomes '_', a leading '.' becomes '_'),
+/// so that OUTDIR/<id>.allan.h5 can never name a path outside OUTDIR, and ids in Cyrillic or
+/// CJK do not all reduce to the same run of '_'.
 std::string sanitize_device_id(const std::string& id);
 
 }  // namespace allanlot::io

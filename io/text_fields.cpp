@@ -64,10 +64,40 @@ long long days_since_epoch(int y, int m, int d) {
 }  // namespace
 
 char detect_delimiter(std::string_view line) {
-  for (const char d : {'\t', ',', ';'})
-    if (line.find(d) != std::string_view::npos) return d;
-  return ' ';
+  bool seen[3] = {};
+  bool quoted = false;
+  for (const char c : line) {
+    if (c == '"') quoted = !quoted;  // "" inside a quoted field toggles twice
+    if (quoted) continue;
+    seen[0] |= c == '\t';
+    seen[1] |= c == ',';
+    seen[2] |= c == ';';
+  }
+  return seen[0] ? '\t' : seen[1] ? ',' : seen[2] ? ';' : ' ';
 }
+
+namespace {
+
+// The end of the field that starts at `b`: the next delimiter, or with RFC 4180 quoting (a
+// field in double quotes, "" inside for one quote) the next delimiter after the closing quote.
+std::size_t field_end(std::string_view line, char delim, std::size_t b) {
+  std::size_t q = b;
+  while (q < line.size() && blank(line[q]))
+    ++q;
+  if (q == line.size() || line[q] != '"') return line.find(delim, b);
+  std::size_t close = q + 1;
+  for (;;) {
+    close = line.find('"', close);
+    if (close == std::string_view::npos) return close;  // unclosed: the rest of the line
+    if (close + 1 < line.size() && line[close + 1] == '"') {
+      close += 2;
+      continue;
+    }
+    return line.find(delim, close + 1);
+  }
+}
+
+}  // namespace
 
 void split_fields(std::string_view line, char delim, std::vector<std::string_view>& out) {
   out.clear();
@@ -86,7 +116,7 @@ void split_fields(std::string_view line, char delim, std::vector<std::string_vie
   }
   std::size_t b = 0;
   for (;;) {
-    const std::size_t e = line.find(delim, b);
+    const std::size_t e = field_end(line, delim, b);
     std::string_view f = trim(line.substr(b, e == std::string_view::npos ? e : e - b));
     if (f.size() >= 2 && f.front() == '"' && f.back() == '"') f = f.substr(1, f.size() - 2);
     out.push_back(f);
@@ -110,6 +140,12 @@ bool parse_number(std::string_view field, double& value) {
   if (ptr != end) return false;
   // A value beyond double's range is an error, not a silent infinity or zero.
   return ec == std::errc();
+}
+
+bool looks_numeric(std::string_view f) {
+  if (!f.empty() && (f.front() == '+' || f.front() == '-')) f.remove_prefix(1);
+  const auto digit = [&](std::size_t i) { return i < f.size() && f[i] >= '0' && f[i] <= '9'; };
+  return digit(0) || (!f.empty() && f.front() == '.' && digit(1));
 }
 
 StampParse parse_numeric_stamp(std::string_view f, NumericStamp& out) {
@@ -159,8 +195,12 @@ bool is_comment(std::string_view line) {
   return line.empty() || line.front() == '#' || line.front() == '%' || line.front() == ';';
 }
 
-HeaderCell parse_header_cell(std::string_view cell) {
-  cell = trim(cell);
+HeaderCell parse_header_cell(std::string_view quoted_cell) {
+  // A quoted cell's "" is one quote (RFC 4180); split_fields keeps it doubled.
+  std::string text(trim(quoted_cell));
+  for (std::size_t at = text.find("\"\""); at != std::string::npos; at = text.find("\"\"", at + 1))
+    text.erase(at, 1);
+  const std::string_view cell = text;
   HeaderCell h;
   for (const auto& [open, close] : {std::pair{'[', ']'}, std::pair{'(', ')'}}) {
     const auto o = cell.rfind(open);
@@ -169,7 +209,7 @@ HeaderCell parse_header_cell(std::string_view cell) {
     h.unit = std::string(trim(cell.substr(o + 1, cell.size() - o - 2)));
     return h;
   }
-  h.name = std::string(cell);
+  h.name = text;
   return h;
 }
 

@@ -14,12 +14,14 @@ namespace allanlot::io {
 /// `s` with ASCII letters in lower case (file extensions, column names; other bytes as they are).
 std::string ascii_lower(std::string s);
 
-/// ',' ';' '\t', or ' ' for runs of blanks (spaces and tabs).
+/// The first of '\t' ',' ';' found outside double quotes, or ' ' for runs of blanks (spaces
+/// and tabs).
 char detect_delimiter(std::string_view line);
 
 /// Splits `line` at `delim` into `out` (cleared first), each field trimmed of blanks and of
-/// one pair of double quotes. With ' ', runs of blanks are one separator and leading and
-/// trailing blanks separate nothing.
+/// one pair of double quotes. A field in double quotes may hold the delimiter (RFC 4180; a
+/// doubled quote inside stays doubled here, parse_header_cell makes it one). With ' ', runs of
+/// blanks are one separator and leading and trailing blanks separate nothing.
 void split_fields(std::string_view line, char delim, std::vector<std::string_view>& out);
 
 /// Parses a whole field as a number: decimal or exponent notation, an optional sign, nan
@@ -36,6 +38,11 @@ struct NumericStamp {
   double fraction = 0;  // in (-1, 1), the sign of the stamp
 };
 enum class StampParse { ok, not_a_number, beyond_int64 };
+/// A field written as a number, whether or not it is one: an optional sign, then a digit or a
+/// '.' and a digit (`1e999`, `0x1p3`, `12abc`). Refused by parse_number, it is a malformed
+/// number, never a text column or a header cell.
+bool looks_numeric(std::string_view field);
+
 /// Parses a whole field as a time stamp: digits with an optional sign and decimals exactly;
 /// exponent notation through double. beyond_int64 when its integer part does not fit.
 StampParse parse_numeric_stamp(std::string_view field, NumericStamp& out);
@@ -43,7 +50,8 @@ StampParse parse_numeric_stamp(std::string_view field, NumericStamp& out);
 /// A comment line: empty after trimming, or starting with '#', '%' or ';'.
 bool is_comment(std::string_view line);
 
-/// A header cell split into the channel's name and its unit: `gx [deg/s]`, `gx (deg/s)`.
+/// A header cell split into the channel's name and its unit: `gx [deg/s]`, `gx (deg/s)`; a
+/// doubled quote is one.
 struct HeaderCell {
   std::string name;
   std::string unit;  // "" when the cell names none

@@ -6,6 +6,7 @@
 #include "io/text_fields.hpp"
 #include "io/time_axis.hpp"
 #include "io/usage_error.hpp"
+#include "io/utf8.hpp"
 #include "kernels/model/units.hpp"
 
 #include <algorithm>
@@ -13,6 +14,7 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <new>
 #include <sstream>
 
 namespace allanlot::io {
@@ -25,9 +27,11 @@ std::string format(double v) {
   return s.str();
 }
 
+// A field in a message: its first 40 bytes, control bytes (a NUL) and bytes that are not UTF-8
+// shown as \xNN.
 std::string quoted(std::string_view field) {
   std::string s("'");
-  s.append(field.substr(0, 40));
+  s.append(printable(field.substr(0, 40)));
   if (field.size() > 40) s += "...";
   s += "'";
   return s;
@@ -43,6 +47,43 @@ std::string at_line(std::int64_t line) {
 std::size_t expected_rows(const std::string& path, double line_bytes) {
   const auto text = static_cast<double>(text_size_hint(path));
   return static_cast<std::size_t>(text / std::max(line_bytes, 1.0) * 1.1) + 16;
+}
+
+// The most rows of `columns` values that `limit` bytes hold (InputOptions::memory_limit; 0 is
+// no bound).
+std::size_t rows_within(std::uint64_t limit, std::size_t columns) {
+  if (limit == 0 || columns == 0) return std::numeric_limits<std::size_t>::max();
+  return static_cast<std::size_t>(limit / (sizeof(double) * columns));
+}
+
+// A text recording is parsed whole: its values, 8 bytes each, must fit the memory limit as they
+// grow, so that a gzip bomb (4 MB that decode to gigabytes of rows) ends with an error naming
+// the file and the limit rather than an allocation failure, and the memory stays bounded.
+void check_rows(const std::string& path, std::int64_t line, std::size_t rows, std::size_t columns,
+                std::uint64_t limit) {
+  if (rows < rows_within(limit, columns)) return;
+  throw Error(path, at_line(line),
+              "its values need more than the memory limit of " + memory_text(limit) +
+                  " (--memory-limit) allows: " + std::to_string(rows + 1) + " rows of " +
+                  std::to_string(columns) + " value(s), 8 bytes each");
+}
+
+// push_back that, past the estimate, reserves at once the room the memory limit leaves
+// (`max_rows`): address space of which only the values written become resident, so that no
+// doubling copies a vector near the limit (old and new arrays together, up to twice the limit).
+// Without a limit, or where that much address space is refused, it doubles.
+void push_within(std::vector<double>& v, double x, std::size_t max_rows) {
+  if (v.size() == v.capacity()) {
+    const std::size_t doubled = std::max<std::size_t>(2 * v.capacity(), 16);
+    try {
+      v.reserve(max_rows != std::numeric_limits<std::size_t>::max() && max_rows > v.size()
+                    ? max_rows
+                    : doubled);
+    } catch (const std::bad_alloc&) {
+      v.reserve(doubled);
+    }
+  }
+  v.push_back(x);
 }
 
 // Frees what an estimate reserved beyond the samples when it is more than half as much again:
@@ -103,8 +144,11 @@ Layout sniff(LineReader& in, const std::string& path, const InputOptions& opt) {
   std::vector<std::string_view> fields;
   split_fields(line, l.delim, fields);
   double v = 0;
-  l.header = !std::all_of(fields.begin(), fields.end(),
-                          [&](std::string_view f) { return !f.empty() && parse_number(f, v); });
+  // A field written as a number that is none (1e999, 0x1p3) makes no header: the line is data,
+  // and the field an error naming its line and column.
+  l.header = !std::all_of(fields.begin(), fields.end(), [&](std::string_view f) {
+    return !f.empty() && (parse_number(f, v) || looks_numeric(f));
+  });
   if (l.header) {
     l.header_line = in.line_number();
     for (const auto f : fields)
@@ -184,9 +228,11 @@ void read_single_column(LineReader& in, const std::string& path, const Layout& l
     if (!parse_number(f, v))
       throw Error(path, at_line(line_no) + ", column " + std::to_string(l.value_col + 1),
                   quoted(f) + " is not a number");
-    ch.samples.push_back(v);
+    check_rows(path, line_no, ch.samples.size(), 1, opt.memory_limit);
+    push_within(ch.samples, v, rows_within(opt.memory_limit, 1));
   };
-  ch.samples.reserve(expected_rows(path, static_cast<double>(l.pending.size() + 1)));
+  ch.samples.reserve(std::min(expected_rows(path, static_cast<double>(l.pending.size() + 1)),
+                              rows_within(opt.memory_limit, 1)));
   take(l.pending, l.pending_line);
   std::string_view line;
   while (in.next(line))
@@ -256,7 +302,7 @@ public:
                     "has " + std::to_string(fields_.size()) + " field(s), the header (" +
                         at_line(l_.header_line) + ") has " + std::to_string(l_.cells.size()) +
                         ": its values cannot be matched to the columns");
-      if (rows_ == 0) choose_columns(static_cast<double>(line.size() + 1));
+      if (rows_ == 0) choose_columns(ln, static_cast<double>(line.size() + 1));
       // The first line alone may be shorter than most: the estimate again, from 4096 lines.
       if (rows_ == 4096) reserve(static_cast<double>(in.bytes()) / static_cast<double>(ln));
       for (std::size_t c = 0; c < fields_.size(); ++c) {
@@ -265,9 +311,10 @@ public:
         double v = 0;
         if (!parse_number(fields_[c], v))
           throw Error(path_, where(ln, c), quoted(fields_[c]) + " is not a number");
-        rec_.channels[static_cast<std::size_t>(k)].samples.push_back(v);
+        push_within(rec_.channels[static_cast<std::size_t>(k)].samples, v, max_rows_);
       }
       if (l_.time_col >= 0) add_time(ln);
+      check_rows(path_, ln, static_cast<std::size_t>(rows_), columns(), opt_.memory_limit);
       ++rows_;
     }
     if (rows_ == 0)
@@ -278,26 +325,41 @@ public:
 
 private:
   std::string where(std::int64_t ln, std::size_t c) const {
-    return at_line(ln) + ", column " + std::to_string(c + 1) + " (" + l_.cells[c].name + ")";
+    return at_line(ln) + ", column " + std::to_string(c + 1) + " (" + printable(l_.cells[c].name) +
+           ")";
   }
 
-  // Room for the rows a file of lines this long holds (expected_rows).
+  // The values a row holds: its channels and its time stamp.
+  std::size_t columns() const { return rec_.channels.size() + (l_.time_col >= 0 ? 1 : 0); }
+
+  // Room for the rows a file of lines this long holds (expected_rows), within the memory limit.
   void reserve(double line_bytes) {
-    const std::size_t rows = expected_rows(path_, line_bytes);
+    max_rows_ = rows_within(opt_.memory_limit, columns());
+    const std::size_t rows = std::min(expected_rows(path_, line_bytes), max_rows_);
     if (l_.time_col >= 0) times_.reserve(rows);
     for (TextChannel& ch : rec_.channels)
       ch.samples.reserve(rows);
   }
 
-  // The first row decides: a column whose first value is not a number is text (labels,
-  // status words), never a channel; every other column but the time is one.
-  void choose_columns(double line_bytes) {
+  // The first row decides: a column whose first value is text (labels, status words) is never
+  // a channel, nor is one named like time stamps besides the time column (as in an HDF5
+  // recording); every other column is one. A first value written as a number that is none
+  // (1e999, 0x1p3) is an error, as it is further down.
+  void choose_columns(std::int64_t ln, double line_bytes) {
     for (std::size_t c = 0; c < fields_.size(); ++c) {
       double v = 0;
       if (static_cast<int>(c) == l_.time_col) continue;
+      const std::string column =
+          "column " + std::to_string(c + 1) + " (" + printable(l_.cells[c].name) + ")";
+      if (is_time_name(l_.cells[c].name)) {
+        rec_.notes.push_back(column + " is named like time stamps: not a channel (the time is " +
+                             time_column_text() + ")");
+        continue;
+      }
       if (!parse_number(fields_[c], v)) {
-        rec_.notes.push_back("column " + std::to_string(c + 1) + " (" + l_.cells[c].name +
-                             ") is not numeric: not a channel");
+        if (looks_numeric(fields_[c]))
+          throw Error(path_, where(ln, c), quoted(fields_[c]) + " is not a number");
+        rec_.notes.push_back(column + " is not numeric: not a channel");
         continue;
       }
       TextChannel ch;
@@ -334,7 +396,7 @@ private:
     }
     // A stamp not after the ones before it is kept as the next sample and counted by the time
     // axis for the data-quality screen (docs/quality.md), not refused.
-    times_.push_back(t);
+    push_within(times_, t, max_rows_);
   }
 
   // The stamp after the first, as a double: the integer parts subtracted exactly first, so
@@ -396,6 +458,12 @@ private:
                            format(step_s) + " s");
   }
 
+  std::string time_column_text() const {
+    if (l_.time_col < 0) return "--sample-rate's";
+    const auto c = static_cast<std::size_t>(l_.time_col);
+    return "column " + std::to_string(c + 1) + " (" + printable(l_.cells[c].name) + ")";
+  }
+
   double first_seconds() const { return static_cast<double>(first_.whole) + first_.fraction; }
 
   const std::string& path_;
@@ -409,6 +477,7 @@ private:
   long long iso0_ = 0;
   NumericStamp first_;  // the first numeric stamp: times_ are taken from it
   std::int64_t rows_ = 0;
+  std::size_t max_rows_ = 0;  // the rows the memory limit holds (rows_within)
 };
 
 std::string strip_gz(std::string name) {
@@ -434,12 +503,12 @@ std::string text_device_id(const std::string& path) {
 }
 
 void check_text_options(const std::string& path, const InputOptions& opt) {
-  LineReader in(path);
+  LineReader in(path, opt.memory_limit);
   (void)sniff(in, path, opt);
 }
 
 TextRecording read_text_recording(const std::string& path, const InputOptions& opt) {
-  LineReader in(path);
+  LineReader in(path, opt.memory_limit);
   const Layout l = sniff(in, path, opt);
   TextRecording rec;
   rec.device_id = text_device_id(path);

@@ -7,6 +7,7 @@
 #include "io/paths.hpp"
 #include "io/recording.hpp"
 #include "io/results.hpp"
+#include "io/text_recording.hpp"
 #include "kernels/common/parallel.hpp"
 #include "kernels/model/units.hpp"
 #include "src/cli/input_options.hpp"
@@ -325,9 +326,11 @@ struct Run {
   std::vector<io::SummaryRow> failed_rows;
   const spec::Spec* spec = nullptr;  // --spec, loaded before the run
 
+  // A failed input's row, named as its results would be: `unit7.csv.gz` is `unit7`.
   void failed(const std::string& file, const std::string& dataset, const std::string& reason) {
-    failed_rows.push_back(
-        {fs::path(file).stem().string(), dataset, "", 0, io::ChannelStatus::failed(reason), file});
+    const std::string id =
+        io::is_text_name(file) ? io::text_device_id(file) : fs::path(file).stem().string();
+    failed_rows.push_back({id, dataset, "", 0, io::ChannelStatus::failed(reason), file});
   }
   void claim_id(const std::string& id, const std::string& file) {
     if (const auto it = used_ids.find(id); it != used_ids.end())
@@ -586,6 +589,7 @@ AnalyzeOptions checked_options(const AnalyzeArgs& a, const std::string& command_
   if (!a.memory_text.empty()) {
     try {
       opt.memory_limit = parse_memory_size(a.memory_text);
+      opt.input.memory_limit = opt.memory_limit;  // a text recording's samples too
     } catch (const std::invalid_argument& e) {
       throw CLI::ValidationError("--memory-limit", e.what());
     }

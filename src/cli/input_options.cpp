@@ -5,6 +5,7 @@
 #include "io/usage_error.hpp"
 #include "kernels/model/units.hpp"
 #include "src/cli/cli.hpp"
+#include "src/cli/memory.hpp"
 
 #include <sstream>
 
@@ -95,6 +96,8 @@ io::InputOptions input_options(const InputArgs& a) {
                          (r.glob.empty() ? "" : " for the columns '" + r.glob + "'") +
                          " is a frequency: give --nominal-frequency F (Hz) to read it as "
                          "fractional frequency (f - F) / F");
+  // Commands without --memory-limit bound a text recording as analyze does by default.
+  o.memory_limit = physical_memory() / 2;
   return o;
 }
 
