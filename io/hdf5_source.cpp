@@ -7,6 +7,7 @@
 #include "io/recording_source.hpp"
 #include "io/text_fields.hpp"
 #include "io/text_recording.hpp"
+#include "io/usage_error.hpp"
 #include "io/virtual_dataset.hpp"
 #include "kernels/model/units.hpp"
 
@@ -16,6 +17,7 @@
 #include <cstring>
 #include <filesystem>
 #include <set>
+#include <span>
 #include <sstream>
 #include <sys/stat.h>
 
@@ -342,7 +344,7 @@ Hdf5Source::Hdf5Source(const std::string& path, const InputOptions& options)
       impl_->find_attribute(ds_path, "units", ch.units);
       ch.has_scale = !impl_->find_attribute(ds_path, "scale", ch.scale).empty();
       impl_->find_attribute(ds_path, "offset", ch.offset);
-      in_canonical_units(ch);
+      in_canonical_units(ch, options, path);
       if (!std::isfinite(ch.scale) || ch.scale == 0.0 || !std::isfinite(ch.offset)) {
         info_.problems.push_back({ds_path, "scale must be finite and non-zero, offset finite"});
         continue;
@@ -397,9 +399,7 @@ kernels::LargeVector<double> Hdf5Source::read(const ChannelInfo& channel, std::s
           file, channel.path, "H5Dread (truncated or corrupt data)");
   }
   impl_->check_whole(channel.path);
-  if (channel.scale != 1.0 || channel.offset != 0.0)
-    for (double& v : out)
-      v = v * channel.scale + channel.offset;
+  to_physical(channel, out);
   return out;
 }
 
@@ -416,10 +416,27 @@ std::unique_ptr<RecordingSource> open_hdf5(const std::string& path, const InputO
   return std::make_unique<Hdf5Source>(path, options);
 }
 
+// A channel in Hz needs --nominal-frequency, a usage error before any work. The reader reads it
+// with any F; the channels that took one are the ones in Hz. Any other problem of the file is
+// reported when it is read.
+void check_hdf5_options(const std::string& path, const InputOptions& options) {
+  if (options.nominal_frequency_hz > 0) return;
+  InputOptions probe = options;
+  probe.nominal_frequency_hz = 1.0;
+  std::unique_ptr<Hdf5Source> source;
+  try {
+    source = std::make_unique<Hdf5Source>(path, probe);
+  } catch (const std::exception&) {
+    return;
+  }
+  for (const ChannelInfo& ch : source->describe().channels)
+    if (ch.nominal_hz > 0) throw UsageError(path, ch.path, needs_nominal_frequency("Hz"));
+}
+
 }  // namespace
 
 SourceFormat hdf5_format() {
-  return {"HDF5", is_hdf5_recording, nullptr, open_hdf5};
+  return {"HDF5", is_hdf5_recording, check_hdf5_options, open_hdf5};
 }
 
 }  // namespace allanlot::io

@@ -138,7 +138,7 @@ void add_channels(const std::string& topic, const std::vector<ImuMessage>& msgs,
     c.info.storage_type = "float64";
     c.info.time_stamps = {axis.n_duplicate, axis.first_duplicate, axis.n_decreasing,
                           axis.first_decreasing};
-    in_canonical_units(c.info);
+    in_canonical_units(c.info, InputOptions{}, topic);
     out.push_back(std::move(c));
   }
 }

@@ -32,6 +32,10 @@ struct InputOptions {
   /// path, as --channels), over its header's unit; else its header's unit; else the first rule
   /// without a glob.
   std::vector<ColumnUnits> units;
+  /// --nominal-frequency HZ: the oscillator's nominal frequency F, with which a channel in Hz
+  /// is read as fractional frequency (f - F) / F; 0 when not given (a channel in Hz is then a
+  /// usage error).
+  double nominal_frequency_hz = 0.0;
   /// Bytes a text recording's parsed samples (and its longest line) may hold, so that a gzip
   /// bomb or an endless line ends with an error naming the file and the limit instead of
   /// exhausting memory; 0 = no bound. The commands set --memory-limit, or their default (half

@@ -24,7 +24,8 @@ struct ChannelInfo {
   double sample_rate_hz = 0.0;  // in [kMinSampleRateHz, kMaxSampleRateHz]
   double scale = 1.0;           // physical = raw * scale + offset
   double offset = 0.0;
-  bool has_scale = false;  // a `scale` attribute was found
+  double nominal_hz = 0.0;  // > 0: a frequency in Hz, read as (physical - F) / F (units.hpp)
+  bool has_scale = false;   // a `scale` attribute was found
   kernels::DataType data_type = kernels::DataType::Rate;
   bool data_type_default = false;  // neither the file nor --data-type said: rate by default
   std::int64_t n_samples = 0;
@@ -72,7 +73,8 @@ bool channel_glob_matches(const std::string& glob, const std::string& path);
 bool is_text_recording(const std::string& path);
 
 /// Throws io::UsageError when `path` is a text recording that needs an option `options` lacks
-/// (reads only its head); nothing for HDF5. The commands call it for every input before any
+/// (reads only its head), or an HDF5 recording with a channel in Hz when `options` has no
+/// nominal frequency (reads its attributes only). The commands call it for every input before any
 /// work, so that a missing option is a usage error and never a night of failed inputs.
 void check_input_options(const std::string& path, const InputOptions& options);
 

@@ -6,6 +6,7 @@
 #include "io/ros1_bag.hpp"
 #include "io/ros2_bag.hpp"
 #include "io/text_source.hpp"
+#include "io/usage_error.hpp"
 #include "io/utf8.hpp"
 #include "kernels/model/units.hpp"
 
@@ -58,12 +59,32 @@ bool channel_glob_matches(const std::string& glob, const std::string& path) {
   return fnmatch(glob.c_str(), path.c_str(), 0) == 0 || fnmatch(glob.c_str(), name.c_str(), 0) == 0;
 }
 
-void in_canonical_units(ChannelInfo& ch) {
+std::string needs_nominal_frequency(const std::string& units) {
+  return "units '" + units +
+         "' are a frequency: give --nominal-frequency F (Hz) to read it as fractional frequency "
+         "(f - F) / F";
+}
+
+void in_canonical_units(ChannelInfo& ch, const InputOptions& options, const std::string& file) {
   const auto known = kernels::units::parse_channel_units(ch.units);
   if (!known) return;
+  if (known->per_nominal) {
+    if (!(options.nominal_frequency_hz > 0))
+      throw UsageError(file, ch.path, needs_nominal_frequency(ch.units));
+    ch.nominal_hz = options.nominal_frequency_hz;
+  }
   ch.units = known->canonical;
   ch.scale *= known->scale;
   ch.offset *= known->scale;
+}
+
+void to_physical(const ChannelInfo& channel, std::span<double> samples) {
+  if (channel.scale != 1.0 || channel.offset != 0.0)  // a clock's ns or ppb (units.hpp)
+    for (double& v : samples)
+      v = v * channel.scale + channel.offset;
+  if (channel.nominal_hz > 0)
+    for (double& v : samples)
+      v = kernels::units::to_fractional_frequency(v, channel.nominal_hz);
 }
 
 void check_input_options(const std::string& path, const InputOptions& options) {

@@ -44,8 +44,16 @@ std::span<const SourceFormat> source_formats();
 const SourceFormat* find_source_format(const std::string& path);
 
 /// The channel's unit in the one vocabulary (kernels/model/units.hpp): "dps" is deg/s, "m/s2"
-/// m/s^2; a clock's phase in ns or frequency in ppb is scaled to s or 1. Units outside the
-/// vocabulary stay as written (analyze warns about them).
-void in_canonical_units(ChannelInfo& ch);
+/// m/s^2; a clock's phase in ns or frequency in ppb is scaled to s or 1, its frequency in Hz
+/// made fractional with --nominal-frequency (io::UsageError naming `file` and the channel
+/// without it). Units outside the vocabulary stay as written (analyze warns about them).
+void in_canonical_units(ChannelInfo& ch, const InputOptions& options, const std::string& file);
+
+/// Raw samples to the channel's canonical units: the file's scale and offset, the unit's factor,
+/// and a frequency in Hz made fractional (y = (f - F) / F).
+void to_physical(const ChannelInfo& channel, std::span<double> samples);
+
+/// The reason a channel in `units` (a frequency in Hz) cannot be read without --nominal-frequency.
+std::string needs_nominal_frequency(const std::string& units);
 
 }  // namespace allanlot::io

@@ -163,7 +163,8 @@ struct RecordingResult {
   std::string tool_version;
   std::string created_utc;
   std::string command_line;
-  /// Further root attributes: analysis options, thread count, git revision.
+  /// Further root attributes: analysis options, thread count, git revision (read back:
+  /// `statistic` and `taus`).
   std::vector<std::pair<std::string, std::string>> attributes;
   std::vector<ChannelResult> channels;
 };

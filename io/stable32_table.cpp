@@ -82,10 +82,11 @@ T at(const std::vector<T>& v, std::size_t i, T fallback) {
 }
 
 // One row, with Stable32's widths for the statistic's kind of table.
-std::string row(std::string_view stat, const kernels::StatResult& s, std::size_t i) {
+std::string row(std::string_view stat, const kernels::StatResult& s, std::size_t i,
+                std::int64_t count) {
   char buf[200];
   const auto m = static_cast<long long>(s.m[i]);
-  const auto n = static_cast<long long>(s.n[i]);
+  const auto n = static_cast<long long>(count);
   if (stat == "mtie" || stat == "tierms") {
     std::snprintf(buf, sizeof buf, "%5lld   %s%9lld   %s\n", m, e4(s.tau_s[i]).c_str(), n,
                   e4(s.dev[i]).c_str());
@@ -123,14 +124,20 @@ std::string stable32_table(const Stable32Head& head, const std::string& stat,
                   head.max, head.min, head.mean);
     o << buf;
   }
-  o << "# Sigma Type: " << l.sigma_type << "\n";
+  const bool mtie = stat == "mtie";
+  o << "# Sigma Type: " << l.sigma_type << (mtie && head.mtie_fast ? " (Fast)" : "") << "\n";
   if (stat != "mtie" && stat != "tierms") {
     std::snprintf(buf, sizeof buf, "# Confidence Factor = %.3f\n", s.confidence);
     o << buf;
   }
   o << "# Deadtime T/Tau = 1.000000\n#\n" << l.title << "\n";
-  for (std::size_t i = 0; i < s.size(); ++i)
-    o << row(stat, s, i);
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    // Stable32's non-fast MTIE prints the N points analysed as "#" and stops at its stop ratio
+    // 2, m <= (N - 1) / 2; its fast MTIE prints the N - m windows up to m = N - 1.
+    const bool slow_mtie = mtie && !head.mtie_fast;
+    if (slow_mtie && s.m[i] > (head.n_points - 1) / 2) continue;
+    o << row(stat, s, i, slow_mtie ? head.n_points : s.n[i]);
+  }
   o << head.trailer;
   return o.str();
 }

@@ -17,12 +17,17 @@ struct Stable32Head {
   std::int64_t n_points = 0;
   double max = 0, min = 0, mean = 0;  // NaN: the three lines are left out (unknown)
   std::string trailer;                // '#' comment lines allanlot adds after the table ("" = none)
+  /// MTIE on Stable32's fast list (windows of 2^k points, `--taus stable32`): Stable32's
+  /// "MTIE (Fast)" table, "#" the N - m windows. Otherwise its non-fast MTIE table: "#" the N
+  /// points analysed, rows up to m = (N - 1) / 2 (docs/formats.md "Stable32 tables").
+  bool mtie_fast = false;
 };
 
 /// One statistic (named as allanlot names it: "oadev", "mtie", ...) as Stable32 prints it:
 /// the head, `# Sigma Type:` with Stable32's name, the confidence factor (not for MTIE and
 /// TIE rms), the deadtime, Stable32's column titles for that statistic, and one row per tau
-/// with Stable32's widths and 5 significant digits. Bounds not computed print as 0, as in
+/// with Stable32's widths and 5 significant digits (MTIE as Stable32's fast or non-fast run,
+/// Stable32Head::mtie_fast). Bounds not computed print as 0, as in
 /// Stable32. Every line that is not a row starts with '#'.
 std::string stable32_table(const Stable32Head& head, const std::string& stat,
                            const kernels::StatResult& s);

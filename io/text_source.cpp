@@ -42,7 +42,8 @@ bool is_text_recording(const std::string& path) {
 namespace {
 
 // The channels of a text recording, all with the recording's rate and data type.
-void describe_text(const TextRecording& text, RecordingInfo& info) {
+void describe_text(const TextRecording& text, RecordingInfo& info, const InputOptions& options,
+                   const std::string& file) {
   info.device_id = text.device_id;
   info.facts = text.facts;
   info.notes = text.notes;
@@ -56,7 +57,7 @@ void describe_text(const TextRecording& text, RecordingInfo& info) {
     ch.n_samples = static_cast<std::int64_t>(tc.samples.size());
     ch.storage_type = "text";
     ch.time_stamps = text.time_stamps;
-    in_canonical_units(ch);
+    in_canonical_units(ch, options, file);
     const double rate = text.sample_rate_hz;
     if (!(rate >= kMinSampleRateHz && rate <= kMaxSampleRateHz)) {
       std::ostringstream msg;
@@ -75,7 +76,7 @@ public:
   TextSource(const std::string& path, const InputOptions& options)
       : path_(path), text_(read_text_recording(path, options)) {
     info_.file = path;
-    describe_text(text_, info_);
+    describe_text(text_, info_, options, path);
   }
   RecordingInfo describe() const override { return info_; }
 
@@ -83,9 +84,7 @@ public:
     for (const TextChannel& tc : text_.channels) {
       if (tc.path != channel.path) continue;
       kernels::LargeVector<double> out(tc.samples.begin(), tc.samples.end());
-      if (channel.scale != 1.0 || channel.offset != 0.0)  // a clock's ns or ppb (units.hpp)
-        for (double& v : out)
-          v = v * channel.scale + channel.offset;
+      to_physical(channel, out);
       return out;
     }
     throw Error(path_, channel.path, "no such column");

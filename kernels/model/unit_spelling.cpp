@@ -70,6 +70,7 @@ std::string_view normal_token(std::string_view t) {
 struct Alias {
   std::string_view spelled, canonical;
   double scale;
+  bool per_nominal = false;
 };
 constexpr Alias kChannelAliases[] = {
     {"deg/s", "deg/s", 1}, {"dps", "deg/s", 1},   {"deg/h", "deg/h", 1}, {"dph", "deg/h", 1},
@@ -78,6 +79,7 @@ constexpr Alias kChannelAliases[] = {
     {"milli-g", "mg", 1},  {"ug", "ug", 1},       {"s", "s", 1},         {"ms", "s", 1e-3},
     {"us", "s", 1e-6},     {"ns", "s", 1e-9},     {"ps", "s", 1e-12},    {"1", "1", 1},
     {"ppm", "1", 1e-6},    {"ppb", "1", 1e-9},    {"ppt", "1", 1e-12},   {"Hz/Hz", "1", 1},
+    {"Hz", "1", 1, true},
 };
 
 }  // namespace
@@ -118,7 +120,7 @@ std::string normalize_spelling(std::string_view spelled) {
 std::optional<ChannelUnits> parse_channel_units(std::string_view spelled) {
   const std::string s = normalize_spelling(spelled);
   for (const Alias& a : kChannelAliases)
-    if (s == a.spelled) return ChannelUnits{std::string(a.canonical), a.scale};
+    if (s == a.spelled) return ChannelUnits{std::string(a.canonical), a.scale, a.per_nominal};
   return std::nullopt;
 }
 

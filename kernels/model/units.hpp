@@ -56,13 +56,24 @@ std::string normalize_spelling(std::string_view spelled);
 struct ChannelUnits {
   std::string canonical;
   double scale = 1;
+  /// A clock's frequency in Hz: fractional frequency only with the oscillator's nominal
+  /// frequency F, y = (f - F) / F (SP1065 sec. 3; to_fractional_frequency).
+  bool per_nominal = false;
 };
 /// The channel units allanlot knows, in any spelling normalize_spelling reduces to one of:
 /// gyros deg/s (dps, °/s, deg/sec), deg/h (dph, °/hr), rad/s; accelerometers m/s^2 (m/s2,
 /// m/s/s, m/s²), g, mg (milli-g), ug (µg, μg); clocks s (time error; also ms, us, ns, ps,
-/// scaled to s) and 1 (fractional frequency; also ppm, ppb, ppt, scaled to 1). nullopt for
-/// any other string.
+/// scaled to s) and 1 (fractional frequency; also ppm, ppb, ppt, scaled to 1, and Hz, a
+/// frequency made fractional with the nominal frequency: per_nominal). nullopt for any other
+/// string.
 std::optional<ChannelUnits> parse_channel_units(std::string_view spelled);
+
+/// A frequency f in Hz as fractional frequency, y = (f - F) / F for the nominal frequency
+/// F > 0. f - F is exact for F/2 <= f <= 2F (Sterbenz), so y keeps every digit the recording
+/// has; f / F - 1 would keep only 16 - |log10 y| of them.
+inline double to_fractional_frequency(double f_hz, double nominal_hz) {
+  return (f_hz - nominal_hz) / nominal_hz;
+}
 
 /// What kind of sensor a channel unit string denotes.
 enum class Family {

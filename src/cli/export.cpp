@@ -44,15 +44,47 @@ T at(const std::vector<T>& v, std::size_t i, T fallback) {
   return i < v.size() ? v[i] : fallback;
 }
 
+std::string root_attribute(const io::RecordingResult& r, std::string_view key) {
+  for (const auto& [k, v] : r.attributes)
+    if (k == key) return v;
+  return "";
+}
+
+// The "FILE:" a table is titled by: the recording's file; for a hat's results (one file per
+// pair, source_file lists them in pair order) the clock a /clocks/X table is of, with the
+// pairs it comes from, and the pair's own file for a /pairs/XY table.
+std::string stable32_file_title(const io::RecordingResult& r, const io::ChannelResult& ch) {
+  if (root_attribute(r, "statistic") != "hat") return fs::path(r.source_file).filename().string();
+  std::vector<std::string> files;  // paired_root joins the pairs' files with "; "
+  std::stringstream ss(r.source_file);
+  for (std::string f; std::getline(ss, f, ';');)
+    files.push_back(
+        fs::path(f.substr(std::min(f.find_first_not_of(' '), f.size()))).filename().string());
+  const std::string name = ch.path.substr(ch.path.find_last_of('/') + 1);
+  if (ch.path.starts_with("/clocks/")) {
+    std::string pairs;
+    for (const std::string& f : files)
+      pairs += (pairs.empty() ? "" : ", ") + f;
+    return "clock " + name + " (three-cornered hat of " + pairs + ")";
+  }
+  static constexpr std::string_view kPairOrder[] = {"AB", "BC", "CA"};  // src/cli/hat.cpp's
+  for (std::size_t k = 0; k < std::size(kPairOrder) && k < files.size(); ++k)
+    if (name == kPairOrder[k]) return files[k] + " (pair " + name + ")";
+  return fs::path(r.source_file).filename().string();
+}
+
 // What Stable32 prints above a table of this channel, and allanlot's own line below it.
 io::Stable32Head stable32_head(const io::RecordingResult& r, const io::ChannelResult& ch) {
   io::Stable32Head h;
-  h.file = fs::path(r.source_file).filename().string();
+  h.file = stable32_file_title(r, ch);
   h.phase = ch.data_type == "phase";
   h.n_points = ch.n_samples;
   h.max = ch.data_max;
   h.min = ch.data_min;
   h.mean = ch.data_mean;
+  // `--taus stable32` gives MTIE Stable32's fast list (kernels::stat_m_list); any other grid
+  // is a non-fast run.
+  h.mtie_fast = root_attribute(r, "taus").starts_with("stable32");
   h.trailer = "# allanlot: device " + r.device_id + ", channel " + ch.path + ", units " +
               (ch.units.empty() ? std::string("none") : ch.units) + "\n";
   return h;

@@ -74,6 +74,10 @@ void add_input_options(CLI::App* sub, InputArgs& a) {
       ->allow_extra_args(false);
   sub->add_flag("--receive-time", a.options.receive_time,
                 "Time a bag's messages by when they were recorded, not by their header stamps");
+  sub->add_option("--nominal-frequency", a.nominal_frequency_hz,
+                  "Nominal frequency F in Hz of clock channels in Hz, read as fractional "
+                  "frequency (f - F) / F")
+      ->check(finite_number() & CLI::PositiveNumber);
 }
 
 io::InputOptions input_options(const InputArgs& a) {
@@ -89,6 +93,15 @@ io::InputOptions input_options(const InputArgs& a) {
     throw CLI::ValidationError("--sample-rate", "outside 1e-9 .. 1e12 Hz");
   o.time_unit = a.time_unit;
   o.units = column_units(a.units);
+  o.nominal_frequency_hz = a.nominal_frequency_hz;
+  for (const io::ColumnUnits& r : o.units)
+    if (const auto known = kernels::units::parse_channel_units(r.unit);
+        known && known->per_nominal && o.nominal_frequency_hz <= 0)
+      throw CLI::ValidationError(
+          "--units", "'" + r.unit + "'" +
+                         (r.glob.empty() ? "" : " for the columns '" + r.glob + "'") +
+                         " is a frequency: give --nominal-frequency F (Hz) to read it as "
+                         "fractional frequency (f - F) / F");
   // Commands without --memory-limit bound a text recording as analyze does by default.
   o.memory_limit = physical_memory() / 2;
   return o;

@@ -18,7 +18,7 @@ namespace allanlot::cli {
 struct InputArgs {
   std::string data_type, time_unit;
   std::vector<std::string> units;  // --units [GLOB=]UNIT,... as given
-  double sample_rate_hz = 0.0, tau0_s = 0.0;
+  double sample_rate_hz = 0.0, tau0_s = 0.0, nominal_frequency_hz = 0.0;
   io::InputOptions options;
 };
 

@@ -286,6 +286,11 @@ TEST(Export, Stable32OwnListsOfMtieTieRmsTheo1OnPhaseDat) {
         table_rows(test::file_bytes(tables / cli::stable32_file_name("PHASE", "/data", c.stat)));
     const auto theirs = table_rows(test::file_bytes(kStable32 / c.file));
     ASSERT_GT(theirs.size(), 8u);
+    if (std::string(c.stat) == "mtie") {  // Stable32's fast run, as the reference says
+      EXPECT_NE(test::file_bytes(tables / cli::stable32_file_name("PHASE", "/data", c.stat))
+                    .find("# Sigma Type: MTIE (Fast)\n"),
+                std::string::npos);
+    }
     ASSERT_EQ(mine.size(), theirs.size());
     for (std::size_t i = 0; i < theirs.size(); ++i) {
       ASSERT_EQ(mine[i].size(), c.columns) << "row " << i;
@@ -293,6 +298,43 @@ TEST(Export, Stable32OwnListsOfMtieTieRmsTheo1OnPhaseDat) {
       for (const std::size_t col : {std::size_t{0}, std::size_t{1}, std::size_t{2}, c.value})
         EXPECT_EQ(mine[i][col], theirs[i][col]) << "row " << i << " column " << col;
     }
+  }
+}
+
+// Stable32's MTIE tables come in two kinds: the fast run (phase_dat_mtie.txt, "MTIE (Fast)",
+// windows of 2^k points, "#" the N - m windows, up to m = N - 1), which `--taus stable32`
+// reprints above, and the non-fast run on any other tau set, whose "#" is the N points
+// analysed and whose rows stop at m = (N - 1) / 2 (Stable32's stop ratio 2: on a 5071A record
+// its non-fast octave table ended one octave before N - 1). The same averaging factors as the
+// fast table given as a list: the same MTIE values, "#" 1001 on every row, m = 511 left out.
+TEST(Export, Stable32NonFastMtieOnPhaseDat) {
+  const fs::path d = test::fresh_dir("export_stable32_mtie_slow");
+  const fs::path res = d / "res", tables = d / "tables";
+  fs::create_directories(tables);
+  std::string out;
+  ASSERT_EQ(run_command(binary() +
+                            " analyze -q --no-fit --no-psd --stats mtie --taus "
+                            "m:1,3,7,15,31,63,127,255,511 --data-type phase --sample-rate 1 -o " +
+                            res.string() + " " + (kStable32 / "PHASE.DAT").string(),
+                        &out),
+            0)
+      << out;
+  ASSERT_EQ(
+      run_command(binary() + " export --format stable32 " + res.string() + " -o " + tables.string(),
+                  &out),
+      0)
+      << out;
+  const std::string ours =
+      test::file_bytes(tables / cli::stable32_file_name("PHASE", "/data", "mtie"));
+  EXPECT_NE(ours.find("# Sigma Type: MTIE\n"), std::string::npos) << ours;
+  const auto mine = table_rows(ours);
+  const auto fast = table_rows(test::file_bytes(kStable32 / "phase_dat_mtie.txt"));
+  ASSERT_EQ(fast.size(), 9u);
+  ASSERT_EQ(mine.size(), 8u);  // 511 > (1001 - 1) / 2
+  for (std::size_t i = 0; i < mine.size(); ++i) {
+    for (const std::size_t col : {std::size_t{0}, std::size_t{1}, std::size_t{3}})
+      EXPECT_EQ(mine[i][col], fast[i][col]) << "row " << i << " column " << col;
+    EXPECT_EQ(mine[i][2], "1001") << "row " << i;
   }
 }
 

@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <random>
 
 namespace allanlot {
@@ -122,6 +123,32 @@ TEST(HatCommand, WritesEachClockAsTheKernelComputesIt) {
   }
   EXPECT_NE(r.command_line.find(" hat "), std::string::npos);
   EXPECT_NE(text.find("wrote"), std::string::npos) << text;
+}
+
+// `export --format stable32` of a hat's results: each clock's table is titled by the clock and
+// the pairs' files, each pair's by its own file, not all by the last pair's file.
+TEST(HatCommand, Stable32ExportTitledByClock) {
+  const auto f = make_fixture("hat_export", 2000);
+  const auto res = f.dir / "hat.h5", all = f.dir / "tables.txt";
+  std::string text;
+  ASSERT_EQ(run_command(binary() + " hat --taus octave " + f.ab.string() + " " + f.bc.string() +
+                            " " + f.ca.string() + " -o " + res.string(),
+                        &text),
+            0)
+      << text;
+  ASSERT_EQ(
+      run_command(binary() + " export --format stable32 " + res.string() + " -o " + all.string(),
+                  &text),
+      0)
+      << text;
+  std::vector<std::string> titles;
+  std::ifstream in(all);
+  for (std::string line; std::getline(in, line);)
+    if (line.starts_with("# STATISTICS FOR FILE: ")) titles.push_back(line.substr(23));
+  const std::string pairs = " (three-cornered hat of ab.h5, bc.h5, ca.h5)";
+  EXPECT_EQ(titles,
+            (std::vector<std::string>{"clock A" + pairs, "clock B" + pairs, "clock C" + pairs,
+                                      "ab.h5 (pair AB)", "bc.h5 (pair BC)", "ca.h5 (pair CA)"}));
 }
 
 TEST(HatCommand, SameFileForOneAndTwoThreads) {
