@@ -22,6 +22,7 @@ the GIL on ``threads`` OpenMP threads (None: all) and give the same bits for any
 from . import _allanlot
 from . import ci
 from . import noise
+from . import realtime
 from ._allantools import FUNCTIONS as _FUNCTIONS
 from ._allantools import tau_m
 from ._analysis import Simulation, diagnose, fit, psd, simulate
@@ -30,6 +31,7 @@ from ._conversions import (frequency2fractional, frequency2phase, gradev, phase2
 from ._dataset import Dataset, Plot
 from ._deviation import DEFAULT_CONFIDENCE, Deviation, deviation
 from ._kasdin import Noise
+from ._piecewise import adev2psd_piecewise_approx, psd_piecewise_to_adev
 from ._plot import plot
 from ._production import plan, watch
 from ._readers import (read_lot_statistics, read_lot_summary, read_recording, read_results,
@@ -51,4 +53,5 @@ __all__ = [
     "phase2frequency", "phase2radians", "frequency2fractional", "trim_data", "tau_generator",
     "tau_reduction", "gradev", "psd2allan", "edf_simple", "edf_greenhall", "edf_totdev",
     "edf_mtotdev", "confidence_interval", "confidence_interval_noiseID", "autocorr_noise_id",
+    "realtime", "adev2psd_piecewise_approx", "psd_piecewise_to_adev",
 ] + list(_FUNCTIONS)

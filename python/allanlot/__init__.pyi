@@ -8,6 +8,7 @@ import numpy.typing as npt
 
 from . import ci as ci
 from . import noise as noise
+from . import realtime as realtime
 
 ArrayLike = npt.ArrayLike
 Array = npt.NDArray[np.float64]
@@ -165,6 +166,10 @@ def gradev(data: ArrayLike, rate: float = ..., data_type: str = ..., taus: Taus 
            ) -> Tuple[Array, Array, List[Array], npt.NDArray[np.int64]]: ...
 def psd2allan(S_y: ArrayLike, f: Union[float, ArrayLike] = ..., kind: str = ...,
               base: float = ...) -> Tuple[Array, Array]: ...
+def adev2psd_piecewise_approx(adev: ArrayLike, taus: ArrayLike, vartype: str = ...,
+                              mu_tol: float = ...) -> Tuple[Array, Array, Array, Array]: ...
+def psd_piecewise_to_adev(h: ArrayLike, alpha: ArrayLike, f_nodes: ArrayLike,
+                          taus: ArrayLike) -> Array: ...
 
 def confidence_interval(dev: float, edf: float, ci: float = ...) -> Tuple[float, float]: ...
 def confidence_interval_noiseID(x: ArrayLike, dev: float, af: int, dev_type: str = ...,

@@ -13,7 +13,7 @@ import numpy as np
 
 from . import _checks
 
-__all__ = ["white", "brown", "violet", "pink", "numpy_psd", "scipy_psd"]
+__all__ = ["white", "brown", "violet", "pink", "numpy_psd", "scipy_psd", "timmer_koenig_from_psd"]
 
 
 def white(num_points=1024, b0=1.0, fs=1.0):
@@ -213,3 +213,72 @@ def scipy_psd(x, f_sample=1.0, nr_segments=4):
     if seg % 2 == 0:
         p[-1] /= 2.0  # the Nyquist bin has no negative-frequency twin
     return np.arange(len(p)) * fs / seg, p
+
+
+def _piecewise_psd(f, f_nodes, h, alpha):
+    """S(f) = h_i f^alpha_i with segment i between f_nodes[i-1] and f_nodes[i]."""
+    seg = np.searchsorted(f_nodes, f, side="right")
+    return h[seg] * f ** alpha[seg]
+
+
+def timmer_koenig_from_psd(f_nodes, h, alpha, duration, timestep, output="phase", seed=None):
+    """Gaussian noise with a piecewise power-law fractional-frequency PSD (Fourier synthesis).
+
+    Each positive Fourier frequency f_k = k / (n timestep) gets an independent complex Gaussian
+    amplitude of variance n S(f_k) / (2 timestep), so the periodogram
+    2 timestep |X_k|^2 / n of the result scatters as S(f_k) chi^2_2 / 2 around the target;
+    the inverse real FFT gives n samples (periodic, mean zero).
+
+    Parameters
+    ----------
+    f_nodes : array_like
+        Ascending break frequencies, Hz (``len(h) - 1`` of them, as returned by
+        ``adev2psd_piecewise_approx``).
+    h : array_like
+        Coefficients of S_y(f) = h_i f^alpha_i per segment, lowest frequency first.
+    alpha : array_like
+        Exponents per segment.
+    duration : float
+        Length of the series, s; n = round(duration / timestep) samples.
+    timestep : float
+        Sampling interval, s.
+    output : {'phase', 'freq'}
+        'phase': phase x in s, PSD S_x = S_y / (2 pi f)^2; 'freq': fractional frequency y.
+    seed : int or None
+        Seed of the random generator, for a reproducible series.
+
+    Returns
+    -------
+    numpy.ndarray
+        n samples of phase (s) or fractional frequency.
+
+    References
+    ----------
+    J. Timmer and M. Koenig, "On generating power law noise", Astron. Astrophys. 300,
+    707-710 (1995). NIST SP1065, eq. 9 (S_x(f) = S_y(f) / (2 pi f)^2).
+    """
+    f_nodes = np.atleast_1d(np.asarray(f_nodes, dtype=float))
+    h = np.atleast_1d(np.asarray(h, dtype=float))
+    alpha = np.atleast_1d(np.asarray(alpha, dtype=float))
+    if h.shape != alpha.shape or len(f_nodes) != len(h) - 1:
+        raise ValueError("need len(h) == len(alpha) == len(f_nodes) + 1, got %d, %d, %d"
+                         % (len(h), len(alpha), len(f_nodes)))
+    duration = _checks.real(duration, "duration", positive=True)
+    timestep = _checks.real(timestep, "timestep", positive=True)
+    if output not in ("phase", "freq"):
+        raise ValueError("output must be 'phase' or 'freq', got %r" % (output,))
+    n = int(round(duration / timestep))
+    if n < 4:
+        raise ValueError("duration / timestep = %g: need at least 4 samples" % (n,))
+    f = np.arange(1, n // 2 + 1) / (n * timestep)
+    s = _piecewise_psd(f, f_nodes, h, alpha)
+    if output == "phase":
+        s = s / (2.0 * math.pi * f) ** 2
+    rng = np.random.default_rng(seed)
+    var = n * s / (2.0 * timestep)
+    spectrum = np.zeros(n // 2 + 1, dtype=complex)
+    spectrum[1:] = np.sqrt(var / 2.0) * (rng.standard_normal(len(f))
+                                          + 1j * rng.standard_normal(len(f)))
+    if n % 2 == 0:  # the Nyquist coefficient is real and carries the whole bin
+        spectrum[-1] = math.sqrt(var[-1] * 2.0) * rng.standard_normal()
+    return np.fft.irfft(spectrum, n)

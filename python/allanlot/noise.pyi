@@ -1,5 +1,5 @@
 # Type stubs of allanlot.noise (docstrings in noise.py).
-from typing import Tuple
+from typing import Optional, Tuple
 
 import numpy as np
 import numpy.typing as npt
@@ -13,3 +13,6 @@ def pink(num_points: int = ..., depth: int = ...) -> Array: ...
 def numpy_psd(x: npt.ArrayLike, f_sample: float = ...) -> Tuple[Array, Array]: ...
 def scipy_psd(x: npt.ArrayLike, f_sample: float = ...,
               nr_segments: float = ...) -> Tuple[Array, Array]: ...
+def timmer_koenig_from_psd(f_nodes: npt.ArrayLike, h: npt.ArrayLike, alpha: npt.ArrayLike,
+                           duration: float, timestep: float, output: str = ...,
+                           seed: Optional[int] = ...) -> Array: ...
