@@ -142,28 +142,12 @@ def _ready(obj, order):
     return np.nonzero(obj._n >= order * obj.afs + 1)[0]
 
 
-class oadev_realtime(dev_realtime):  # noqa: N801
-    """Overlapping Allan deviation updated per sample.
+class _SumOfSquares(dev_realtime):
+    """Variance S / (norm (m tau0)^2 (N - order m)) from the running sum S of squared
+    order-th differences sum_j coeffs[j] x_{i - j m}."""
 
-    sigma^2(m tau0) = S / (2 (m tau0)^2 (N - 2m)), S the running sum of
-    (x_i - 2 x_{i-m} + x_{i-2m})^2.
-
-    Parameters
-    ----------
-    afs : sequence of int
-        Averaging factors m.
-    tau0 : float
-        Sampling interval, s.
-    auto_afs : bool
-        Add log-spaced factors automatically.
-    pts_per_decade : int
-        Factors per decade in ``auto_afs`` mode.
-
-    References
-    ----------
-    A. Dobrogowski and M. Kasznia, IEEE IFCS-EFTF 2007, eq. (9).
-    NIST SP1065, eq. 11 (overlapping Allan variance).
-    """
+    _coeffs = (1.0, -2.0, 1.0)
+    _norm = 2.0
 
     def _reset_state(self, k):
         self.S = np.zeros(k)
@@ -172,41 +156,44 @@ class oadev_realtime(dev_realtime):  # noqa: N801
         self.S = np.append(self.S, 0.0)
 
     def _catch_up(self, j):
-        m, x = int(self.afs[j]), self.x
-        if len(x) >= 2 * m + 1:
-            d = x[2 * m:] - 2 * x[m:-m] + x[:-2 * m]
+        m, x, k = int(self.afs[j]), self.x, self._order
+        if len(x) >= k * m + 1:
+            d = sum(c * x[(k - i) * m:len(x) - i * m] for i, c in enumerate(self._coeffs))
             self.S[j] = np.dot(d, d)
             self._finish(np.array([j]))
 
     def _finish(self, idx):
         m = self.afs[idx].astype(float)
-        self.dev[idx] = np.sqrt(self.S[idx] / (2.0 * (m * self.tau0) ** 2 * (self._n - 2 * m)))
+        self.dev[idx] = np.sqrt(self.S[idx] / (self._norm * (m * self.tau0) ** 2
+                                               * (self._n - self._order * m)))
 
     def _step(self):
-        idx = _ready(self, 2)
+        idx = _ready(self, self._order)
         if len(idx):
             i, m, x = self._n - 1, self.afs[idx], self._x
-            d = x[i] - 2 * x[i - m] + x[i - 2 * m]
+            d = sum(c * x[i - k * m] for k, c in enumerate(self._coeffs))
             self.S[idx] += d * d
             self._finish(idx)
 
 
-class ohdev_realtime(dev_realtime):  # noqa: N801
-    """Overlapping Hadamard deviation updated per sample.
+class oadev_realtime(_SumOfSquares):  # noqa: N801
+    """Overlapping Allan deviation updated per sample (parameters as `dev_realtime`).
+
+    sigma^2(m tau0) = S / (2 (m tau0)^2 (N - 2m)), S the running sum of
+    (x_i - 2 x_{i-m} + x_{i-2m})^2.
+
+    References
+    ----------
+    A. Dobrogowski and M. Kasznia, IEEE IFCS-EFTF 2007, eq. (9).
+    NIST SP1065, eq. 11 (overlapping Allan variance).
+    """
+
+
+class ohdev_realtime(_SumOfSquares):  # noqa: N801
+    """Overlapping Hadamard deviation updated per sample (parameters as `dev_realtime`).
 
     H^2(m tau0) = S / (6 (m tau0)^2 (N - 3m)), S the running sum of
     (x_i - 3 x_{i-m} + 3 x_{i-2m} - x_{i-3m})^2.
-
-    Parameters
-    ----------
-    afs : sequence of int
-        Averaging factors m.
-    tau0 : float
-        Sampling interval, s.
-    auto_afs : bool
-        Add log-spaced factors automatically.
-    pts_per_decade : int
-        Factors per decade in ``auto_afs`` mode.
 
     References
     ----------
@@ -215,31 +202,8 @@ class ohdev_realtime(dev_realtime):  # noqa: N801
     """
 
     _order = 3
-
-    def _reset_state(self, k):
-        self.S = np.zeros(k)
-
-    def _grow_state(self):
-        self.S = np.append(self.S, 0.0)
-
-    def _catch_up(self, j):
-        m, x = int(self.afs[j]), self.x
-        if len(x) >= 3 * m + 1:
-            d = x[3 * m:] - 3 * x[2 * m:-m] + 3 * x[m:-2 * m] - x[:-3 * m]
-            self.S[j] = np.dot(d, d)
-            self._finish(np.array([j]))
-
-    def _finish(self, idx):
-        m = self.afs[idx].astype(float)
-        self.dev[idx] = np.sqrt(self.S[idx] / (6.0 * (m * self.tau0) ** 2 * (self._n - 3 * m)))
-
-    def _step(self):
-        idx = _ready(self, 3)
-        if len(idx):
-            i, m, x = self._n - 1, self.afs[idx], self._x
-            d = x[i] - 3 * x[i - m] + 3 * x[i - 2 * m] - x[i - 3 * m]
-            self.S[idx] += d * d
-            self._finish(idx)
+    _coeffs = (1.0, -3.0, 3.0, -1.0)
+    _norm = 6.0
 
 
 class tdev_realtime(dev_realtime):  # noqa: N801
@@ -247,18 +211,7 @@ class tdev_realtime(dev_realtime):  # noqa: N801
 
     S holds the current inner sum of m second differences; each new sample moves the window by
     one through the third difference x_i - 3 x_{i-m} + 3 x_{i-2m} - x_{i-3m}, and So
-    accumulates S^2: TDEV^2 = So / (6 m^2 (N - 3m + 1)).
-
-    Parameters
-    ----------
-    afs : sequence of int
-        Averaging factors m.
-    tau0 : float
-        Sampling interval, s.
-    auto_afs : bool
-        Add log-spaced factors automatically.
-    pts_per_decade : int
-        Factors per decade in ``auto_afs`` mode.
+    accumulates S^2: TDEV^2 = So / (6 m^2 (N - 3m + 1)). Parameters as `dev_realtime`.
 
     References
     ----------
