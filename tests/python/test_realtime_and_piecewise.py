@@ -100,6 +100,17 @@ def test_adev_to_psd_inverts_exact_power_laws_and_is_continuous():
         allanlot.adev2psd_piecewise_approx([1.0, 1e3], [1.0, 2.0])
 
 
+@pytest.mark.parametrize("alpha", [-2.9, -2.5, -2.0, -1.5, -1.0005, -1.0, -0.2, 0.0, 0.5, 0.9])
+def test_inversion_recovers_any_single_power_law(alpha):
+    # psd_piecewise_to_adev integrates numerically, the inversion uses the closed-form J(mu):
+    # they must agree on every exponent of the convergent range
+    taus = np.array([2.0, 20.0])
+    adev = allanlot.psd_piecewise_to_adev([5e-21], [alpha], [], taus)
+    _, _, h, a = allanlot.adev2psd_piecewise_approx(adev, taus)
+    np.testing.assert_allclose(h, [5e-21], rtol=1e-10)
+    np.testing.assert_allclose(a, [alpha], atol=1e-10)
+
+
 def test_hadamard_inversion_of_a_single_power_law():
     # Hadamard variance of white FM equals its Allan variance h0 / (2 tau) (SP1065 Table 7)
     _, _, h, alpha = allanlot.adev2psd_piecewise_approx(
