@@ -74,7 +74,8 @@ def test_every_statistic_and_formula_cites_its_reference():
     for name in allanlot._allantools.ALLANTOOLS_STATS + (
             "deviation", "gcodev", "edf_greenhall", "edf_simple", "edf_totdev", "edf_mtotdev",
             "confidence_interval", "autocorr_noise_id", "psd2allan", "gradev",
-            "frequency2phase", "phase2frequency", "plot", "fit", "psd"):
+            "frequency2phase", "phase2frequency", "plot", "fit", "psd",
+            "adev2psd_piecewise_approx", "psd_piecewise_to_adev"):
         doc = inspect.getdoc(getattr(allanlot, name))
         assert "References\n----------" in doc, name
         assert "SP1065" in doc.split("References")[1], name
