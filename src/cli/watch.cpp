@@ -168,7 +168,12 @@ int run_watch(const WatchOptions& opt, std::ostream& out, std::ostream& err) {
   const double alpha = 1.0 - (opt.confidence > 0.0 ? opt.confidence : s.confidence);
   const int threads = kernels::resolve_threads(opt.threads);
   const fs::path dir = fs::temp_directory_path() / ("allanlot-watch-" + std::to_string(getpid()));
-  fs::create_directories(dir);
+  // Two snapshot folders used in turn: the reader of the last look keeps its snapshot open (the
+  // HDF5 library refuses to recreate an open file), so the next one is written beside it.
+  const fs::path halves[2] = {dir / "a", dir / "b"};
+  for (const fs::path& h : halves)
+    fs::create_directories(h);
+  int generation = 0;
   const auto cleanup =
       std::unique_ptr<const fs::path, void (*)(const fs::path*)>(&dir, [](const fs::path* d) {
         std::error_code ec;
@@ -187,8 +192,9 @@ int run_watch(const WatchOptions& opt, std::ostream& out, std::ostream& err) {
       const double t = std::min(j * opt.interval_s, opt.max_duration_s);
       auto idle_since = std::chrono::steady_clock::now();
       while (!reader || recorded_s(ws) < t * (1 - 1e-9)) {
-        const std::string path = io::growing_snapshot(opt.recording, dir, &seen);
+        const std::string path = io::growing_snapshot(opt.recording, halves[generation % 2], &seen);
         if (!path.empty()) {
+          ++generation;
           reader = std::make_unique<io::RecordingReader>(path, input);
           ws = carried_over(watched_channels(reader->info(), s), ws);
           idle_since = std::chrono::steady_clock::now();
