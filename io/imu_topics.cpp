@@ -94,13 +94,19 @@ void add_notes(const std::string& topic, const TimeAxis& axis, RecordingInfo& in
 
 constexpr const char* kNames[6] = {"gyro_x", "gyro_y", "gyro_z", "accel_x", "accel_y", "accel_z"};
 
+// A channel's path under its topic: ROS names are absolute ("/imu") but a bag may hold a
+// relative one ("imu"), and a channel path always starts with '/' (docs/formats.md).
+std::string channel_path(const std::string& topic, const char* name) {
+  return (topic.starts_with('/') ? topic : "/" + topic) + "/" + name;
+}
+
 // The six channels of one topic; a topic that cannot be timed is a problem of each.
 void add_channels(const std::string& topic, const std::vector<ImuMessage>& msgs,
                   const std::string& file, bool receive, RecordingInfo& info,
                   std::vector<Channel>& out) {
   const auto problem = [&](const std::string& reason) {
     for (const char* name : kNames)
-      info.problems.push_back({topic + "/" + name, reason});
+      info.problems.push_back({channel_path(topic, name), reason});
   };
   if (msgs.size() < 2) {
     problem("topic has " + std::to_string(msgs.size()) + " message(s): its step is unknown");
@@ -131,7 +137,7 @@ void add_channels(const std::string& topic, const std::vector<ImuMessage>& msgs,
     for (std::size_t i = 0; i < msgs.size(); ++i)
       values[i] = k < 3 ? msgs[i].gyro[k] : msgs[i].accel[k - 3];
     c.samples = with_gaps(std::move(values), axis);
-    c.info.path = topic + "/" + kNames[k];
+    c.info.path = channel_path(topic, kNames[k]);
     c.info.units = k < 3 ? "rad/s" : "m/s^2";
     c.info.sample_rate_hz = rate;
     c.info.n_samples = static_cast<std::int64_t>(c.samples.size());
