@@ -7,18 +7,10 @@
 #include <algorithm>
 #include <filesystem>
 #include <fnmatch.h>
-#include <sstream>
 #include <stdexcept>
 
 namespace allanlot::io {
 namespace {
-
-std::string format(double v) {
-  std::ostringstream s;
-  s.precision(17);
-  s << v;
-  return s.str();
-}
 
 bool matches(const std::string& glob, const std::string& topic) {
   return fnmatch(glob.c_str(), topic.c_str(), 0) == 0;
@@ -87,9 +79,9 @@ void add_notes(const std::string& topic, const TimeAxis& axis, RecordingInfo& in
                          " place(s), analysed as gaps");
   if (axis.jitter_rms > 0.01 * axis.step)
     info.notes.push_back("topic '" + topic + "': timing jitter rms " +
-                         format(axis.jitter_rms * 1e-9) + " s, " +
-                         format(100 * axis.jitter_rms / axis.step) + " % of the step " +
-                         format(axis.step * 1e-9) + " s");
+                         exact_text(axis.jitter_rms * 1e-9) + " s, " +
+                         exact_text(100 * axis.jitter_rms / axis.step) + " % of the step " +
+                         exact_text(axis.step * 1e-9) + " s");
 }
 
 constexpr const char* kNames[6] = {"gyro_x", "gyro_y", "gyro_z", "accel_x", "accel_y", "accel_z"};
@@ -122,14 +114,12 @@ void add_channels(const std::string& topic, const std::vector<ImuMessage>& msgs,
   }
   const double rate = 1e9 / axis.step;
   if (!(rate >= kMinSampleRateHz && rate <= kMaxSampleRateHz)) {
-    problem("sample rate " + format(rate) + " Hz is outside the rates analysed");
+    problem("sample rate " + exact_text(rate) + " Hz is outside the rates analysed");
     return;
   }
   add_notes(topic, axis, info);
   if (info.facts.size() == 4) {  // the first topic's step, as a text recording's time column
-    info.facts.emplace_back("time_step_s", format(axis.step * 1e-9));
-    info.facts.emplace_back("time_missing_samples", std::to_string(axis.missing));
-    info.facts.emplace_back("time_jitter_rms_s", format(axis.jitter_rms * 1e-9));
+    add_time_axis_facts(info.facts, axis, 1e-9);
   }
   for (std::size_t k = 0; k < 6; ++k) {
     Channel c;

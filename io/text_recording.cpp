@@ -16,17 +16,9 @@
 #include <filesystem>
 #include <limits>
 #include <new>
-#include <sstream>
 
 namespace allanlot::io {
 namespace {
-
-std::string format(double v) {
-  std::ostringstream s;
-  s.precision(17);
-  s << v;
-  return s.str();
-}
 
 // A field in a message: its first 40 bytes, control bytes (a NUL) and bytes that are not UTF-8
 // shown as \xNN.
@@ -442,9 +434,7 @@ private:
       ch.samples = with_gaps(std::move(ch.samples), axis);
     rec_.facts.emplace_back("time_column", cell.name);
     rec_.facts.emplace_back("time_unit", unit_text);
-    rec_.facts.emplace_back("time_step_s", format(step_s));
-    rec_.facts.emplace_back("time_missing_samples", std::to_string(axis.missing));
-    rec_.facts.emplace_back("time_jitter_rms_s", format(axis.jitter_rms * unit_s));
+    add_time_axis_facts(rec_.facts, axis, unit_s);
     rec_.time_stamps = {axis.n_duplicate, axis.first_duplicate, axis.n_decreasing,
                         axis.first_decreasing};
     if (axis.n_duplicate + axis.n_decreasing > 0)
@@ -458,9 +448,9 @@ private:
                            cell.name + "', analysed as gaps");
     if (axis.jitter_rms > 0.01 * axis.step)
       rec_.notes.push_back("timing jitter of the time column '" + cell.name + "': rms " +
-                           format(axis.jitter_rms * unit_s) + " s, " +
-                           format(100 * axis.jitter_rms / axis.step) + " % of the step " +
-                           format(step_s) + " s");
+                           exact_text(axis.jitter_rms * unit_s) + " s, " +
+                           exact_text(100 * axis.jitter_rms / axis.step) + " % of the step " +
+                           exact_text(step_s) + " s");
   }
 
   std::string time_column_text() const {

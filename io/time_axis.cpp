@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -111,6 +112,20 @@ std::vector<double> with_gaps(std::vector<double> values, const TimeAxis& axis) 
   }
   out.insert(out.end(), values.begin() + static_cast<std::ptrdiff_t>(from), values.end());
   return out;
+}
+
+std::string exact_text(double v) {
+  std::ostringstream s;
+  s.precision(17);
+  s << v;
+  return s.str();
+}
+
+void add_time_axis_facts(std::vector<std::pair<std::string, std::string>>& facts,
+                         const TimeAxis& axis, double unit_s) {
+  facts.emplace_back("time_step_s", exact_text(axis.step * unit_s));
+  facts.emplace_back("time_missing_samples", std::to_string(axis.missing));
+  facts.emplace_back("time_jitter_rms_s", exact_text(axis.jitter_rms * unit_s));
 }
 
 }  // namespace allanlot::io

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -33,5 +34,13 @@ TimeAxis make_time_axis(const std::vector<double>& times, std::int64_t max_missi
 
 /// `values` (one per row) with NaN inserted where the axis has missing samples.
 std::vector<double> with_gaps(std::vector<double> values, const TimeAxis& axis);
+
+/// A number as a recording's facts store it: 17 significant digits, so that it reads back exact.
+std::string exact_text(double v);
+
+/// The facts every recording with a time axis records (docs/formats.md): time_step_s,
+/// time_missing_samples and time_jitter_rms_s; `unit_s` is the axis's unit in seconds.
+void add_time_axis_facts(std::vector<std::pair<std::string, std::string>>& facts,
+                         const TimeAxis& axis, double unit_s);
 
 }  // namespace allanlot::io
