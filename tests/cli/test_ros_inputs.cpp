@@ -28,7 +28,7 @@ struct Fixture {
 const Fixture& fixture() {
   static const Fixture f = [] {
     Fixture x;
-    x.dir = test::fresh_dir("ros_inputs");
+    x.dir = test::test_dir("ros_inputs");
     const test::ImuSamples imu = test::imu_samples(12000, kRate, 5);
     std::set<std::size_t> dropped;
     for (std::size_t i = 6000; i < 6040; ++i)

@@ -34,7 +34,7 @@ struct Bag {
 
 Bag make_bag(const std::string& compression, const std::string& extra = "--string-topic /chatter") {
   Bag b;
-  const fs::path dir = test::fresh_dir("ros_bags_" + compression);
+  const fs::path dir = test::test_dir("ros_bags_" + compression);
   b.imu = test::imu_samples(1000, 200, 1);
   b.imu2 = test::imu_samples(600, 200, 2);
   std::set<std::size_t> dropped;

@@ -5,6 +5,8 @@
 
 #include "support/h5_fixture.hpp"
 
+#include <gtest/gtest.h>
+
 #include <array>
 #include <cstdint>
 #include <filesystem>
@@ -21,6 +23,17 @@ struct ImuSamples {
   std::vector<std::array<double, 6>> rows;
   std::vector<std::int64_t> stamps_ns;  // each row's header stamp
 };
+
+/// A fresh directory `stem_<suite>_<test>` for the running test: CTest runs each test of a
+/// program as its own process, in parallel, so a fixture's files must not be shared between
+/// tests (one test's fresh_dir would empty another's).
+inline std::filesystem::path test_dir(const std::string& stem) {
+  const auto* t = ::testing::UnitTest::GetInstance()->current_test_info();
+  std::string name = stem + "_" + t->test_suite_name() + "_" + t->name();
+  for (char& c : name)
+    if (c == '/' || c == '"') c = '_';
+  return fresh_dir(name);
+}
 
 inline ImuSamples imu_samples(std::size_t n, double rate_hz, unsigned seed) {
   ImuSamples s;
