@@ -166,6 +166,121 @@ HatResult three_cornered_hat(const PhaseData& ab, const PhaseData& bc, const Pha
   return h;
 }
 
+std::size_t hat_pair_index(std::size_t i, std::size_t j, std::size_t n_clocks) {
+  // Pairs (0, 1..N-1) come first, then (1, 2..N-1), ...: i full rows of N-1, N-2, ... before.
+  return i * n_clocks - i * (i + 1) / 2 + (j - i - 1);
+}
+
+std::vector<double> hat_weights(std::size_t clock, std::size_t n_clocks) {
+  const double n = static_cast<double>(n_clocks);
+  std::vector<double> w;
+  for (std::size_t i = 0; i < n_clocks; ++i)
+    for (std::size_t j = i + 1; j < n_clocks; ++j)
+      w.push_back(((i == clock || j == clock ? 1.0 : 0.0) - 1.0 / (n - 1.0)) / (n - 2.0));
+  return w;
+}
+
+double n_hat_estimate_variance(std::span<const double> s, std::span<const double> nu,
+                               std::span<const double> v, std::size_t clock, std::size_t n_clocks) {
+  const std::vector<double> w = hat_weights(clock, n_clocks);
+  struct Pair {
+    std::size_t a, b;
+  };
+  std::vector<Pair> pairs;
+  for (std::size_t i = 0; i < n_clocks; ++i)
+    for (std::size_t j = i + 1; j < n_clocks; ++j)
+      pairs.push_back({i, j});
+  double var = 0.0;
+  for (std::size_t p = 0; p < pairs.size(); ++p)
+    for (std::size_t q = 0; q < pairs.size(); ++q) {
+      double cov = 0.0;
+      if (p == q) {
+        cov = 2.0 * s[p] * s[p] / nu[p];
+      } else {
+        const Pair x = pairs[p], y = pairs[q];
+        const bool share_a = x.a == y.a || x.a == y.b, share_b = x.b == y.a || x.b == y.b;
+        if (share_a || share_b) {
+          const double shared = v[share_a ? x.a : x.b];
+          cov = 2.0 * shared * shared / std::sqrt(nu[p] * nu[q]);
+        }
+      }
+      var += w[p] * w[q] * cov;
+    }
+  return var;
+}
+
+namespace {
+
+void check_n_hat(std::span<const PhaseData> pairs, std::size_t n_clocks) {
+  if (n_clocks < 3)
+    throw std::invalid_argument("N-cornered hat: needs at least 3 clocks, got " +
+                                std::to_string(n_clocks));
+  if (pairs.size() != n_clocks * (n_clocks - 1) / 2)
+    throw std::invalid_argument("N-cornered hat: " + std::to_string(n_clocks) + " clocks need " +
+                                std::to_string(n_clocks * (n_clocks - 1) / 2) +
+                                " pair records, got " + std::to_string(pairs.size()));
+  for (std::size_t p = 1; p < pairs.size(); ++p)
+    check_pair(pairs[0], pairs[p], "N-cornered hat: pair 1 and pair " + std::to_string(p + 1));
+}
+
+}  // namespace
+
+NHatResult n_cornered_hat(std::span<const PhaseData> pairs, std::size_t n_clocks,
+                          std::span<const std::int64_t> m_list, double confidence, int nthreads) {
+  check_n_hat(pairs, n_clocks);
+  check_confidence(confidence);
+  const std::vector<std::int64_t> ms = oadev_ms(m_list, pairs[0].n_points());
+  const std::size_t np = pairs.size();
+  NHatResult h;
+  for (const PhaseData& p : pairs)
+    h.pair.push_back(oadev_with_confidence(p, ms, confidence, nthreads));
+  h.clock.resize(n_clocks);
+  h.notes.resize(n_clocks);
+  std::vector<std::vector<double>> weights(n_clocks), negative(n_clocks);
+  for (std::size_t k = 0; k < n_clocks; ++k)
+    weights[k] = hat_weights(k, n_clocks);
+  for (std::size_t i0 = 0; i0 < h.pair[0].size(); ++i0) {
+    const std::int64_t m = h.pair[0].m[i0];
+    std::vector<std::size_t> row(np);
+    std::vector<double> s(np), nu(np), v(n_clocks, 0.0);
+    std::int64_t n = h.pair[0].n[i0];
+    bool complete = true;
+    for (std::size_t p = 0; p < np && complete; ++p) {
+      row[p] = row_of(h.pair[p], m);
+      complete = row[p] < h.pair[p].size();
+      if (!complete) break;
+      s[p] = variance(h.pair[p], row[p]);
+      nu[p] = h.pair[p].edf[row[p]];
+      n = std::min(n, h.pair[p].n[row[p]]);
+    }
+    if (!complete) continue;
+    for (std::size_t k = 0; k < n_clocks; ++k)
+      for (std::size_t p = 0; p < np; ++p)
+        v[k] += weights[k][p] * s[p];
+    for (std::size_t k = 0; k < n_clocks; ++k) {
+      const double var_v = n_hat_estimate_variance(s, nu, v, k, n_clocks);
+      const double edf = v[k] > 0.0 && var_v > 0.0 ? 2.0 * v[k] * v[k] / var_v : kNaN;
+      int alpha = std::numeric_limits<int>::max();
+      for (std::size_t j = 0; j < n_clocks; ++j)
+        if (j != k) {
+          const std::size_t p = hat_pair_index(std::min(j, k), std::max(j, k), n_clocks);
+          alpha = std::min(alpha, h.pair[p].alpha[row[p]]);
+        }
+      push_row(h.clock[k], m, h.pair[0].tau_s[i0], n, alpha, v[k], edf, confidence, false);
+      if (!(v[k] > 0.0)) negative[k].push_back(h.pair[0].tau_s[i0]);
+    }
+  }
+  for (std::size_t k = 0; k < n_clocks; ++k) {
+    h.clock[k].confidence = confidence;
+    if (negative[k].empty()) continue;
+    h.notes[k] = "variance estimate <= 0 at " + std::to_string(negative[k].size()) + " of " +
+                 std::to_string(h.clock[k].size()) + " taus (" + taus_text(negative[k]) +
+                 "): dev there is -sqrt(|variance|), without an interval; the clock is quieter "
+                 "than the others resolve, or the clocks are correlated";
+  }
+  return h;
+}
+
 CodevResult gcodev_with_confidence(const PhaseData& x, const PhaseData& y,
                                    std::span<const std::int64_t> m_list, double confidence,
                                    int nthreads) {

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <vector>
 
 namespace allanlot::kernels {
 
@@ -71,6 +72,54 @@ struct HatResult {
 HatResult three_cornered_hat(const PhaseData& ab, const PhaseData& bc, const PhaseData& ca,
                              std::span<const std::int64_t> m_list, double confidence,
                              int nthreads = 0);
+
+/// The N-cornered hat (N >= 3 clocks) from the N(N-1)/2 records of their pairwise differences,
+/// in pair order: (0,1), (0,2), ..., (0,N-1), (1,2), ..., (N-2,N-1) (for A, B, C, D: AB AC AD
+/// BC BD CD). Index of pair (i, j), i < j, in that order.
+std::size_t hat_pair_index(std::size_t i, std::size_t j, std::size_t n_clocks);
+
+/// Weight w_p of pair p in clock i's variance estimate v_i = sum_p w_p s_p: the Gray-Allan
+/// least-squares solution of s_jk = v_j + v_k (independent clocks) for the N variances,
+/// v = (A^T A)^-1 A^T s with A the pairs' 0/1 design matrix; A^T A = (N - 2) I + J, so
+///   v_i = [sum_{j != i} s_ij - sum_{j<k} s_jk / (N - 1)] / (N - 2),
+/// the solution for N oscillators of Gray & Allan (Proc. 28th FCS 1974, the paper of
+/// HatResult's three-cornered hat; Riley, NIST SP1065, its three-cornered-hat section, gives
+/// the same sums). w_p = (1 - 1 / (N - 1)) / (N - 2) for a pair with clock i, -1 / ((N - 1)(N - 2))
+/// otherwise; for N = 3 it is the three-cornered hat (1/2, 1/2, -1/2).
+std::vector<double> hat_weights(std::size_t clock, std::size_t n_clocks);
+
+/// Variance of clock i's estimate v_i = sum_p w_p s_p from the pairs' variances s and edf nu
+/// (pair order) and the clocks' variance estimates v, propagated through the pairs'
+/// covariances: var(s_p) = 2 s_p^2 / nu_p, cov(s_p, s_q) = 2 v_k^2 / sqrt(nu_p nu_q) for two
+/// pairs that share clock k (Isserlis, as hat_estimate_variance), 0 for disjoint pairs; then
+/// var(v_i) = sum_p sum_q w_p w_q cov(s_p, s_q). For N = 3 it is hat_estimate_variance.
+double n_hat_estimate_variance(std::span<const double> s, std::span<const double> nu,
+                               std::span<const double> v, std::size_t clock, std::size_t n_clocks);
+
+/// The N-cornered hat's result: the pairs' OADEV (pair order) and each clock's deviation.
+struct NHatResult {
+  /// Overlapping Allan deviation of each pair with add_confidence's edf, interval and alpha.
+  std::vector<StatResult> pair;
+  /// Per clock and tau: v = sum_p w_p s_p (hat_weights) as a signed deviation
+  /// dev = sign(v) sqrt(|v|); edf = 2 v^2 / n_hat_estimate_variance (Satterthwaite's moment
+  /// matching, as HatResult); dev_lo, dev_hi the chi-square interval of SP1065 eq. (45) with
+  /// that edf; n the fewest terms of all pairs; alpha the smallest of the pairs with the clock.
+  /// Where v <= 0, dev is -sqrt(|v|) (not clipped) and edf, dev_lo, dev_hi are NaN.
+  std::vector<StatResult> clock;
+  /// Per clock: the taus where v <= 0, in words, without the clock's name (the caller names
+  /// the clocks); empty when none.
+  std::vector<std::string> notes;
+};
+
+/// Computes the N-cornered hat of n_clocks = N >= 3 clocks from the N(N-1)/2 pair records in
+/// pair order (hat_pair_index), at every m of m_list up to max_m(Stat::Oadev, points); a tau
+/// where any pair has no term gives no clock row. Preconditions (std::invalid_argument): N >= 3,
+/// pairs.size() == N(N-1)/2, equal lengths and tau0_s, m >= 1, confidence in (0, 1).
+/// Bit-identical for any thread count. For N = 3 (pairs AB AC BC) the clocks agree with
+/// three_cornered_hat(AB, BC, CA) to rounding (the sign of a difference does not matter).
+NHatResult n_cornered_hat(std::span<const PhaseData> pairs, std::size_t n_clocks,
+                          std::span<const std::int64_t> m_list, double confidence,
+                          int nthreads = 0);
 
 /// The Groslambert codeviation of x and y with its interval, and the two records' OADEV.
 struct CodevResult {

@@ -54,4 +54,40 @@ inline std::array<long double, 3> naive_hat_phase(const std::vector<double>& ab,
   return {0.5L * (s_ab + s_ca - s_bc), 0.5L * (s_ab + s_bc - s_ca), 0.5L * (s_bc + s_ca - s_ab)};
 }
 
+/// The N-cornered-hat variances of N clocks from their N(N-1)/2 pair records in pair order (AB AC
+/// ... BC ...): the least-squares solution of s_ij = v_i + v_j for the pairs' naive OAVAR s
+/// (Gray & Allan 1974), by the normal equations (A^T A) v = A^T s solved by Gaussian elimination
+/// with partial pivoting in long double: no closed form, no weights.
+inline std::vector<long double> naive_n_hat_phase(const std::vector<std::vector<double>>& pairs,
+                                                  std::size_t n_clocks, std::int64_t m,
+                                                  long double tau0) {
+  std::vector<std::vector<long double>> a(n_clocks, std::vector<long double>(n_clocks + 1, 0.0L));
+  std::size_t p = 0;
+  for (std::size_t i = 0; i < n_clocks; ++i)
+    for (std::size_t j = i + 1; j < n_clocks; ++j, ++p) {
+      const long double s = std::pow(naive_oadev_phase(pairs[p], m, tau0).dev, 2.0L);
+      for (const std::size_t r : {i, j}) {  // row (0..1..) of A has ones at i and j
+        a[r][i] += 1.0L;
+        a[r][j] += 1.0L;
+        a[r][n_clocks] += s;
+      }
+    }
+  for (std::size_t c = 0; c < n_clocks; ++c) {
+    std::size_t piv = c;
+    for (std::size_t r = c + 1; r < n_clocks; ++r)
+      if (std::fabs(a[r][c]) > std::fabs(a[piv][c])) piv = r;
+    std::swap(a[c], a[piv]);
+    for (std::size_t r = 0; r < n_clocks; ++r) {
+      if (r == c) continue;
+      const long double f = a[r][c] / a[c][c];
+      for (std::size_t k = c; k <= n_clocks; ++k)
+        a[r][k] -= f * a[c][k];
+    }
+  }
+  std::vector<long double> v(n_clocks);
+  for (std::size_t c = 0; c < n_clocks; ++c)
+    v[c] = a[c][n_clocks] / a[c][c];
+  return v;
+}
+
 }  // namespace allanlot::test
