@@ -338,6 +338,61 @@ TEST(Export, Stable32NonFastMtieOnPhaseDat) {
   }
 }
 
+// A published non-fast Stable32 MTIE table: Stable32's decade run on 556 990 phase points of a
+// 5071A caesium clock against an H-maser (tests/data/stable32/cs5071a, from AllanTools' test
+// data). `--taus` given as its averaging factors, the non-fast layout ("#" the N points, rows to
+// m = (N - 1) / 2: 200000 is the last decade factor below 278494); every line of Stable32's
+// table is in ours, character for character, header and rows.
+TEST(Export, Stable32NonFastMtieTableDiffsEqualOn5071A) {
+  const fs::path cs = fs::path(ALLANLOT_REFERENCE_DIR) / "stable32" / "cs5071a";
+  const fs::path d = test::fresh_dir("export_5071a_mtie");
+  const fs::path res = d / "res", tables = d / "tables";
+  fs::create_directories(tables);
+  std::string out;
+  // Unpacked first, so that the table is titled by the file Stable32 read.
+  const fs::path phase = d / "5071A_phase.txt";
+  ASSERT_EQ(run_command("gzip -dc " + (cs / "5071A_phase.txt.gz").string() + " > " + phase.string(),
+                        &out),
+            0)
+      << out;
+  ASSERT_EQ(run_command(binary() +
+                            " analyze -q --no-fit --no-psd --stats mtie --taus "
+                            "m:1,2,4,10,20,40,100,200,400,1000,2000,4000,10000,20000,40000,"
+                            "100000,200000,400000 --data-type phase --sample-rate 1 -o " +
+                            res.string() + " " + phase.string(),
+                        &out),
+            0)
+      << out;
+  ASSERT_EQ(
+      run_command(binary() + " export --format stable32 " + res.string() + " -o " + tables.string(),
+                  &out),
+      0)
+      << out;
+  std::vector<std::string> written;
+  for (const auto& e : fs::directory_iterator(tables))
+    written.push_back(e.path().filename().string());
+  ASSERT_EQ(written.size(), 1u);
+  std::vector<std::string> ours;
+  {
+    std::istringstream in(test::file_bytes(tables / written[0]));
+    for (std::string line; std::getline(in, line);)
+      ours.push_back(line);
+  }
+  std::istringstream theirs(test::file_bytes(cs / "mtie_decade.txt"));
+  std::size_t at = 0, lines = 0;
+  for (std::string line; std::getline(theirs, line); ++lines) {
+    while (!line.empty() && (line.back() == '\r' || line.back() == ' '))
+      line.pop_back();
+    std::size_t i = at;
+    while (i < ours.size() && ours[i] != line)
+      ++i;
+    EXPECT_LT(i, ours.size()) << "Stable32's line '" << line << "' is not in ours (after line "
+                              << at << ")";
+    if (i < ours.size()) at = i + 1;
+  }
+  EXPECT_EQ(lines, 26u);
+}
+
 TEST(Export, Errors) {
   const fs::path d = test::fresh_dir("export_errors");
   std::string out;
