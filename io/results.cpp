@@ -171,8 +171,9 @@ RecordingResult read(const std::filesystem::path& path, Depth depth) {
   RecordingResult r;
   schema::read_fields(root.get(), r, schema::root_fields(), depth, file, "/");
   // The analysis options that say how to print the results again (export's Stable32 tables:
-  // which MTIE run, which file a table is of); the others are for people reading the file.
-  for (const char* key : {"statistic", "taus"})
+  // which MTIE run, which file a table is of; a hat's clocks and pairs, in pair order); the
+  // others are for people reading the file.
+  for (const char* key : {"statistic", "taus", "clocks", "pairs"})
     if (std::string v; h5::read_attribute(root.get(), key, v, file, "/"))
       r.attributes.emplace_back(key, std::move(v));
   std::vector<std::string> groups;

@@ -61,15 +61,25 @@ std::string stable32_file_title(const io::RecordingResult& r, const io::ChannelR
     files.push_back(
         fs::path(f.substr(std::min(f.find_first_not_of(' '), f.size()))).filename().string());
   const std::string name = ch.path.substr(ch.path.find_last_of('/') + 1);
+  // The pairs in the command's order: the `pairs` attribute of hat --clocks, else AB BC CA.
+  std::vector<std::string> pair_order;
+  std::stringstream ps(root_attribute(r, "pairs"));
+  for (std::string p; std::getline(ps, p, ',');)
+    pair_order.push_back(p);
+  const bool n_hat = !pair_order.empty();
+  if (!n_hat) pair_order = {"AB", "BC", "CA"};  // src/cli/hat.cpp's three-cornered form
   if (ch.path.starts_with("/clocks/")) {
     std::string pairs;
     for (const std::string& f : files)
       pairs += (pairs.empty() ? "" : ", ") + f;
-    return "clock " + name + " (three-cornered hat of " + pairs + ")";
+    const std::string clocks = root_attribute(r, "clocks");
+    const std::string method =
+        n_hat ? std::to_string(std::count(clocks.begin(), clocks.end(), ',') + 1) + "-cornered hat"
+              : std::string("three-cornered hat");
+    return "clock " + name + " (" + method + " of " + pairs + ")";
   }
-  static constexpr std::string_view kPairOrder[] = {"AB", "BC", "CA"};  // src/cli/hat.cpp's
-  for (std::size_t k = 0; k < std::size(kPairOrder) && k < files.size(); ++k)
-    if (name == kPairOrder[k]) return files[k] + " (pair " + name + ")";
+  for (std::size_t k = 0; k < pair_order.size() && k < files.size(); ++k)
+    if (name == pair_order[k]) return files[k] + " (pair " + name + ")";
   return fs::path(r.source_file).filename().string();
 }
 

@@ -29,8 +29,12 @@ Command add_report_command(CLI::App& app) {
       ->check(CLI::IsMember({"auto", "always", "never"}))
       ->capture_default_str();
   sub->add_flag("-q,--quiet", opt->quiet, "Print only errors");
+  auto spec = std::make_shared<std::string>();
+  sub->add_option("--spec", *spec,
+                  "Spec file whose ITU-T masks (mtie, tdev) are drawn on the time-error plots");
   return {sub, [=](const std::string&) {
             opt->outdir = *outdir;
+            opt->spec_path = *spec;
             opt->output = *output;
             opt->diagnosis_files.assign(diag->begin(), diag->end());
             opt->unit_pages = *pages == "always"  ? report::UnitPages::Always

@@ -1,7 +1,9 @@
 // Spec file parsing and the pass/fail decisions; the rules are listed in spec.hpp.
 #include "src/lot/spec.hpp"
 
+#include "io/stat_group.hpp"
 #include "kernels/uncertainty/chi2.hpp"
+#include "src/lot/masks.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -226,6 +228,21 @@ bool glob_well_formed(const std::string& glob) {
   return true;
 }
 
+// "mtie": {"mask": "G.811"}: a mask of src/lot/masks.hpp for that statistic.
+MaskLimit parse_mask(const Checker& c, const std::string& stat, const Json& j,
+                     const std::string& path) {
+  c.object(j, path);
+  c.allow(j, {"mask"}, path);
+  const auto m = j.find("mask");
+  if (m == j.end()) c.fail(Checker::at(path, "mask"), "missing");
+  if (!m->is_string()) c.fail(Checker::at(path, "mask"), "must be a string");
+  const std::string name = m->get<std::string>();
+  if (!masks::find_mask(name, stat))
+    c.fail(Checker::at(path, "mask"),
+           "no " + stat + " mask '" + name + "' (masks: " + masks::mask_names(stat) + ")");
+  return {stat, name, path};
+}
+
 // One rule: every term and the quality limits, each checked on its own.
 Rule parse_rule(const Checker& c, const std::string& glob, const Json& body,
                 const std::string& path) {
@@ -234,7 +251,8 @@ Rule parse_rule(const Checker& c, const std::string& glob, const Json& body,
   if (glob.empty()) c.note(path, "empty channel pattern");
   if (!glob_well_formed(glob)) c.note(path, "unknown channel pattern: '[' without its ']'");
   c.object(body, path);
-  if (body.empty()) c.fail(path, "must limit at least one term (R, K, B, N or Q) or quality");
+  if (body.empty())
+    c.fail(path, "must limit at least one term (R, K, B, N or Q), quality, mtie or tdev");
   for (const auto& item : body.items()) {
     const std::string& key = item.key();
     const Json& value = item.value();
@@ -244,8 +262,12 @@ Rule parse_rule(const Checker& c, const std::string& glob, const Json& body,
         r.quality = parse_quality(c, value, at);
         return;
       }
+      if (key == "mtie" || key == "tdev") {
+        r.masks.push_back(parse_mask(c, key, value, at));
+        return;
+      }
       const auto term = units::parse_term(key);
-      if (!term) c.fail(at, "unknown key (the terms are R, K, B, N, Q; and quality)");
+      if (!term) c.fail(at, "unknown key (the terms are R, K, B, N, Q; and quality, mtie, tdev)");
       r.limits.push_back(parse_limit(c, *term, value, at));
     });
   }
@@ -497,23 +519,78 @@ std::pair<Outcome, std::string> judge_quality(const QualityLimits& q, const io::
   return {detail.empty() ? Outcome::Pass : Outcome::Fail, detail};
 }
 
-Verdict judge(const Spec& spec, const io::SummaryRow& row) {
-  Verdict v = judge_terms(spec, row);
+Verdict judge(const Spec& spec, const io::SummaryRow& row, const std::string& results_file) {
   const Rule* rule =
       row.status.is_ok() && !row.channel.empty() ? find_rule(spec, row.channel) : nullptr;
+  // A rule of masks (and quality) alone needs no fitted value.
+  const bool terms = !rule || !rule->limits.empty() || (!rule->quality && rule->masks.empty());
+  Verdict v = terms ? judge_terms(spec, row) : Verdict{"pass", "", {}};
+  if (rule && !rule->masks.empty()) {
+    // The masks' decision joins the terms': fail over undecided (or no data) over pass; on a
+    // tie both details are kept.
+    const auto [o, detail] = judge_masks(rule->masks, row, results_file);
+    const auto rank = [](const std::string& st) { return st == "fail" ? 2 : st == "pass" ? 0 : 1; };
+    const std::string st = o == Outcome::Pass ? "pass" : o == Outcome::Fail ? "fail" : "undecided";
+    if (rank(st) > rank(v.status)) {
+      v.status = st;
+      v.detail = detail;
+    } else if (st == v.status) {
+      v.detail += (v.detail.empty() ? "" : "; ") + detail;
+    }
+  }
   if (!rule || !rule->quality) return v;
   const auto [o, detail] = judge_quality(*rule->quality, row);
   if (o == Outcome::Fail) {
     // Bad data fail the channel whatever its terms say; the terms that fail too are kept.
     v.detail = v.status == "fail" ? detail + "; " + v.detail : detail;
     v.status = "fail";
-  } else if (o == Outcome::Undecided && (v.status == "pass" || rule->limits.empty())) {
+  } else if (o == Outcome::Undecided &&
+             (v.status == "pass" || (rule->limits.empty() && rule->masks.empty()))) {
     v.status = "undecided";
     v.detail = detail;
-  } else if (o == Outcome::Pass && rule->limits.empty()) {
+  } else if (o == Outcome::Pass && rule->limits.empty() && rule->masks.empty()) {
     return {"pass", "", {}};  // a rule of quality alone needs no fitted value
   }
   return v;
+}
+
+std::pair<Outcome, std::string> judge_masks(const std::vector<MaskLimit>& limits,
+                                            const io::SummaryRow& row,
+                                            const std::string& results_file) {
+  Outcome worst = Outcome::Pass;
+  std::vector<std::pair<Outcome, std::string>> parts;
+  for (const MaskLimit& l : limits) {
+    const masks::Mask* m = masks::find_mask(l.mask, l.stat);
+    std::pair<Outcome, std::string> part{Outcome::Undecided, ""};
+    if (!m) {
+      part.second = l.stat + ": no mask " + l.mask;
+    } else if (row.units != "s") {
+      part.second =
+          l.stat + ": " + l.mask + " is a time error in s, the channel is in '" + row.units + "'";
+    } else if (results_file.empty()) {
+      part.second = l.stat + ": no results file to read the curve from";
+    } else {
+      try {
+        const kernels::StatResult c =
+            io::read_stat_group(results_file, row.channel + "/allan/" + l.stat);
+        const masks::CurveVerdict cv = masks::judge_curve(*m, c);
+        using CO = masks::CurveVerdict::Outcome;
+        part = {cv.outcome == CO::Pass   ? Outcome::Pass
+                : cv.outcome == CO::Fail ? Outcome::Fail
+                                         : Outcome::Undecided,
+                cv.detail};
+      } catch (const std::exception&) {
+        part.second = l.stat + " not computed (analyze --stats " + l.stat + ")";
+      }
+    }
+    if (part.first == Outcome::Fail || (part.first == Outcome::Undecided && worst == Outcome::Pass))
+      worst = part.first;
+    parts.push_back(std::move(part));
+  }
+  std::string detail;
+  for (const auto& [o, text] : parts)
+    if (o == worst) detail += (detail.empty() ? "" : "; ") + text;
+  return {worst, detail};
 }
 
 namespace {

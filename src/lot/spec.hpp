@@ -29,6 +29,11 @@
 // (duplicate or decreasing time stamps), each an integer >= 0, and "saturation", "stuck",
 // "time_stamps", "gaps", "spikes" as "fail" (the same as its max_ of 0) or "ignore". A channel
 // beyond a quality limit fails whatever its terms say.
+//
+// A rule may hold a channel's MTIE and TDEV to an ITU-T mask (src/lot/masks.hpp), judged per
+// tau on the curves of its results file:
+//
+//       "clock_*": {"mtie": {"mask": "G.811"}, "tdev": {"mask": "G.811"}}
 #pragma once
 
 #include "io/results.hpp"
@@ -79,11 +84,19 @@ struct QualityLimits {
   std::string key_path;  // e.g. "channels.gyro_*.quality", for messages
 };
 
+/// A statistic held to an ITU-T mask: "mtie": {"mask": "G.811"}.
+struct MaskLimit {
+  std::string stat;      // "mtie" or "tdev"
+  std::string mask;      // a name of src/lot/masks.hpp
+  std::string key_path;  // e.g. "channels.clock_*.mtie", for messages
+};
+
 /// The limits for the channels whose path or name matches `glob`.
 struct Rule {
   std::string glob;
   std::vector<TermLimit> limits;         // in file order
   std::optional<QualityLimits> quality;  // "quality": {...}
+  std::vector<MaskLimit> masks;          // "mtie", "tdev": {"mask": ...}
 };
 
 struct Spec {
@@ -156,7 +169,17 @@ struct Verdict {
   std::string detail;
   std::array<std::string, 5> term_status;  // per term R..Q: "pass", "fail", "undecided" or ""
 };
-Verdict judge(const Spec& spec, const io::SummaryRow& row);
+/// A rule's masks (judge_masks) are judged on the curves of `results_file`, the row's results
+/// file ("" = none: a mask is then undecided).
+Verdict judge(const Spec& spec, const io::SummaryRow& row, const std::string& results_file = "");
+
+/// The decision of a row's MTIE and TDEV against the rule's masks (masks::judge_curve per
+/// tau), the curves read from `results_file`: fail when a curve fails, else undecided when
+/// one straddles its mask, has no tau inside it, was not computed, or the channel is not in
+/// seconds (masks are time errors in s), else pass; the detail names each mask's decision.
+std::pair<Outcome, std::string> judge_masks(const std::vector<MaskLimit>& masks,
+                                            const io::SummaryRow& row,
+                                            const std::string& results_file);
 
 /// The per-unit verdict, from the rows' spec_status (judge() first): for each device_id, the
 /// unit fails when any of its channels fails; otherwise it is undecided when any channel is

@@ -119,18 +119,44 @@ void print_overview(const LotOverview& ov, const spec::Spec* sp, std::ostream& o
   out << "\n";
 }
 
+// The results file of each (device_id, source_file) in OUTDIR, where the spec's masks read the
+// MTIE and TDEV curves (spec::judge_masks); read only when a rule holds a mask, since it opens
+// every results file a second time.
+std::map<std::pair<std::string, std::string>, std::string>
+mask_results_files(const spec::Spec& sp, const fs::path& outdir) {
+  std::map<std::pair<std::string, std::string>, std::string> out;
+  if (std::none_of(sp.rules.begin(), sp.rules.end(),
+                   [](const spec::Rule& r) { return !r.masks.empty(); }))
+    return out;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(outdir, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.starts_with(".") || !name.ends_with(".allan.h5")) continue;
+    try {
+      for (const io::SummaryRow& r : io::summary_rows(io::read_summary_results(e.path())))
+        out.emplace(std::make_pair(r.device_id, r.source_file), e.path().string());
+    } catch (const std::exception&) {
+      // An unreadable file is already a failed row of rows_from_outdir.
+    }
+  }
+  return out;
+}
+
 // The spec's verdict of every row and of every unit. A rule unit that does not fit a matched
 // channel (known only once the channels are seen) is an error; all of them are collected, one
 // per rule, term and channel units (not one per unit of the lot), and thrown together, as
 // parse_spec reports a file's errors.
-void apply_spec(const spec::Spec& sp, std::vector<io::SummaryRow>& rows, bool quiet,
-                std::ostream& err) {
+void apply_spec(const spec::Spec& sp, std::vector<io::SummaryRow>& rows, const fs::path& outdir,
+                bool quiet, std::ostream& err) {
   std::vector<bool> used(sp.rules.size(), false);
   std::vector<std::string> problems;
   std::set<std::string> seen;
+  const std::map<std::pair<std::string, std::string>, std::string> files =
+      mask_results_files(sp, outdir);
   for (io::SummaryRow& r : rows) {
     try {
-      const spec::Verdict v = spec::judge(sp, r);
+      const auto file = files.find({r.device_id, r.source_file});
+      const spec::Verdict v = spec::judge(sp, r, file == files.end() ? "" : file->second);
       r.spec_status = v.status;
       r.spec_detail = v.detail;
       r.spec_term_status = v.term_status;
@@ -227,7 +253,7 @@ LotOverview write_lot(const fs::path& outdir, std::vector<io::SummaryRow> rows,
     rows.insert(rows.end(), std::make_move_iterator(missing.begin()),
                 std::make_move_iterator(missing.end()));
   }
-  if (sp) apply_spec(*sp, rows, opt.quiet, err);
+  if (sp) apply_spec(*sp, rows, outdir, opt.quiet, err);
   const std::vector<io::StatisticsRow> stats = lot_statistics(rows);
   std::vector<std::pair<std::string, std::string>> attrs;
   if (sp) {

@@ -7,6 +7,8 @@
 #include "io/report_data.hpp"
 #include "io/results.hpp"
 #include "kernels/model/fit.hpp"
+#include "src/lot/masks.hpp"
+#include "src/report/svg.hpp"
 
 #include <array>
 #include <cstddef>
@@ -73,6 +75,8 @@ struct Unit {
   std::vector<std::string> notes;                      // what the extras could not read
   std::string anchor;                                  // id of its section
   std::string page;  // its own page, relative to the lot page ("" = in the lot page)
+  // The ITU-T masks that `report --spec`'s rules apply to a channel, by channel path.
+  std::map<std::string, std::vector<const masks::Mask*>> masks;
 };
 
 // The channels of one kind across the lot, and a unit the lot rule flags on a term.
@@ -142,7 +146,8 @@ bool is_clock(const std::string& channel_units);
 // rate (`time_error` false: OADEV, the eq. (3) fit and its terms; the other statistics behind
 // boxes the reader ticks) or the time errors (TDEV; TTOTDEV, MTIE, TIE rms behind boxes), in
 // the table's units; "" when the channel has no statistic of that kind.
-std::string deviation_panel(const std::string& id, const io::ChannelResult& ch, bool time_error);
+std::string deviation_panel(const std::string& id, const io::ChannelResult& ch, bool time_error,
+                            const std::vector<const masks::Mask*>& masks = {});
 // The CSS that shows a statistic when its box is ticked, for every statistic.
 std::string toggle_css();
 std::string psd_plot(const std::string& id, const io::ChannelResult& ch,
@@ -166,6 +171,12 @@ std::string quality_section(const std::vector<Unit>& units);
 // whether the count beyond it exceeds what chance gives a lot of complete models; "" when no
 // unit has a diagnosis.
 std::string diagnoses_section(const std::vector<Unit>& units);
+
+// Clocks (clocks.cpp): a hat's results file (root `statistic` "hat") as a section of each
+// clock's Allan deviation with its interval, plot and table ("" for any other file); and the
+// ITU-T masks as dashed curves on a time-error plot, in the plot's units (`factor`).
+std::string hat_section(const Unit& u);
+void add_mask_series(svg::Plot& p, const std::vector<const masks::Mask*>& ms, double factor);
 
 // Pages (unit_page.cpp, lot_page.cpp).
 std::string html_head(const std::string& title);

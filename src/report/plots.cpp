@@ -150,7 +150,8 @@ std::string toggle_css() {
   return css;
 }
 
-std::string deviation_panel(const std::string& id, const io::ChannelResult& ch, bool time_error) {
+std::string deviation_panel(const std::string& id, const io::ChannelResult& ch, bool time_error,
+                            const std::vector<const masks::Mask*>& masks) {
   const auto stats = panel_stats(ch, time_error);
   if (stats.empty()) return "";
   const AxisUnits u = time_error ? time_error_axis_units(ch.units) : rate_axis_units(ch.units);
@@ -184,12 +185,23 @@ std::string deviation_panel(const std::string& id, const io::ChannelResult& ch, 
   std::vector<double> ys;
   for (auto& s : optional)
     p.series.push_back(s);
+
   for (const auto& s : p.series)
     if (s.dash.empty()) {
       ys.insert(ys.end(), s.y.begin(), s.y.end());
       ys.insert(ys.end(), s.y_lo.begin(), s.y_lo.end());
       ys.insert(ys.end(), s.y_hi.begin(), s.y_hi.end());
     }
+  // The spec's ITU-T masks (clocks.cpp) last, and in the y range where they meet the taus, so
+  // that the margin to the mask shows.
+  if (time_error && !masks.empty()) {
+    const std::size_t first_mask = p.series.size();
+    add_mask_series(p, masks, u.factor);
+    for (std::size_t k = first_mask; k < p.series.size(); ++k)
+      for (std::size_t i = 0; i < p.series[k].x.size(); ++i)
+        if (p.series[k].x[i] >= p.x_min && p.series[k].x[i] <= p.x_max)
+          ys.push_back(p.series[k].y[i]);
+  }
   std::tie(p.y_min, p.y_max) = decade_range(ys);
   return "<div class=\"panel\">\n" + toggles(id, optional) + svg::render(p) + "</div>\n";
 }

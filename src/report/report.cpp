@@ -5,6 +5,7 @@
 #include "io/paths.hpp"
 #include "io/report_data.hpp"
 #include "io/results.hpp"
+#include "src/lot/spec.hpp"
 #include "src/report/parts.hpp"
 #include "src/report/svg.hpp"
 
@@ -237,6 +238,22 @@ Outcome run_report(const ReportOptions& opt, std::ostream& out, std::ostream& er
   }
   const bool some_unreadable = !problems.empty();
   if (!read_diagnoses(units, others, opt, problems, err)) return Outcome::UsageError;
+
+  if (!opt.spec_path.empty()) {
+    // The spec's masks per channel, drawn on its time-error plot (clocks.cpp).
+    try {
+      const spec::Spec sp = spec::load_spec(opt.spec_path);
+      for (Unit& u : units)
+        for (const io::ChannelResult& ch : u.rec.channels)
+          if (const spec::Rule* rule = spec::find_rule(sp, ch.path))
+            for (const spec::MaskLimit& l : rule->masks)
+              if (const masks::Mask* m = masks::find_mask(l.mask, l.stat))
+                u.masks[ch.path].push_back(m);
+    } catch (const spec::Error& e) {
+      err << "allanlot: usage error: --spec " << e.what() << "\n";
+      return Outcome::UsageError;
+    }
+  }
 
   ExtrasMap extras;
   std::vector<FailedInput> failed_inputs;

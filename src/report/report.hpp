@@ -35,6 +35,9 @@ struct ReportOptions {
   std::vector<std::filesystem::path> diagnosis_files;
   UnitPages unit_pages = UnitPages::Auto;
   bool quiet = false;
+  /// A spec file whose ITU-T masks ("mtie"/"tdev": {"mask": ...}) are drawn on the time-error
+  /// plots of the channels its rules match; "" = none.
+  std::filesystem::path spec_path;
 };
 
 /// What run_report did (the command's exit status, docs/cli.md, follows from it).
@@ -42,7 +45,7 @@ enum class Outcome {
   Written,                // every results file read, the report written
   WrittenSomeUnreadable,  // written, but some results files could not be read (named on `err`)
   UsageError  // OUTDIR not a directory or without results files, none readable, output not
-              // writable, a --diagnosis file unreadable (named on `err`)
+              // writable, a --diagnosis file unreadable, a --spec file bad (named on `err`)
 };
 
 /// Writes the report of `opt.outdir`; prints its path on `out` unless opt.quiet.

@@ -287,7 +287,10 @@ std::string channel_section(const Unit& u, const io::ChannelResult& ch, const Ex
   if (ch.status.is_ok()) {
     // Only the panels whose part was computed: no empty frame for a --no-psd or --no-fit run.
     h << "<div class=\"plots\">\n"
-      << deviation_panel(id + "-adev", ch, false) << deviation_panel(id + "-tdev", ch, true);
+      << deviation_panel(id + "-adev", ch, false)
+      << deviation_panel(id + "-tdev", ch, true,
+                         u.masks.contains(ch.path) ? u.masks.at(ch.path)
+                                                   : std::vector<const masks::Mask*>{});
     if (ch.psd && !ch.psd->f.empty()) h << psd_plot(id + "-psd", ch, psd_fit);
     if (ch.crosscheck && !ch.crosscheck->tau.empty())
       h << crosscheck_plot(id + "-xc", *ch.crosscheck);
@@ -321,6 +324,7 @@ std::string unit_section(const Unit& u, const ExtrasMap& extras, const std::stri
   h << "</p>\n";
   for (const std::string& n : u.notes)
     h << "<p class=\"small\">" << escape(n) << "</p>\n";
+  h << hat_section(u);  // a hat's results: its clocks together (clocks.cpp)
   for (const auto& ch : u.rec.channels)
     h << channel_section(u, ch, extras);
   h << "</section>\n";

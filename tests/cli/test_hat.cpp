@@ -230,6 +230,75 @@ void expect_usage_error(const std::string& args, const std::filesystem::path& ou
   EXPECT_FALSE(std::filesystem::exists(out)) << args;
 }
 
+// hat --clocks A,B,C,D: the six pairs in pair order AB AC AD BC BD CD, each clock as
+// n_cornered_hat computes it, the pairs' names and order at the root, the table on stdout with
+// the intervals, and the Stable32 export titled by clock and by pair file.
+TEST(HatCommand, FourClocksInPairOrder) {
+  const std::filesystem::path dir = test::fresh_dir("hat_four");
+  const std::size_t n = 3000;
+  const std::vector<std::vector<double>> clock = {white(n, 1.0, 21), white(n, 1.5, 22),
+                                                  white(n, 2.0, 23), white(n, 2.5, 24)};
+  const char* names[6] = {"AB", "AC", "AD", "BC", "BD", "CD"};
+  std::vector<kernels::PhaseData> phases;
+  std::string inputs;
+  std::size_t p = 0;
+  for (std::size_t i = 0; i < 4; ++i)
+    for (std::size_t j = i + 1; j < 4; ++j, ++p) {
+      std::vector<double> d(n);
+      for (std::size_t t = 0; t < n; ++t)
+        d[t] = clock[i][t] - clock[j][t];
+      const auto file = dir / (std::string(names[p]) + ".h5");
+      write_phase(file, d);
+      inputs += " " + file.string();
+      phases.push_back(kernels::phase_from_phase(d, 1.0, 1));
+    }
+  const auto out = dir / "hat.h5", tables = dir / "tables.txt";
+  std::string text;
+  ASSERT_EQ(run_command(binary() + " hat --clocks A,B,C,D --taus m:1,4,16" + inputs + " -o " +
+                            out.string(),
+                        &text),
+            0)
+      << text;
+  EXPECT_NE(text.find("dev D"), std::string::npos) << text;
+  EXPECT_NE(text.find("CD = "), std::string::npos) << text;
+  const io::RecordingResult r = io::read_results(out);
+  ASSERT_EQ(r.channels.size(), 10u);
+  const std::vector<std::int64_t> ms = {1, 4, 16};
+  const auto h = kernels::n_cornered_hat(phases, 4, ms, 0.683, 1);
+  const char* clocks[4] = {"/clocks/A", "/clocks/B", "/clocks/C", "/clocks/D"};
+  for (std::size_t k = 0; k < 4; ++k) {
+    const auto& c = stat_of(r, clocks[k]);
+    EXPECT_EQ(c.dev, h.clock[k].dev) << clocks[k];
+    EXPECT_EQ(c.dev_lo, h.clock[k].dev_lo) << clocks[k];
+    EXPECT_EQ(c.dev_hi, h.clock[k].dev_hi) << clocks[k];
+  }
+  for (std::size_t q = 0; q < 6; ++q)
+    EXPECT_EQ(stat_of(r, std::string("/pairs/") + names[q]).dev, h.pair[q].dev) << names[q];
+  ASSERT_EQ(
+      run_command(binary() + " export --format stable32 " + out.string() + " -o " + tables.string(),
+                  &text),
+      0)
+      << text;
+  std::vector<std::string> titles;
+  std::ifstream in(tables);
+  for (std::string line; std::getline(in, line);)
+    if (line.starts_with("# STATISTICS FOR FILE: ")) titles.push_back(line.substr(23));
+  ASSERT_EQ(titles.size(), 10u);
+  EXPECT_EQ(titles[0], "clock A (4-cornered hat of AB.h5, AC.h5, AD.h5, BC.h5, BD.h5, CD.h5)");
+  EXPECT_EQ(titles[9], "CD.h5 (pair CD)");
+}
+
+TEST(HatCommand, BadClockListsAreUsageErrors) {
+  const auto f = make_fixture("hat_bad_clocks", 200);
+  const auto out = f.dir / "out.h5";
+  const std::string three = f.ab.string() + " " + f.bc.string() + " " + f.ca.string();
+  expect_usage_error("hat --clocks A,B " + three, out, "at least 3 clocks, got 2");
+  expect_usage_error("hat --clocks A,B,A " + three, out, "clock 'A' named twice");
+  expect_usage_error("hat --clocks A,B/x,C " + three, out, "'B/x' is not a clock name");
+  expect_usage_error("hat --clocks A,B,C,D " + three, out,
+                     "hat --clocks A,B,C,D needs exactly 6 recordings, got 3");
+}
+
 TEST(HatCommand, BadInputsAreUsageErrors) {
   const auto f = make_fixture("hat_bad", 200);
   const auto out = f.dir / "out.h5";
