@@ -39,7 +39,7 @@ std::string hat_plot(const std::string& id,
                      const std::vector<std::pair<std::string, const kernels::StatResult*>>& c) {
   svg::Plot p;
   p.id = id;
-  p.title = "Each clock's Allan deviation (N-cornered hat)";
+  p.title = "Each clock's Allan deviation (" + std::to_string(c.size()) + "-cornered hat)";
   p.x_label = "\xCF\x84 (s)";
   p.y_label = "\xCF\x83y(\xCF\x84)";
   std::vector<double> taus, ys;
