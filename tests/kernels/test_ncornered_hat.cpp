@@ -198,6 +198,24 @@ TEST(NHat, NegativeVarianceIsReportedNotClipped) {
   EXPECT_TRUE(h.notes[0].empty()) << h.notes[0];
 }
 
+// The pairs' OADEV and confidence kernels run in parallel on long records (200 000 points, as
+// Hat.BitIdenticalForAnyThreadCount); the combination is serial: the same bits for any count.
+TEST(NHat, BitIdenticalForAnyThreadCount) {
+  std::vector<std::vector<double>> clock;
+  for (std::uint64_t k = 0; k < 4; ++k)
+    clock.push_back(white(200000, 1.0 + static_cast<double>(k), 200 + k));
+  const auto p = phases(pair_records(clock, 0.1, 90));
+  const std::vector<std::int64_t> ms = {1, 16, 256, 4096};
+  const auto one = kernels::n_cornered_hat(p, 4, ms, 0.683, 1);
+  const auto two = kernels::n_cornered_hat(p, 4, ms, 0.683, 2);
+  for (std::size_t k = 0; k < 4; ++k) {
+    EXPECT_EQ(one.clock[k].dev, two.clock[k].dev) << "clock " << k;
+    EXPECT_EQ(one.clock[k].edf, two.clock[k].edf) << "clock " << k;
+    EXPECT_EQ(one.clock[k].dev_lo, two.clock[k].dev_lo) << "clock " << k;
+    EXPECT_EQ(one.clock[k].dev_hi, two.clock[k].dev_hi) << "clock " << k;
+  }
+}
+
 TEST(NHat, RefusesWhatDoesNotFit) {
   const auto p = phases({white(100, 1.0, 1), white(100, 1.0, 2), white(100, 1.0, 3)});
   const std::vector<std::int64_t> ms = {1};
