@@ -300,18 +300,21 @@ TEST(TextInputs, HdfDataTypeDefaultIsSaidAndTheOptionOverrides) {
     f.dataset("/imu/timestamp", v, H5T_IEEE_F64LE);
     f.attr("/imu", "sample_rate_hz", 100.0);
   }
+  // The data type is read with the channel and written before any fit; this record fits
+  // eq. (3) poorly, and modelling it as diagnose does (test_channel_model.cpp) would take 20
+  // times the run under ASan without touching the data type.
+  const std::string analyze = binary() + " analyze --model-poor-fits off --stats oadev ";
   std::string text;
-  ASSERT_EQ(run_command(binary() + " analyze -q --stats oadev -o " + (dir / "a").string() + " " +
-                            (dir / "u.h5").string(),
-                        &text),
-            0)
+  ASSERT_EQ(
+      run_command(analyze + "-q -o " + (dir / "a").string() + " " + (dir / "u.h5").string(), &text),
+      0)
       << text;
   const auto a = io::read_results(dir / "a" / "u.allan.h5");
   ASSERT_EQ(a.channels.size(), 1u);
   EXPECT_EQ(a.channels[0].data_type, "rate (default)");
   // The terminal table and the report say it too.
-  ASSERT_EQ(run_command(binary() + " analyze --force --stats oadev -o " + (dir / "a").string() +
-                            " " + (dir / "u.h5").string() + " 2>/dev/null",
+  ASSERT_EQ(run_command(analyze + "--force -o " + (dir / "a").string() + " " +
+                            (dir / "u.h5").string() + " 2>/dev/null",
                         &text),
             0)
       << text;
@@ -326,8 +329,8 @@ TEST(TextInputs, HdfDataTypeDefaultIsSaidAndTheOptionOverrides) {
     if (e.path().extension() == ".html")
       said = said || test::file_bytes(e.path()).find("rate (default)") != std::string::npos;
   EXPECT_TRUE(said);
-  ASSERT_EQ(run_command(binary() + " analyze -q --stats oadev --data-type phase -o " +
-                            (dir / "b").string() + " " + (dir / "u.h5").string(),
+  ASSERT_EQ(run_command(analyze + "-q --data-type phase -o " + (dir / "b").string() + " " +
+                            (dir / "u.h5").string(),
                         &text),
             0)
       << text;
@@ -401,9 +404,10 @@ TEST(TextInputs, AFolderOfRigCsvFilesIsALotAndChannelGlobsSelect) {
     EXPECT_EQ(paths, (std::vector<std::string>{"/accel_x", "/accel_z", "/gyro_x", "/gyro_y"}))
         << unit;
   }
-  // The same selection by excluding: --exclude-channels, or '!' among --channels.
-  for (const std::string& options : {std::string("--exclude-channels 'temp*'"),
-                                     std::string("--channels '!temp' --channels '*'")}) {
+  // The same selection by excluding: --exclude-channels, or '!' among --channels (only the
+  // channel list is checked, so without the fit, which is most of the run under ASan).
+  for (const std::string& options : {std::string("--no-fit --exclude-channels 'temp*'"),
+                                     std::string("--no-fit --channels '!temp' --channels '*'")}) {
     ASSERT_EQ(run(options, "out_excluded", text), 0) << options << "\n" << text;
     const auto r = io::read_results(dir / "out_excluded" / "rig2.allan.h5");
     EXPECT_EQ(r.channels.size(), 4u) << options;
