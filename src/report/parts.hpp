@@ -167,6 +167,10 @@ std::string quality_section(const std::vector<Unit>& units);
 // unit has a diagnosis.
 std::string diagnoses_section(const std::vector<Unit>& units);
 
+// A channel's data editing (editing.cpp): the drift removed with its residual plot, the edits
+// and the dynamic Allan deviation's heat map; "" when the channel has none of them.
+std::string editing_section(const std::string& id, const io::ChannelResult& ch);
+
 // Pages (unit_page.cpp, lot_page.cpp).
 std::string html_head(const std::string& title);
 std::string unit_section(const Unit& u, const ExtrasMap& extras, const std::string& lot_href);
