@@ -84,33 +84,55 @@ std::string heat_color(double u) {
   return c;
 }
 
+// log10 of each value over the median of its row (its tau) across the windows: what changes
+// along the record, which the fall of the deviation with tau would otherwise drown. NaN where
+// the window has no value.
+std::vector<double> relative_to_row_median(const io::DynamicRecord& d) {
+  const std::size_t nw = d.t_center.size(), nt = d.tau.size();
+  std::vector<double> rel(d.oadev.size(), kNaN);
+  for (std::size_t j = 0; j < nt; ++j) {
+    std::vector<double> row;
+    for (std::size_t w = 0; w < nw; ++w)
+      if (const double v = d.oadev[w * nt + j]; std::isfinite(v) && v > 0) row.push_back(v);
+    if (row.empty()) continue;
+    std::nth_element(row.begin(), row.begin() + static_cast<std::ptrdiff_t>(row.size() / 2),
+                     row.end());
+    const double median = row[row.size() / 2];
+    for (std::size_t w = 0; w < nw; ++w)
+      if (const double v = d.oadev[w * nt + j]; std::isfinite(v) && v > 0)
+        rel[w * nt + j] = std::log10(v / median);
+  }
+  return rel;
+}
+
 // The heat map: one column per window (time), one row per tau (the shortest at the bottom),
-// the colour log10 of the deviation between the map's smallest and largest values.
+// the colour each deviation relative to its tau's median over the windows, on a log scale
+// symmetric about 1.
 std::string dynamic_part(const std::string& id, const io::DynamicRecord& d) {
   const std::size_t nw = d.t_center.size(), nt = d.tau.size();
   if (nw == 0 || nt == 0 || d.oadev.size() != nw * nt) return "";
-  double lo = INFINITY, hi = -INFINITY;
-  for (const double v : d.oadev)
-    if (std::isfinite(v) && v > 0)
-      lo = std::min(lo, std::log10(v)), hi = std::max(hi, std::log10(v));
-  if (!(lo <= hi)) return "";
-  const double span = hi > lo ? hi - lo : 1.0;
-  constexpr double left = 70, top = 30, width = 560, height = 260;
+  const std::vector<double> rel = relative_to_row_median(d);
+  double span = 0;
+  for (const double r : rel)
+    if (std::isfinite(r)) span = std::max(span, std::abs(r));
+  span = std::max(span, 1e-3);
+  constexpr double left = 90, top = 30, width = 540, height = 260;
   const double cw = width / static_cast<double>(nw), rh = height / static_cast<double>(nt);
   std::ostringstream s;
-  s << "<svg id=\"" << escape(id) << "-dyn\" viewBox=\"0 0 760 340\" role=\"img\" "
-    << "xmlns=\"http://www.w3.org/2000/svg\" font-family=\"Helvetica,Arial,sans-serif\" "
-    << "font-size=\"12\"><title>Dynamic Allan deviation</title>\n"
-    << "<text x=\"" << left << "\" y=\"18\">Dynamic Allan deviation (window " << d.window
+  s << "<svg xmlns=\"http://www.w3.org/2000/svg\" id=\"" << escape(id)
+    << "-dyn\" class=\"plot\" viewBox=\"0 0 760 340\" font-family=\"Helvetica,Arial,"
+    << "sans-serif\" font-size=\"12\" role=\"img\" shape-rendering=\"crispEdges\">"
+    << "<title>Dynamic Allan deviation</title>\n<text x=\"" << left
+    << "\" y=\"18\">Dynamic Allan deviation over its median at each tau (window " << d.window
     << " samples, step " << d.step << ")</text>\n";
   for (std::size_t w = 0; w < nw; ++w)
     for (std::size_t j = 0; j < nt; ++j) {
-      const double v = d.oadev[w * nt + j];
-      if (!(std::isfinite(v) && v > 0)) continue;
+      const double r = rel[w * nt + j];
+      if (!std::isfinite(r)) continue;
       s << "<rect x=\"" << number(left + cw * static_cast<double>(w), 5) << "\" y=\""
         << number(top + height - rh * static_cast<double>(j + 1), 5) << "\" width=\""
         << number(cw + 0.05, 4) << "\" height=\"" << number(rh + 0.05, 4) << "\" fill=\""
-        << heat_color((std::log10(v) - lo) / span) << "\"/>\n";
+        << heat_color((r / span + 1) / 2) << "\"/>\n";
     }
   const auto label = [&](double x, double y, const std::string& t, const char* anchor) {
     s << "<text x=\"" << number(x, 5) << "\" y=\"" << number(y, 5) << "\" text-anchor=\"" << anchor
@@ -118,18 +140,20 @@ std::string dynamic_part(const std::string& id, const io::DynamicRecord& d) {
   };
   label(left - 4, top + height - rh / 2 + 4, "\xCF\x84 " + number(d.tau.front(), 3) + " s", "end");
   label(left - 4, top + rh / 2 + 4, "\xCF\x84 " + number(d.tau.back(), 3) + " s", "end");
-  label(left, top + height + 16, "t " + number(d.t_center.front(), 4) + " s", "start");
-  label(left + width, top + height + 16, "t " + number(d.t_center.back(), 4) + " s", "end");
-  label(left + width / 2, top + height + 32, "window centre (s); rows: \xCF\x84 in octaves",
-        "middle");
-  // The colour scale.
+  label(left, top + height + 16, number(d.t_center.front(), 4) + " s", "start");
+  label(left + width, top + height + 16, number(d.t_center.back(), 4) + " s", "end");
+  label(left + width / 2, top + height + 34, "window centre; rows: \xCF\x84 in octaves", "middle");
+  // The colour scale: the deviation as a multiple of its tau's median.
   for (int k = 0; k < 20; ++k)
-    s << "<rect x=\"660\" y=\"" << number(top + height - (k + 1) * height / 20, 5)
+    s << "<rect x=\"650\" y=\"" << number(top + height - (k + 1) * height / 20, 5)
       << "\" width=\"16\" height=\"" << number(height / 20 + 0.05, 4) << "\" fill=\""
       << heat_color((k + 0.5) / 20) << "\"/>\n";
-  label(680, top + 10, number(std::pow(10.0, hi), 3), "start");
-  label(680, top + height, number(std::pow(10.0, lo), 3), "start");
-  label(680, top + height / 2, "OADEV", "start");
+  label(672, top + 10, "\xC3\x97" + number(std::pow(10.0, span), 3), "start");
+  label(672, top + height / 2 + 4,
+        "\xC3\x97"
+        "1 (median)",
+        "start");
+  label(672, top + height, "\xC3\x97" + number(std::pow(10.0, -span), 3), "start");
   s << "</svg>\n";
   return "<div><h4>Dynamic Allan deviation</h4>\n" + s.str() + "</div>\n";
 }
