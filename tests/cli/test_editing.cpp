@@ -103,6 +103,21 @@ TEST(Editing, ClocksBadFirstPhasePointIsRemovedAndListed) {
   EXPECT_EQ(a.result.edits[0].first, 0);
   EXPECT_EQ(a.result.edits[0].value, x[0]);
   EXPECT_GT(a.result.edits[0].sigmas, 90.0);
+  // The point set the record's MTIE; removed (and filled under the default gap policy), MTIE is
+  // the clock's own again.
+  opt.stats = {kernels::Stat::Mtie};
+  opt.gaps = kernels::GapPolicy{};
+  auto plain = opt;
+  plain.edit.outlier_sigmas = 0;
+  const auto with =
+      pipeline::analyze_channel(info(kernels::DataType::Phase, x.size()), large(x), plain);
+  const auto without =
+      pipeline::analyze_channel(info(kernels::DataType::Phase, x.size()), large(x), opt);
+  ASSERT_TRUE(with.ok() && without.ok());
+  const double mtie_with = with.result.stats.at(0).second.dev.back();
+  const double mtie_without = without.result.stats.at(0).second.dev.back();
+  EXPECT_GT(mtie_with, 20e-9);
+  EXPECT_LT(mtie_without, 0.25 * mtie_with);
 }
 
 TEST(Editing, DriftAndDynamicReadBackAsWritten) {
