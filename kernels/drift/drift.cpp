@@ -56,6 +56,7 @@ LinearSolve solve_columns(std::span<const double> z, double tau0, int k, const C
   }
   const LMatrix scaled = a.array() / (d * d.transpose()).array();
   const Eigen::FullPivLU<LMatrix> lu(scaled);
+  s.sse = std::numeric_limits<long double>::infinity();  // a singular trial is never the best
   if (!lu.isInvertible()) return s;
   const LMatrix inv_scaled = lu.inverse();
   s.inverse = inv_scaled.array() / (d * d.transpose()).array();
@@ -127,6 +128,7 @@ std::vector<double> estimate(std::span<const double> z, double tau0, DriftModel 
         search_parameter([&](double bb) { return solve_columns(z, tau0, 2, cols(bb)).sse; },
                          1e-3 / span_s, 1e4 / span_s);
     const LinearSolve s = solve_columns(z, tau0, 2, cols(b));
+    if (!s.ok) throw std::invalid_argument("the log drift fit is singular");
     return {s.beta[0], b, s.beta[1]};
   }
   if (m == DriftModel::Diffusion) {
@@ -137,6 +139,7 @@ std::vector<double> estimate(std::span<const double> z, double tau0, DriftModel 
         search_parameter([&](double cc) { return solve_columns(z, tau0, 2, cols(cc)).sse; },
                          1e-4 * span_s, 1e3 * span_s);
     const LinearSolve s = solve_columns(z, tau0, 2, cols(c));
+    if (!s.ok) throw std::invalid_argument("the diffusion drift fit is singular");
     return {s.beta[0], s.beta[1], c};
   }
   const int k = m == DriftModel::Linear ? 2 : 3;

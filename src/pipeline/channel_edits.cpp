@@ -34,18 +34,23 @@ void residual_blocks(io::DriftRecord& d, std::span<const double> samples, double
   }
 }
 
+// Each parameter's unit. Rate data: u the channel's units ("1" when none). Phase data: the
+// channel's units are the phase's (a clock's "s"), its frequency is that per second ("1" for s).
 std::vector<std::string> parameter_units(kernels::DriftModel m, const std::string& units) {
+  if (m == kernels::DriftModel::Quadratic) {
+    const std::string phase = units.empty() ? "s" : units;
+    const std::string freq = phase == "s" ? "1" : phase + "/s";
+    return {phase, freq, freq + "/s"};
+  }
   const std::string u = units.empty() ? "1" : units;
   switch (m) {
   case kernels::DriftModel::Linear:
     return {u, u + "/s"};
-  case kernels::DriftModel::Quadratic:
-    return {u + "*s", u, u + "/s"};
   case kernels::DriftModel::Log:
     return {u, "1/s", u};
   case kernels::DriftModel::Diffusion:
     return {u, u + "/s^0.5", "s"};
-  case kernels::DriftModel::None:
+  default:
     break;
   }
   return {};
