@@ -90,6 +90,7 @@ void write_channel(hid_t f, const ChannelResult& ch, const std::string& file) {
       write_group(allan.get(), name.c_str(), s, schema::stat_fields(), file, gp + "/allan/" + name);
   }
   if (ch.diagnosis) schema::write_diagnosis_group(g.get(), *ch.diagnosis, file);
+  schema::write_editing_groups(g.get(), ch, file);
 }
 
 // One channel group. The summary depth never opens allan/, psd/ or a diagnosis,
@@ -127,6 +128,7 @@ ChannelResult read_channel(hid_t f, const std::string& gp, Depth depth, const st
     Handle dg = schema::open_group(g.get(), schema::kDiagnosis, file, gp + "/diagnosis");
     ch.diagnosis = schema::read_diagnosis_group(dg.get(), gp, file);
   }
+  schema::read_editing_groups(g.get(), ch, depth, file);
   return ch;
 }
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "io/diagnosis.hpp"
+#include "io/editing.hpp"
 #include "io/status.hpp"
 #include "kernels/allan/stats.hpp"
 #include "kernels/model/fit.hpp"
@@ -154,6 +155,11 @@ struct ChannelResult {
   std::optional<CrosscheckRecord> crosscheck;     // crosscheck/
   std::optional<kernels::QualityReport> quality;  // quality/: the data-quality screen
   std::optional<DiagnosisRecord> diagnosis;       // diagnosis/, added by `allanlot diagnose -o`
+  // Data editing and the dynamic deviation (io/editing.hpp, analyze --drift, --outliers,
+  // --exclude, --dynamic): absent unless asked for.
+  std::optional<DriftRecord> drift;      // drift/
+  std::vector<EditRecord> edits;         // edits/, written when not empty
+  std::optional<DynamicRecord> dynamic;  // dynamic/
 };
 
 /// One results file: one input recording.

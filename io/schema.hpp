@@ -82,6 +82,10 @@ std::span<const Field<PsdRecord>> psd_fields();                   // psd/
 std::span<const Field<CrosscheckRecord>> crosscheck_fields();     // crosscheck/
 std::span<const Field<DiagnosisRecord>> diagnosis_fields();       // diagnosis/ (+ free attributes)
 std::span<const Field<kernels::QualityReport>> quality_fields();  // quality/
+// Data editing and the dynamic deviation (io/schema_editing.cpp, docs/editing.md).
+std::span<const Field<DriftRecord>> drift_fields();      // drift/
+std::span<const Column<EditRecord>> edit_columns();      // edits/: one row per edit
+std::span<const Field<DynamicRecord>> dynamic_fields();  // dynamic/ (oadev, 2-D, beside it)
 
 /// Names of a channel group's subgroups.
 inline constexpr const char* kAllan = "allan";
@@ -93,6 +97,9 @@ inline constexpr const char* kReadouts = "readouts";
 inline constexpr const char* kEffects = "effects";
 inline constexpr const char* kDiagnosis = "diagnosis";
 inline constexpr const char* kQuality = "quality";
+inline constexpr const char* kDrift = "drift";
+inline constexpr const char* kEdits = "edits";
+inline constexpr const char* kDynamic = "dynamic";
 
 /// The eq. (3) terms in the order of the lot summary's per-term columns.
 inline constexpr std::array<const char*, 5> kTermNames = {"R", "K", "B", "N", "Q"};

@@ -205,4 +205,10 @@ void check_version(hid_t root, const std::string& file);
 void write_diagnosis_group(hid_t channel_group, const DiagnosisRecord& r, const std::string& file);
 DiagnosisRecord read_diagnosis_group(hid_t g, const std::string& channel, const std::string& file);
 
+/// The drift/, edits/ and dynamic/ groups of a channel group (io/schema_editing.cpp), each
+/// written when the channel has it and read at the full depth only.
+void write_editing_groups(hid_t channel_group, const ChannelResult& ch, const std::string& file);
+void read_editing_groups(hid_t channel_group, ChannelResult& ch, Depth depth,
+                         const std::string& file);
+
 }  // namespace allanlot::io::schema

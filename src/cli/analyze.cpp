@@ -1,4 +1,5 @@
 #include "src/cli/analyze.hpp"
+#include "src/cli/analyze_edit.hpp"
 #include "src/cli/analyze_stamp.hpp"
 
 #include "io/atomic_file.hpp"
@@ -135,6 +136,7 @@ pipeline::ChannelOptions channel_options(const AnalyzeOptions& opt, int kernel_t
   copt.psd = opt.psd;
   copt.gaps = opt.gaps;
   copt.threads = kernel_threads;
+  copt.edit = opt.edit;
   return copt;
 }
 
@@ -557,6 +559,7 @@ struct AnalyzeArgs {
   InputArgs input;
   std::vector<std::string> channels, exclude_channels;
   bool no_fit = false, no_psd = false, no_summary = false, no_progress = false;
+  EditArgs edit;  // --drift, --outliers, --exclude, --dynamic
 };
 
 // Throws CLI::ValidationError (a usage error) naming the option that is wrong.
@@ -581,6 +584,7 @@ AnalyzeOptions checked_options(const AnalyzeArgs& a, const std::string& command_
     throw CLI::ValidationError("--gaps", e.what());
   }
   opt.psd = !a.no_psd;
+  opt.edit = checked_edit_options(a.edit);
   opt.command_line = command_line;
   opt.summary = !a.no_summary;
   opt.progress = !a.no_progress;
@@ -645,6 +649,7 @@ Command add_analyze_command(CLI::App& app) {
                   "interpolated, longer runs left as gaps), fill (every run), skip (every term "
                   "touching a gap left out)")
       ->capture_default_str();
+  add_edit_options(sub, a->edit);
   sub->add_flag("--no-psd", a->no_psd, "Do not compute the PSD and the eq. (2) cross-check");
   sub->add_flag("--table", a->opt.table,
                 "Print each unit's coefficient table (default: when at most 10 inputs)");

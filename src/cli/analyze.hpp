@@ -10,6 +10,7 @@
 #include "kernels/allan/tau_grid.hpp"
 #include "src/cli/cli.hpp"
 #include "src/cli/inputs.hpp"
+#include "src/pipeline/channel_edits.hpp"
 
 #include <cstdint>
 #include <filesystem>
@@ -48,6 +49,8 @@ struct AnalyzeOptions {
   std::uint64_t memory_limit = 0;
   bool progress = true;    // a progress line on stderr (off with --quiet)
   io::InputOptions input;  // --data-type and the options of text recordings
+  // --drift, --outliers, --exclude, --dynamic (src/cli/analyze_edit.hpp); edit nothing by default
+  pipeline::EditOptions edit;
 };
 
 /// Runs the analysis and returns the exit status of docs/cli.md (0, 1 or 2). Failures are named

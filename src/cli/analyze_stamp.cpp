@@ -1,6 +1,7 @@
 #include "src/cli/analyze_stamp.hpp"
 
 #include "io/recording.hpp"
+#include "src/cli/analyze_edit.hpp"
 
 #include <allanlot/version.hpp>
 
@@ -44,7 +45,7 @@ std::string options_stamp(const AnalyzeOptions& opt) {
          ";fit=" + (opt.fit ? "1" : "0") + ";lowpass=" + opt.lowpass +
          (opt.model_poor_fits == "auto" ? "" : ";model_poor_fits=" + opt.model_poor_fits) +
          ";psd=" + (opt.psd ? "1" : "0") + gaps_stamp(opt.gaps) + ";version=" + kVersion +
-         input_stamp(opt.input);
+         input_stamp(opt.input) + edit_stamp(opt.edit);
 }
 
 std::string join_stats(const std::vector<kernels::Stat>& stats) {

@@ -157,7 +157,9 @@ void run_stages(ChannelAnalysis& a, const io::ChannelInfo& channel,
   summarize_samples(a.result, samples);
   // The screen sees the samples as read, before the phase replaces them (docs/quality.md).
   a.result.quality = screen_channel(channel, samples, opt.threads);
+  edit_channel(a.result, channel, samples, opt.edit);
   kernels::PhaseData phase = channel_phase(a.result, channel, samples, opt.gaps, opt.threads);
+  dynamic_channel(a.result, channel, {samples.data(), samples.size()}, opt.edit, opt.threads);
   samples = kernels::LargeVector<double>{};  // the phase replaces the samples
   const std::optional<kernels::StatResult> oadev = compute_stats(a.result, phase, opt);
   a.times.kernels += seconds_since(t_kernels);

@@ -5,6 +5,7 @@
 // no file, no thread across channels, no printing (the driver, src/cli/analyze.cpp, owns those).
 #pragma once
 
+#include "src/pipeline/channel_edits.hpp"
 #include "src/pipeline/channel_fit.hpp"
 #include "src/pipeline/channel_model.hpp"
 
@@ -30,6 +31,7 @@ struct ChannelOptions {
   bool psd = true;                   // psd/, psd_fit/ and crosscheck/ (Welch PSD, eq. (2))
   kernels::GapPolicy gaps;           // what missing samples become (analyze --gaps)
   int threads = 1;                   // threads inside the kernels (results do not depend on it)
+  EditOptions edit;  // drift, outliers, excluded ranges, dynamic deviation (docs/editing.md)
   // Leave a poor fit's model to model_deferred, which analyze runs with every thread once the
   // channels are analysed (the model is most of a poor fit's time; run beside the other
   // channels on one thread, the last one modelled kept one core while the other waited).

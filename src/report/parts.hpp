@@ -172,6 +172,10 @@ std::string quality_section(const std::vector<Unit>& units);
 // unit has a diagnosis.
 std::string diagnoses_section(const std::vector<Unit>& units);
 
+// A channel's data editing (editing.cpp): the drift removed with its residual plot, the edits
+// and the dynamic Allan deviation's heat map; "" when the channel has none of them.
+std::string editing_section(const std::string& id, const io::ChannelResult& ch);
+
 // Clocks (clocks.cpp): a hat's results file (root `statistic` "hat") as a section of each
 // clock's Allan deviation with its interval, plot and table ("" for any other file); and the
 // ITU-T masks as dashed curves on a time-error plot, in the plot's units (`factor`).

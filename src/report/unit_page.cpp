@@ -301,6 +301,7 @@ std::string channel_section(const Unit& u, const io::ChannelResult& ch, const Ex
         << coefficient_table(ch, psd_fit, x) << "</div><div><h4>Read-outs</h4>\n"
         << readout_table(*ch.fit) << "</div></div>\n";
     h << deviation_tables(id, ch);
+    h << editing_section(id, ch);
   }
   const auto d = u.diagnoses.find(ch.path);
   if (d != u.diagnoses.end()) h << diagnosis_section(id + "-diag", d->second, ch.units);

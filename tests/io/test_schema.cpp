@@ -264,6 +264,60 @@ TEST(Schema, EveryTableLineRoundTrips) {
   EXPECT_FALSE(sum.channels[0].psd || sum.channels[0].diagnosis);
 }
 
+// drift/, edits/ and dynamic/ (io/schema_editing.cpp): every line of their tables, and the 2-D
+// dynamic/oadev, read back as written; the summary reader reads none of them.
+TEST(Schema, EditingTablesRoundTrip) {
+  const fs::path path = test::fresh_dir("schema_editing") / "SN_1.allan.h5";
+  io::RecordingResult r = every_field();
+  io::ChannelResult& ch = r.channels[0];
+  io::DriftRecord d;
+  d.model = "linear";
+  d.fitted_to = "frequency";
+  d.parameter = {"offset", "drift"};
+  d.value = {1e-9, 3e-15};
+  d.sigma = {1e-12, 4e-17};
+  d.unit = {"1", "1/s"};
+  d.noise_white_pm = 1e-20;
+  d.noise_white_fm = 1e-22;
+  d.noise_rw_fm = 4e-26;
+  d.n_used = 4096;
+  d.t = {0.5, 1.5};
+  d.residual = {1e-12, -1e-12};
+  ch.drift = d;
+  ch.edits = {{"excluded", 10, 20, 10.0, 20.0, std::nan(""), std::nan("")},
+              {"outlier", 0, 0, 0.0, 0.0, 2e-8, 92.5}};
+  ch.dynamic =
+      io::DynamicRecord{1024,           256,
+                        {1, 2, 4},      {1.0, 2.0, 4.0},
+                        {511.5, 767.5}, {1e-11, 7e-12, 5e-12, 1.1e-11, std::nan(""), 5.1e-12}};
+  io::write_results(path, r);
+  const io::ChannelResult got = io::read_results(path).channels.at(0);
+  namespace s = io::schema;
+  ASSERT_TRUE(got.drift && got.dynamic);
+  expect_fields(*ch.drift, *got.drift, s::drift_fields(), "drift");
+  expect_fields(*ch.dynamic, *got.dynamic, s::dynamic_fields(), "dynamic");
+  ASSERT_EQ(got.edits.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(got.edits[i].kind, ch.edits[i].kind);
+    EXPECT_EQ(got.edits[i].first, ch.edits[i].first);
+    EXPECT_EQ(got.edits[i].last, ch.edits[i].last);
+    EXPECT_EQ(got.edits[i].t_end, ch.edits[i].t_end);
+  }
+  EXPECT_EQ(got.edits[1].value, 2e-8);
+  EXPECT_EQ(got.edits[1].sigmas, 92.5);
+  EXPECT_TRUE(std::isnan(got.edits[0].value));
+  ASSERT_EQ(got.dynamic->oadev.size(), 6u);
+  for (std::size_t i = 0; i < 6; ++i) {
+    if (i != 4) {
+      EXPECT_EQ(got.dynamic->oadev[i], ch.dynamic->oadev[i]);
+    }
+  }
+  EXPECT_TRUE(std::isnan(got.dynamic->oadev[4]));
+  const io::ChannelResult sum = io::read_summary_results(path).channels.at(0);
+  EXPECT_FALSE(sum.drift || sum.dynamic);
+  EXPECT_TRUE(sum.edits.empty());
+}
+
 // A column read when present (upper_datasheet, absent from early files) has no value when
 // absent, in both readers: the lot summary shows no bound rather than a zero.
 TEST(Schema, AbsentOptionalColumnReadsAsNoValue) {
