@@ -18,6 +18,10 @@
 #include <utility>
 #include <vector>
 
+namespace allanlot::svg {
+struct Plot;
+}
+
 namespace allanlot::report {
 
 inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -167,6 +171,17 @@ std::string quality_section(const std::vector<Unit>& units);
 // unit has a diagnosis.
 std::string diagnoses_section(const std::vector<Unit>& units);
 
+// Clocks (clock.cpp, docs/clocks.md "The clock report"): whether a channel is a clock's
+// (kernels::powerlaw::is_clock_channel, the one rule), an alpha with its noise type's name
+// ("0 (white FM)"), the table of the power-law levels, the power-law model and the detected
+// levels' asymptotes on the Allan plot, the deviations against the model, and the lot page's
+// table of each clock's levels.
+bool is_clock_channel(const io::ChannelResult& ch);
+std::string noise_type_label(int alpha);
+std::string powerlaw_table_html(const io::ChannelResult& ch);
+void add_powerlaw(svg::Plot& p, const io::ChannelResult& ch, double factor);
+std::string powerlaw_residual_plot(const std::string& id, const io::ChannelResult& ch);
+std::string clock_summary_table(const std::string& channel, const std::vector<Member>& members);
 // Pages (unit_page.cpp, lot_page.cpp).
 std::string html_head(const std::string& title);
 std::string unit_section(const Unit& u, const ExtrasMap& extras, const std::string& lot_href);

@@ -179,6 +179,10 @@ std::string deviation_panel(const std::string& id, const io::ChannelResult& ch, 
     p.title += " and the eq. (3) fit";
     add_fit(p, *ch.fit, oadev, u.factor);
   }
+  if (!time_error && ch.powerlaw && ch.powerlaw->status == "ok") {
+    p.title += " and the power-law model";
+    add_powerlaw(p, ch, u.factor);
+  }
   // The optional statistics last, so that their legend entries, hidden with them, leave no
   // gap; the y range over every statistic (not the asymptotes, which run far below).
   std::vector<double> ys;
