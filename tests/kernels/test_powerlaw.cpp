@@ -158,6 +158,16 @@ std::vector<double> clock(std::size_t n, Truth& t, std::uint64_t seed) {
   return y;
 }
 
+// White FM dominant below 32 s (h0 / (2 tau) = 2 ln2 h-1 there), flicker FM to 2000 s
+// (2 ln2 h-1 = (2 pi^2 / 3) h-2 tau there), random-walk FM beyond.
+Truth fm_clock() {
+  Truth t;
+  t.h0 = 1.0;
+  t.hm1 = 1.0 / (2.0 * 32.0 * 2.0 * std::log(2.0));
+  t.hm2 = 2.0 * std::log(2.0) * t.hm1 / (2.0 * kPi * kPi / 3.0 * 2000.0);
+  return t;
+}
+
 pl::Result fit_clock(const std::vector<double>& y) {
   const k::PhaseData p = k::phase_from_rate(y, 1.0, 1);
   // Octave taus: a tenth of the default grid's, so that the covariance model costs little
@@ -182,10 +192,7 @@ TEST(PowerLawFit, RecoversWhiteFlickerAndRandomWalkFm) {
   const std::size_t n = std::size_t{1} << 16;
   int within[3] = {0, 0, 0}, detected0 = 0;
   for (std::uint64_t seed = 1; seed <= 6; ++seed) {
-    Truth t;
-    t.h0 = 1.0;
-    t.hm1 = 1.0 / (2.0 * 32.0 * 2.0 * std::log(2.0));
-    t.hm2 = 2.0 * std::log(2.0) * t.hm1 / (2.0 * kPi * kPi / 3.0 * 2000.0);
+    Truth t = fm_clock();
     const auto y = clock(n, t, seed);
     const pl::Result r = fit_clock(y);
     ASSERT_EQ(r.status, pl::Status::Ok) << "seed " << seed;
@@ -236,10 +243,7 @@ TEST(PowerLawFit, DISABLED_CoverageStudy) {
   constexpr int kSeeds = 200;
   int within[3][3] = {}, detected[3] = {};
   for (std::uint64_t seed = 1000; seed < 1000 + kSeeds; ++seed) {
-    Truth t;
-    t.h0 = 1.0;
-    t.hm1 = 1.0 / (2.0 * 32.0 * 2.0 * std::log(2.0));
-    t.hm2 = 2.0 * std::log(2.0) * t.hm1 / (2.0 * kPi * kPi / 3.0 * 2000.0);
+    Truth t = fm_clock();
     const auto y = clock(n, t, seed);
     const pl::Result r = fit_clock(y);
     ASSERT_EQ(r.status, pl::Status::Ok);
