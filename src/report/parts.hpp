@@ -151,7 +151,9 @@ std::string deviation_panel(const std::string& id, const io::ChannelResult& ch, 
 std::string toggle_css();
 std::string psd_plot(const std::string& id, const io::ChannelResult& ch,
                      const io::FitRecord* psd_fit);
-std::string crosscheck_plot(const std::string& id, const io::CrosscheckRecord& c);
+// `clock`: titled "PSD cross-check" rather than by the paper's eq. (2) (docs/clocks.md).
+std::string crosscheck_plot(const std::string& id, const io::CrosscheckRecord& c,
+                            bool clock = false);
 std::string diagnosis_plot(const std::string& id, const io::DiagnosisView& d,
                            const std::string& units);
 // The spread of each detected term of one channel kind across the units, `outliers` in red

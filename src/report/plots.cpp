@@ -274,10 +274,12 @@ std::string psd_plot(const std::string& id, const io::ChannelResult& ch,
   return svg::render(p);
 }
 
-std::string crosscheck_plot(const std::string& id, const io::CrosscheckRecord& c) {
+std::string crosscheck_plot(const std::string& id, const io::CrosscheckRecord& c, bool clock) {
   svg::Plot p;
   p.id = id;
-  p.title = "Eq. (2) cross-check: Allan variance from the PSD / from the time series";
+  // A clock's page names the comparison by what it is, not by the paper's equation.
+  p.title = std::string(clock ? "PSD cross-check" : "Eq. (2) cross-check") +
+            ": Allan variance from the PSD / from the time series";
   p.x_label = "\xCF\x84 (s)";
   p.y_label = "ratio avar_psd / avar_time";
   svg::Series valid, invalid;

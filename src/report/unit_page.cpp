@@ -291,7 +291,7 @@ std::string channel_section(const Unit& u, const io::ChannelResult& ch, const Ex
       << deviation_panel(id + "-adev", ch, false) << deviation_panel(id + "-tdev", ch, true);
     if (ch.psd && !ch.psd->f.empty()) h << psd_plot(id + "-psd", ch, psd_fit);
     if (ch.crosscheck && !ch.crosscheck->tau.empty())
-      h << crosscheck_plot(id + "-xc", *ch.crosscheck);
+      h << crosscheck_plot(id + "-xc", *ch.crosscheck, is_clock_channel(ch));
     h << "</div>\n";
     // The tables under the plots, at their own width, wrapping rather than scrolling.
     if (ch.fit && !ch.fit->terms.empty())

@@ -100,7 +100,7 @@ TEST_F(ClockReport, PageNamesTheNoiseTypesAndNoImuWord) {
     EXPECT_NE(s.find(name), std::string::npos) << name;
   for (const char* imu :
        {"eq. (3)", "Equation (3)", "low-pass", "lowpass", "bias instability", "Bias instability",
-        "ARW", "angle random walk", "poor fit", "N at 1 s", "eq. (2)"})
+        "ARW", "angle random walk", "poor fit", "N at 1 s", "eq. (2)", "Eq. (2)"})
     EXPECT_EQ(s.find(imu), std::string::npos) << imu;
   // Two clocks side by side, not pooled into a distribution.
   EXPECT_EQ(s.find("id=\"dist-"), std::string::npos);
