@@ -90,6 +90,13 @@ void write_channel(hid_t f, const ChannelResult& ch, const std::string& file) {
       write_group(allan.get(), name.c_str(), s, schema::stat_fields(), file, gp + "/allan/" + name);
   }
   if (ch.diagnosis) schema::write_diagnosis_group(g.get(), *ch.diagnosis, file);
+  if (ch.powerlaw) {
+    const std::string po = gp + "/" + schema::kPowerLaw;
+    Handle p = schema::create_group(g.get(), schema::kPowerLaw, file, po);
+    schema::write_columns(p.get(), ch.powerlaw->levels, schema::powerlaw_columns(), file, po);
+    schema::write_fields(p.get(), *ch.powerlaw, schema::powerlaw_fields(), file, po);
+  }
+
   schema::write_editing_groups(g.get(), ch, file);
 }
 
@@ -123,6 +130,14 @@ ChannelResult read_channel(hid_t f, const std::string& gp, Depth depth, const st
       ch.stats.emplace_back(name, read_group(allan.get(), name.c_str(), schema::stat_fields(),
                                              depth, file, gp + "/allan/" + name));
     }
+  }
+  if (schema::has_link(g.get(), schema::kPowerLaw)) {
+    const std::string po = gp + "/" + schema::kPowerLaw;
+    Handle p = schema::open_group(g.get(), schema::kPowerLaw, file, po);
+    ch.powerlaw.emplace();
+    ch.powerlaw->levels =
+        schema::read_columns(p.get(), schema::powerlaw_columns(), depth, file, po);
+    schema::read_fields(p.get(), *ch.powerlaw, schema::powerlaw_fields(), depth, file, po);
   }
   if (full && schema::has_link(g.get(), schema::kDiagnosis)) {
     Handle dg = schema::open_group(g.get(), schema::kDiagnosis, file, gp + "/diagnosis");
@@ -287,6 +302,15 @@ std::vector<SummaryRow> summary_rows(const RecordingResult& r) {
       row.chi2_dof_all_taus = ch.fit->chi2_dof_all_taus;
       add_readouts(row, *ch.fit);
     }
+    if (ch.powerlaw)
+      for (const PowerLawLevelRecord& l : ch.powerlaw->levels)
+        if (l.alpha >= -2 && l.alpha <= 2) {
+          const auto i = static_cast<std::size_t>(2 - l.alpha);
+          row.h[i] = l.h;
+          row.h_sigma[i] = l.h_sigma;
+          row.h_upper[i] = l.h_upper;
+          row.h_detected[i] = l.detected ? 1 : 0;
+        }
     if (ch.crosscheck) {
       row.max_abs_log10_ratio = ch.crosscheck->max_abs_log10_ratio;
       row.crosscheck_worst_tau = ch.crosscheck->worst_tau;

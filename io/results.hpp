@@ -127,6 +127,25 @@ struct CrosscheckRecord {
   double worst_tau = std::numeric_limits<double>::quiet_NaN();  // where |log10 ratio| peaks
 };
 
+/// One level h_alpha of a clock's power-law model (powerlaw/, docs/clocks.md): S_y(f) =
+/// h_alpha f^alpha of the fractional frequency, in Hz^(-1-alpha).
+struct PowerLawLevelRecord {
+  std::int64_t alpha = 0;     // 2, 1, 0, -1, -2
+  std::string name;           // kernels::powerlaw::noise_type_name(alpha), e.g. "white FM"
+  double h = 0, h_sigma = 0;  // the fitted level and its standard uncertainty
+  double h_upper = 0;         // one-sided 95 % upper bound (the number to read when not detected)
+  bool detected = false;      // significantly above zero
+};
+
+/// The powerlaw/ group: the levels fitted to OADEV and MDEV (kernels/powerlaw/fit.hpp) and the
+/// model's deviations on the taus fitted.
+struct PowerLawRecord {
+  std::string method;
+  std::string status;  // ok, no_data, rank_deficient, no_convergence
+  std::vector<PowerLawLevelRecord> levels;
+  std::vector<double> tau, adev_model, mdev_tau, mdev_model;
+};
+
 /// Everything written for one channel.
 struct ChannelResult {
   std::string path;  // the channel's own path, e.g. "/imu/gyro_x"
@@ -155,6 +174,8 @@ struct ChannelResult {
   std::optional<CrosscheckRecord> crosscheck;     // crosscheck/
   std::optional<kernels::QualityReport> quality;  // quality/: the data-quality screen
   std::optional<DiagnosisRecord> diagnosis;       // diagnosis/, added by `allanlot diagnose -o`
+  std::optional<PowerLawRecord> powerlaw;         // powerlaw/: a clock's power-law levels
+
   // Data editing and the dynamic deviation (io/editing.hpp, analyze --drift, --outliers,
   // --exclude, --dynamic): absent unless asked for.
   std::optional<DriftRecord> drift;      // drift/
@@ -263,6 +284,12 @@ struct SummaryRow {
   double lowpass_cutoff_hz = nan(), lowpass_taps = nan();
   double first_tau_fitted = nan();
   double chi2_dof_all_taus = nan();
+  // A clock's power-law levels (powerlaw/, docs/clocks.md), alpha 2, 1, 0, -1, -2 (columns h2,
+  // h1, h0, hm1, hm2): h_alpha, its sigma, upper bound and detection; NaN without the model.
+  std::array<double, 5> h{nan(), nan(), nan(), nan(), nan()};
+  std::array<double, 5> h_sigma{nan(), nan(), nan(), nan(), nan()};
+  std::array<double, 5> h_upper{nan(), nan(), nan(), nan(), nan()};
+  std::array<std::uint8_t, 5> h_detected{};
 
   SummaryRow() = default;
   SummaryRow(std::string device, std::string chan, std::string u, std::int64_t n, ChannelStatus st,

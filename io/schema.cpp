@@ -275,7 +275,40 @@ std::span<const Field<kernels::QualityReport>> quality_fields() {
   return t;
 }
 
+// A clock's power-law model (docs/clocks.md, docs/formats.md "Results file layout").
+std::span<const Field<PowerLawRecord>> powerlaw_fields() {
+  using P = PowerLawRecord;
+  static const Field<P> t[] = {
+      {"tau", D, &P::tau, "s, the OADEV taus fitted"},
+      {"adev_model", D, &P::adev_model, "the model's Allan deviation there"},
+      {"mdev_tau", D, &P::mdev_tau, "s, the MDEV taus fitted"},
+      {"mdev_model", D, &P::mdev_model, "the model's modified Allan deviation there"},
+      {"method", A, &P::method, "how it was fitted"},
+      {"status", A, &P::status, "ok, no_data, rank_deficient, no_convergence", nullptr,
+       Need::IfPresent, true},
+  };
+  return t;
+}
+
+std::span<const Column<PowerLawLevelRecord>> powerlaw_columns() {
+  using L = PowerLawLevelRecord;
+  static const Column<L> t[] = {
+      {"alpha", &L::alpha, "i64: S_y ~ f^alpha, 2 .. -2", Need::Required, true},
+      {"name", &L::name, "white PM, flicker PM, white FM, flicker FM, random-walk FM",
+       Need::Required, true},
+      {"h", &L::h, "h_alpha, Hz^(-1-alpha)", Need::Required, true},
+      {"h_sigma", &L::h_sigma, "standard uncertainty of h", Need::Required, true},
+      {"h_upper", &L::h_upper, "one-sided 95 % upper bound", Need::Required, true},
+      {"detected", &L::detected, "u8: 1 significantly above zero", Need::Required, true},
+  };
+  return t;
+}
+
 namespace {
+
+std::string h_detected_csv(const SummaryRow& r, std::size_t i) {
+  return std::isnan(r.h[i]) ? "" : r.h_detected[i] ? "1" : "0";
+}
 
 std::string detected_csv(const SummaryRow& r, std::size_t i) {
   return std::isnan(r.value[i]) ? "" : r.detected[i] ? "1" : "0";
@@ -362,6 +395,14 @@ std::span<const RowColumn<SummaryRow>> summary_columns() {
       {"lowpass_taps", &S::lowpass_taps, "moving-average length, samples; NaN for first order"},
       {"first_tau_fitted", &S::first_tau_fitted, "s, the first tau the fit used"},
       {"chi2_dof_all_taus", &S::chi2_dof_all_taus, "the fit over every tau, beside chi2_dof"},
+      // A clock's power-law levels (docs/clocks.md): h2 .. hm2, each with _sigma, _upper and
+      // _detected.
+      {"", &S::h, "power-law level h_alpha, Hz^(-1-alpha); NaN without the model", 4, nullptr,
+       &kLevelNames},
+      {"_sigma", &S::h_sigma, "its standard uncertainty", 4, nullptr, &kLevelNames},
+      {"_upper", &S::h_upper, "one-sided 95 % upper bound", 4, nullptr, &kLevelNames},
+      {"_detected", &S::h_detected, "u8: 1 detected; empty in the CSV without a value", 4,
+       h_detected_csv, &kLevelNames},
   };
   return t;
 }

@@ -12,6 +12,7 @@
 #include "io/status.hpp"
 #include "kernels/allan/stats.hpp"
 #include "kernels/model/fit.hpp"
+#include "kernels/powerlaw/names.hpp"
 
 #include <array>
 #include <cstdint>
@@ -82,6 +83,9 @@ std::span<const Field<PsdRecord>> psd_fields();                   // psd/
 std::span<const Field<CrosscheckRecord>> crosscheck_fields();     // crosscheck/
 std::span<const Field<DiagnosisRecord>> diagnosis_fields();       // diagnosis/ (+ free attributes)
 std::span<const Field<kernels::QualityReport>> quality_fields();  // quality/
+std::span<const Field<PowerLawRecord>> powerlaw_fields();         // powerlaw/
+std::span<const Column<PowerLawLevelRecord>> powerlaw_columns();  // powerlaw/: per level
+
 // Data editing and the dynamic deviation (io/schema_editing.cpp, docs/editing.md).
 std::span<const Field<DriftRecord>> drift_fields();      // drift/
 std::span<const Column<EditRecord>> edit_columns();      // edits/: one row per edit
@@ -97,12 +101,17 @@ inline constexpr const char* kReadouts = "readouts";
 inline constexpr const char* kEffects = "effects";
 inline constexpr const char* kDiagnosis = "diagnosis";
 inline constexpr const char* kQuality = "quality";
+inline constexpr const char* kPowerLaw = "powerlaw";
+
 inline constexpr const char* kDrift = "drift";
 inline constexpr const char* kEdits = "edits";
 inline constexpr const char* kDynamic = "dynamic";
 
 /// The eq. (3) terms in the order of the lot summary's per-term columns.
 inline constexpr std::array<const char*, 5> kTermNames = {"R", "K", "B", "N", "Q"};
+/// The power-law levels alpha = 2, 1, 0, -1, -2 in the order of the lot summary's per-level
+/// columns (h2, h2_sigma, ...).
+inline constexpr std::array<const char*, 5> kLevelNames = kernels::powerlaw::kLevelKeys;
 
 /// A member of a lot summary row: a scalar column, or a per-term array (one column per term).
 template <class Row>
@@ -121,6 +130,8 @@ struct RowColumn {
   int block = 0;
   /// The CSV text when it is not the plain value (e.g. empty detection flag without a fit).
   std::string (*csv)(const Row&, std::size_t term) = nullptr;
+  /// The names the per-term array's columns start with: kTermNames (nullptr) or kLevelNames.
+  const std::array<const char*, 5>* names = nullptr;
 };
 
 std::span<const RowColumn<SummaryRow>> summary_columns();        // /summary, lot_summary.csv

@@ -104,9 +104,10 @@ Layout<Row> layout(std::span<const schema::RowColumn<Row>> table) {
     std::size_t end = i;
     while (end < table.size() && table[end].block == table[i].block)
       ++end;
-    for (std::size_t t = 0; t < schema::kTermNames.size(); ++t)
+    const auto& names = table[i].names ? *table[i].names : schema::kTermNames;
+    for (std::size_t t = 0; t < names.size(); ++t)
       for (std::size_t k = i; k < end; ++k)
-        l.columns.push_back({std::string(schema::kTermNames[t]) + table[k].name, &table[k], t,
+        l.columns.push_back({std::string(names[t]) + table[k].name, &table[k], t,
                              offset[k] + t * element_size(table[k])});
     i = end;
   }

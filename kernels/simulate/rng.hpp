@@ -49,6 +49,7 @@ enum class Component : std::uint32_t {
   RandomWalk = 3,       // rate random walk (K): endpoint increments and bridge integrals
   Quantization = 4,     // white phase noise differenced (Q)
   LotSpread = 5,        // draw_unit's per-unit coefficient factors
+  FlickerPm = 6,        // Kasdin's driving noise of the flicker PM phase (ChannelSpec::flicker_pm)
   MarkovFirst = 16,     // Gauss-Markov effect i uses MarkovFirst + i (i < kMaxMarkov)
   ResonanceFirst = 216  // resonance i uses ResonanceFirst + i (i < kMaxResonance)
 };

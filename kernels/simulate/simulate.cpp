@@ -1,6 +1,8 @@
 // Noise synthesis: see simulate.hpp for the sampling model and the reproducibility guarantee.
 #include "kernels/simulate/simulate.hpp"
 
+#include "kernels/powerlaw/theory.hpp"
+
 #include "kernels/common/parallel.hpp"
 #include "kernels/simulate/rng.hpp"
 #include "kernels/spectral/fft.hpp"
@@ -138,6 +140,7 @@ void validate(const ChannelSpec& spec) {
   check_finite_nonneg(spec.terms.Q, "Q");
   if (!std::isfinite(spec.offset)) throw std::invalid_argument("simulate: offset must be finite");
   check_finite_nonneg(spec.quantum, "quantum");
+  check_finite_nonneg(spec.flicker_pm, "flicker_pm");
   try {
     validate_lowpass(spec.lowpass, spec.rate_hz);
   } catch (const std::invalid_argument& e) {
@@ -244,11 +247,11 @@ struct SimulationPlan::Impl {
   // block b computes outputs [b L, b L + L) from the P inputs starting at b L - (M - 1); the
   // first M - 1 outputs of the circular convolution are wrapped and discarded.
   void flicker(double B, std::uint64_t seed, std::uint64_t stream, std::span<double> out,
-               [[maybe_unused]] int nt) {
+               [[maybe_unused]] int nt, rng::Component component = rng::Component::Flicker) {
     prepare_flicker();
     auto* buf = work.get();
     auto* c = reinterpret_cast<fftw_complex*>(buf);
-    const auto comp = static_cast<std::uint32_t>(rng::Component::Flicker);
+    const auto comp = static_cast<std::uint32_t>(component);
     const std::size_t n_blocks = (n + L - 1) / L;
     // c2r is unnormalized (FFTW's convention): the round trip multiplies by P. The 1/P and
     // the coefficient B are folded into the spectral product, once per bin.
@@ -291,6 +294,19 @@ struct SimulationPlan::Impl {
       const std::size_t k1 = std::min(n, k0 + L);
       std::copy(buf + (M - 1), buf + (M - 1) + (k1 - k0), out.begin() + static_cast<long>(k0));
     }
+  }
+
+  // The phase's flicker (ChannelSpec::flicker_pm), differenced: y_k += (x_k - x_{k-1}) / tau0,
+  // x_{-1} = 0. Kasdin's sequence of driving variance h_1 / (4 pi) has the one-sided phase PSD
+  // h_1 / (4 pi^2 f), i.e. S_y = h_1 f. Nothing without flicker PM.
+  void add_flicker_pm(const ChannelSpec& spec, std::uint64_t seed, std::uint64_t stream,
+                      std::span<double> out, int nt) {
+    if (!(spec.flicker_pm > 0)) return;
+    std::vector<double> x(n);
+    flicker(std::sqrt(spec.flicker_pm / (4.0 * pi)), seed, stream, x, nt,
+            rng::Component::FlickerPm);
+    for (std::size_t k = n; k-- > 0;)
+      out[k] += (x[k] - (k > 0 ? x[k - 1] : 0.0)) * spec.rate_hz;
   }
 };
 
@@ -475,6 +491,7 @@ void SimulationPlan::run(const ChannelSpec& spec, std::uint64_t seed, std::uint6
   ec.rethrow();
   if (t.K > 0 || n_markov > 0)
     add_block_starts(t, steps, markov_comp, walk_end, markov_end, seed, stream, out, nt);
+  impl_->add_flicker_pm(spec, seed, stream, out, nt);
   for (std::size_t i = 0; i < spec.resonances.size(); ++i)
     add_resonance(spec.resonances[i], spec.rate_hz, seed, stream,
                   static_cast<std::uint32_t>(rng::Component::ResonanceFirst) +
@@ -583,6 +600,7 @@ double model_avar(const ChannelSpec& spec, double tau_s) {
     v += resonance_avar(r, spec.rate_hz, tau * spec.rate_hz);
   // The output's rounding: white of variance quantum^2 / 12 per sample, so quantum^2 / (12 m).
   v += spec.quantum * spec.quantum / (12.0 * tau * spec.rate_hz);
+  if (spec.flicker_pm > 0) v += spec.flicker_pm * powerlaw::avar_per_h(1, tau, 1.0 / spec.rate_hz);
   return v;
 }
 
@@ -630,7 +648,7 @@ std::vector<double> model_psd_one_sided(const ChannelSpec& spec, std::span<const
     const double w = 2 * pi * f;
     double s = t.K * t.K / (2 * pi * pi * f * f) + t.B * t.B / (pi * f) + 2 * t.N * t.N +
                2 * w * w * t.Q * t.Q / spec.rate_hz +
-               spec.quantum * spec.quantum / (6.0 * spec.rate_hz);
+               spec.quantum * spec.quantum / (6.0 * spec.rate_hz) + spec.flicker_pm * f;
     for (const auto& g : spec.markovs) {
       const double wt = w * g.tau_c_s;
       s += 4 * g.sigma * g.sigma * g.tau_c_s / (1 + wt * wt);

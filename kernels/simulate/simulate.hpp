@@ -94,6 +94,14 @@ struct ChannelSpec {
   // below 3e-9), so simulate_channel rounds the filtered sum to whole steps and model_avar adds
   // quantum^2 / (12 m) at tau = m / rate_hz.
   double quantum = 0;
+  // Flicker PM, a clock's noise type that eq. (3) lacks: the level h_1 of the rate's one-sided
+  // PSD S(f) = h_1 f [u^2/Hz^2] (docs/clocks.md). Synthesized as Kasdin's flicker sequence on
+  // the phase (S_x = h_1 / (4 pi^2 f), so the driving variance is h_1 / (4 pi)), differenced
+  // to the rate with the phase before the record zero; its Allan variance is SP1065's
+  // [1.038 + 3 ln(2 pi f_h tau)] h_1 / (4 pi^2 tau^2) (kernels/powerlaw/theory.hpp), which
+  // model_avar uses, within 10 % from m = 4 on (17 % above it at m = 1: the discrete
+  // sequence's power near Nyquist; tests/kernels/test_powerlaw.cpp).
+  double flicker_pm = 0;
   friend bool operator==(const ChannelSpec&, const ChannelSpec&) = default;
 };
 

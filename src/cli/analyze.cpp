@@ -133,6 +133,7 @@ pipeline::ChannelOptions channel_options(const AnalyzeOptions& opt, int kernel_t
   copt.fit = opt.fit;
   copt.lowpass = pipeline::parse_lowpass_choice(opt.lowpass);
   copt.model.enabled = opt.model_poor_fits == "auto";
+  copt.noise_model = pipeline::parse_noise_model(opt.noise_model);
   copt.psd = opt.psd;
   copt.gaps = opt.gaps;
   copt.threads = kernel_threads;
@@ -643,6 +644,12 @@ Command add_analyze_command(CLI::App& app) {
                   "A channel whose eq. (3) fit is poor: auto (modelled as diagnose does, eq. (3) "
                   "plus the effects the data name; its terms reported), off (eq. (3) alone)")
       ->check(CLI::IsMember({"auto", "off"}))
+      ->capture_default_str();
+  // The noise model (docs/clocks.md "The power-law model").
+  sub->add_option("--model", a->opt.noise_model,
+                  "The noise model: auto (power-law levels h_alpha for clock channels, eq. (3) "
+                  "for IMU channels), eq3 or powerlaw for every channel")
+      ->check(CLI::IsMember({"auto", "eq3", "powerlaw"}))
       ->capture_default_str();
   sub->add_option("--gaps", a->gaps_text,
                   "What missing samples (NaN) become: fill:N (runs of at most N samples "

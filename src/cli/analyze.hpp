@@ -34,6 +34,9 @@ struct AnalyzeOptions {
   // --model-poor-fits: auto models a poor eq. (3) fit as diagnose does (docs/fit-and-psd.md),
   // off keeps eq. (3) alone
   std::string model_poor_fits = "auto";
+  // --model: the noise model, auto (power-law levels for clocks, eq. (3) for IMU channels),
+  // eq3 or powerlaw for every channel (docs/clocks.md)
+  std::string noise_model = "auto";
   kernels::GapPolicy gaps;  // --gaps: what missing samples become (default fill:10)
   bool psd = true;       // write psd/ and crosscheck/ (Welch PSD, eq. (2)); --no-psd turns it off
   bool table = false;    // print each unit's fit table (always for <= 10 inputs)

@@ -44,6 +44,7 @@ std::string options_stamp(const AnalyzeOptions& opt) {
          ";confidence=" + conf + ";channels=" + opt.channels.text() +
          ";fit=" + (opt.fit ? "1" : "0") + ";lowpass=" + opt.lowpass +
          (opt.model_poor_fits == "auto" ? "" : ";model_poor_fits=" + opt.model_poor_fits) +
+         (opt.noise_model == "auto" ? "" : ";model=" + opt.noise_model) +
          ";psd=" + (opt.psd ? "1" : "0") + gaps_stamp(opt.gaps) + ";version=" + kVersion +
          input_stamp(opt.input) + edit_stamp(opt.edit);
 }

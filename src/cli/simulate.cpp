@@ -27,9 +27,26 @@ void write_unit(const fs::path& path, const std::string& device_id, const model:
                 int unit_index, std::uint64_t seed, kernels::SimulationPlan& plan,
                 std::vector<double>& buffer, int threads) {
   io::RecordingWriter writer(path.string(), device_id, unit.sample_rate_hz);
+  std::vector<double> phase;
   for (std::size_t c = 0; c < unit.channels.size(); ++c) {
     plan.run(model::to_spec(unit, c), seed, model::channel_stream(unit_index, c), buffer, threads);
-    writer.add_channel({unit.channels[c].name, unit.channels[c].units, buffer});
+    const model::Channel& ch = unit.channels[c];
+    if (!ch.phase_output) {
+      writer.add_channel({ch.name, ch.units, buffer});
+      continue;
+    }
+    // "output": "phase" (docs/clocks.md "Simulating clocks"): the time error x_k = tau0 sum_{j<k}
+    // y_j, n + 1 points from x_0 = 0, summed in long double; a fractional frequency's phase is
+    // in s.
+    phase.assign(buffer.size() + 1, 0.0);
+    long double x = 0;
+    for (std::size_t k = 0; k < buffer.size(); ++k) {
+      x += static_cast<long double>(buffer[k]) / unit.sample_rate_hz;
+      phase[k + 1] = static_cast<double>(x);
+    }
+    io::ChannelAttributes attributes;
+    attributes.data_type = "phase";
+    writer.add_channel({ch.name, ch.units == "1" ? "s" : ch.units, phase}, attributes);
   }
   // The exact model each unit was drawn with, so tests and users can compare fits with truth.
   writer.add_root_attribute("simulated_model", model::to_json(unit));

@@ -2,7 +2,9 @@
 
 #include "kernels/allan/stats.hpp"
 #include "kernels/model/units.hpp"
+#include "kernels/powerlaw/names.hpp"
 #include "src/pipeline/channel_fit.hpp"
+#include "src/pipeline/channel_powerlaw.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -60,9 +62,7 @@ std::string units_note(const io::ChannelResult& ch) {
 }  // namespace
 
 bool is_clock_channel(const io::ChannelResult& ch) {
-  const units::Family f = units::family_of(ch.units);
-  if (f == units::Family::Clock) return true;
-  return ch.data_type.starts_with("phase") && f == units::Family::Other;
+  return kernels::powerlaw::is_clock_channel(ch.units, ch.data_type);
 }
 
 std::string deviation_table(const std::string& device_id, const io::ChannelResult& ch) {
@@ -101,15 +101,19 @@ std::string unit_tables(const io::RecordingResult& rec, bool si) {
   imu.device_id = rec.device_id;
   imu.source_file = rec.source_file;
   std::vector<const io::ChannelResult*> clocks;
+  std::vector<const io::ChannelResult*> levels;  // power-law levels of IMU channels (--model)
   for (const io::ChannelResult& ch : rec.channels) {
-    if (!is_clock_channel(ch))
-      imu.channels.push_back(ch);
-    else if (ch.status.is_ok())
-      clocks.push_back(&ch);
+    const bool clock = is_clock_channel(ch);
+    // eq. (3)'s table for IMU channels and for clocks analysed with --model eq3.
+    if (!clock || ch.fit) imu.channels.push_back(ch);
+    if (clock && ch.status.is_ok()) clocks.push_back(&ch);
+    if (!clock && ch.powerlaw) levels.push_back(&ch);
   }
-  std::string out = pipeline::fit_table(imu, si);
+  std::string out = imu.channels.empty() ? "" : pipeline::fit_table(imu, si);
   for (const io::ChannelResult* ch : clocks)
-    out += deviation_table(rec.device_id, *ch);
+    out += deviation_table(rec.device_id, *ch) + pipeline::powerlaw_table(rec.device_id, *ch);
+  for (const io::ChannelResult* ch : levels)
+    out += pipeline::powerlaw_table(rec.device_id, *ch);
   return out;
 }
 

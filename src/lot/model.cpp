@@ -2,10 +2,13 @@
 #include "src/lot/model.hpp"
 
 #include "kernels/model/units.hpp"
+#include "kernels/powerlaw/names.hpp"
+#include "kernels/powerlaw/theory.hpp"
 #include "kernels/simulate/rng.hpp"
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <set>
@@ -226,6 +229,29 @@ void parse_effects(const Json& j, double rate_hz, Channel& ch, const std::string
   }
 }
 
+// "powerlaw" and "output" of a clock's channel (docs/clocks.md "Simulating clocks").
+void parse_clock_keys(const Json& j, Channel& ch, const std::string& source,
+                      const std::string& path) {
+  if (j.contains("powerlaw")) {
+    const std::string pp = join(path, "powerlaw");
+    const Json& levels = object(j["powerlaw"], source, pp);
+    for (const auto& [key, value] : levels.items()) {
+      const auto& keys = kernels::powerlaw::kLevelKeys;
+      const auto it =
+          std::find_if(keys.begin(), keys.end(), [&](const char* k) { return key == k; });
+      if (it == keys.end()) fail(source, join(pp, key), "unknown key (h2, h1, h0, hm1 or hm2)");
+      ch.powerlaw[static_cast<std::size_t>(it - keys.begin())] =
+          nonneg(value, source, join(pp, key));
+    }
+  }
+  if (j.contains("output")) {
+    const Json& o = j["output"];
+    if (!o.is_string() || (o.get<std::string>() != "frequency" && o.get<std::string>() != "phase"))
+      fail(source, join(path, "output"), "must be \"frequency\" or \"phase\"");
+    ch.phase_output = o.get<std::string>() == "phase";
+  }
+}
+
 // The keys of a channel object, shared by the single-channel form's top level.
 void parse_channel_body(const Json& j, double rate_hz, Channel& ch, const std::string& source,
                         const std::string& path) {
@@ -246,6 +272,7 @@ void parse_channel_body(const Json& j, double rate_hz, Channel& ch, const std::s
     if (!(ch.quantum >= 0) || !std::isfinite(ch.quantum))
       fail(source, join(path, "quantum"), "must be finite and >= 0, got " + j["quantum"].dump());
   }
+  parse_clock_keys(j, ch, source, path);
 }
 
 Json terms_json(const kernels::NoiseTerms& t) {
@@ -284,6 +311,13 @@ Json channel_body_json(const Channel& ch) {
   j["effects"] = effects;
   if (ch.offset != 0) j["offset"] = ch.offset;
   if (ch.quantum != 0) j["quantum"] = ch.quantum;
+  if (ch.powerlaw != std::array<double, 5>{}) {
+    Json levels = Json::object();
+    for (std::size_t i = 0; i < ch.powerlaw.size(); ++i)
+      if (ch.powerlaw[i] != 0) levels[kernels::powerlaw::kLevelKeys[i]] = ch.powerlaw[i];
+    j["powerlaw"] = levels;
+  }
+  if (ch.phase_output) j["output"] = "phase";
   return j;
 }
 
@@ -326,7 +360,8 @@ UnitModel parse_model(std::string_view json_text, const std::string& source,
       if (!valid_name(name))
         fail(source, path, "bad channel name (only letters, digits and _ are allowed)");
       object(body, source, path);
-      only_keys(body, {"units", "terms", "effects", "offset", "quantum"}, source, path);
+      only_keys(body, {"units", "terms", "effects", "offset", "quantum", "powerlaw", "output"},
+                source, path);
       Channel ch;
       ch.name = name;
       parse_channel_body(body, m.sample_rate_hz, ch, source, path);
@@ -334,7 +369,8 @@ UnitModel parse_model(std::string_view json_text, const std::string& source,
     }
   } else {
     only_keys(root,
-              {"units", "sample_rate_hz", "terms", "effects", "offset", "quantum", "lot_spread"},
+              {"units", "sample_rate_hz", "terms", "effects", "offset", "quantum", "lot_spread",
+               "powerlaw", "output"},
               source, "");
     if (!valid_name(single_channel_name))
       fail(source, "", "bad channel name '" + single_channel_name + "'");
@@ -468,6 +504,16 @@ kernels::ChannelSpec to_spec(const UnitModel& m, std::size_t channel) {
   s.offset = ch.offset;
   s.quantum = ch.quantum;
   s.lowpass = ch.lowpass;
+  // Power-law levels join eq. (3)'s terms they equal (variances add; kernels/powerlaw/theory.hpp)
+  // and flicker PM, which eq. (3) lacks.
+  const auto& h = ch.powerlaw;
+  const kernels::powerlaw::Eq3Squares e =
+      kernels::powerlaw::eq3_squares(h[0], h[2], h[3], h[4], 1.0 / m.sample_rate_hz);
+  s.terms.Q = std::sqrt(s.terms.Q * s.terms.Q + e.q2);
+  s.terms.N = std::sqrt(s.terms.N * s.terms.N + e.n2);
+  s.terms.B = std::sqrt(s.terms.B * s.terms.B + e.b2);
+  s.terms.K = std::sqrt(s.terms.K * s.terms.K + e.k2);
+  s.flicker_pm = h[1];
   return s;
 }
 

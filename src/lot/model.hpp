@@ -15,13 +15,18 @@
 // {"type": "step", "size", "time_s"}), `offset` (constant added to the channel, e.g.
 // 9.80665 on a vertical accelerometer), `quantum` (the output word's step: the filtered sum is
 // rounded to it, kernels::ChannelSpec::quantum) and `lot_spread` ({term: relative sd}) are
-// optional. Any other key, a wrong JSON type, a duplicate key, or an impossible value is an error
-// whose message names the source and the key path, e.g.
+// optional. A clock's channel may give its noise as power-law levels instead of (or beside)
+// terms: `powerlaw` ({"h2", "h1", "h0", "hm1", "hm2"}: h_alpha of S_y(f) = h_alpha f^alpha in
+// Hz^(-1-alpha), missing = 0; docs/clocks.md "Simulating clocks") and `output` ("frequency",
+// the default, or "phase": the recording holds the time error x, data_type phase). Any other key, a
+// wrong JSON type, a duplicate key, or an impossible value is an error whose message names the
+// source and the key path, e.g.
 //   "model.json: channels.gyro_x.terms.X: unknown key".
 #pragma once
 
 #include "kernels/simulate/simulate.hpp"
 
+#include <array>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -48,6 +53,10 @@ struct Channel {
   double offset = 0;                           // constant [units]
   double quantum = 0;                          // the output's step [units] (0: not rounded)
   kernels::Lowpass lowpass;                    // the effect of type "lowpass" (at most one)
+  // Power-law levels h2, h1, h0, hm1, hm2 (kernels::powerlaw::kLevelKeys), added to the terms
+  // by to_spec; all zero when the file has none.
+  std::array<double, 5> powerlaw{};
+  bool phase_output = false;  // "output": "phase": simulate writes the phase (time error)
   friend bool operator==(const Channel&, const Channel&) = default;
 };
 

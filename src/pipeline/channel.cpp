@@ -5,6 +5,7 @@
 #include "kernels/uncertainty/confidence.hpp"
 #include "src/pipeline/channel_fit.hpp"
 #include "src/pipeline/channel_gaps.hpp"
+#include "src/pipeline/channel_powerlaw.hpp"
 #include "src/pipeline/channel_quality.hpp"
 #include "src/pipeline/spectrum.hpp"
 
@@ -166,7 +167,12 @@ void run_stages(ChannelAnalysis& a, const io::ChannelInfo& channel,
   if (!oadev) return;
   std::array<kernels::TermFit, kernels::kNumTerms> allan_terms{};
   bool have_allan_terms = false;
-  if (opt.fit) {
+  if (opt.fit && uses_powerlaw(opt.noise_model, a.result)) {
+    // A clock: the power-law levels instead of eq. (3) (docs/clocks.md).
+    const auto t_fit = Clock::now();
+    a.result.powerlaw = powerlaw_channel(a.result, phase, *oadev, opt.confidence, opt.threads);
+    a.times.fit += seconds_since(t_fit);
+  } else if (opt.fit) {
     const auto t_fit = Clock::now();
     a.result.fit = fit_channel(*oadev, phase.tau0_s, phase.n_points() - 1, a.result.units,
                                opt.lowpass, &allan_terms, opt.threads);

@@ -8,6 +8,7 @@
 #include "src/pipeline/channel_edits.hpp"
 #include "src/pipeline/channel_fit.hpp"
 #include "src/pipeline/channel_model.hpp"
+#include "src/pipeline/channel_powerlaw.hpp"
 
 #include "io/recording.hpp"
 #include "io/results.hpp"
@@ -36,6 +37,9 @@ struct ChannelOptions {
   // channels are analysed (the model is most of a poor fit's time; run beside the other
   // channels on one thread, the last one modelled kept one core while the other waited).
   bool defer_model = false;
+  // Which noise model: the power-law levels for clocks, eq. (3) for IMU channels (analyze
+  // --model; src/pipeline/channel_powerlaw.hpp).
+  NoiseModel noise_model = NoiseModel::Auto;
 };
 
 /// Seconds one channel spent per stage: kernels (phase, statistics, confidence intervals),

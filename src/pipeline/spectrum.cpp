@@ -76,7 +76,9 @@ void add_spectrum(io::ChannelResult& result, kernels::PhaseData& phase,
     return;
   }
   result.psd = psd_record(psd);
-  result.psd_fit = psd_fit_channel(psd, result.units, allan_terms, threads);
+  // eq. (3) in the PSD domain for the channels eq. (3) describes; a clock's power-law levels
+  // (powerlaw/) have no PSD-domain counterpart here.
+  if (!result.powerlaw) result.psd_fit = psd_fit_channel(psd, result.units, allan_terms, threads);
   result.crosscheck =
       crosscheck_record(oadev, kernels::avar_from_psd(psd, oadev.tau_s, {}, threads));
 }

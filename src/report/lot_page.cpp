@@ -256,18 +256,30 @@ std::string lot_section(const std::string& title, const std::vector<Unit>& units
   const std::vector<Outlier> outliers = lot_outliers(units);
   std::ostringstream dists, tables;
   std::vector<std::string> without_terms;
+  std::size_t n_clock_groups = 0;
   for (const ChannelGroup& g : groups) {
     const std::string suffix = group_suffix(groups, g);
-    const std::string plot = distribution_plot("dist-" + sanitize(g.channel) + suffix, g.label(),
-                                               g.channel, g.members, outliers);
-    if (plot.empty()) without_terms.push_back(g.label());
+    // Clocks (docs/clocks.md): each clock's power-law levels side by side, no distribution.
+    const bool clocks = is_clock_channel(*g.members.front().ch);
+    n_clock_groups += clocks ? 1 : 0;
+    const std::string plot = clocks ? std::string()
+                                    : distribution_plot("dist-" + sanitize(g.channel) + suffix,
+                                                        g.label(), g.channel, g.members, outliers);
+    if (plot.empty() && !clocks) without_terms.push_back(g.label());
     dists << plot;
     tables << "<div class=\"scroll\"><h3 id=\"lot-" << sanitize(g.channel) << suffix << "\">"
            << escape(g.label()) << "</h3>\n"
-           << summary_table(g.channel, g.members, extras) << "</div>\n";
+           << (clocks ? clock_summary_table(g.channel, g.members)
+                      : summary_table(g.channel, g.members, extras))
+           << "</div>\n";
   }
   h << "<h2>Distributions across units</h2>\n";
-  if (without_terms.size() == groups.size()) {
+  if (n_clock_groups > 0)
+    h << "<p class=\"small\">Clock channels are not pooled into distributions: each clock's "
+         "power-law levels are in the summary by channel.</p>\n";
+  if (n_clock_groups > 0 && n_clock_groups == groups.size()) {
+    // Nothing to pool.
+  } else if (without_terms.size() + n_clock_groups == groups.size()) {
     h << "<p>None: no unit has a fitted noise term (the results were analysed without the "
          "model fit, <code>--no-fit</code>).</p>\n";
   } else {
@@ -286,7 +298,7 @@ std::string lot_section(const std::string& title, const std::vector<Unit>& units
   h << quality_section(units);
   h << diagnoses_section(units);
   h << "<h2>Outlier units</h2>\n";
-  if (without_terms.size() == groups.size()) {
+  if (without_terms.size() + n_clock_groups == groups.size()) {
     h << "<p>None: no fitted terms to compare.</p>\n";
   } else if (outliers.empty()) {
     h << "<p>None.</p>\n";

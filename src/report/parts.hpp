@@ -20,6 +20,10 @@
 #include <utility>
 #include <vector>
 
+namespace allanlot::svg {
+struct Plot;
+}
+
 namespace allanlot::report {
 
 inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -152,7 +156,9 @@ std::string deviation_panel(const std::string& id, const io::ChannelResult& ch, 
 std::string toggle_css();
 std::string psd_plot(const std::string& id, const io::ChannelResult& ch,
                      const io::FitRecord* psd_fit);
-std::string crosscheck_plot(const std::string& id, const io::CrosscheckRecord& c);
+// `clock`: titled "PSD cross-check" rather than by the paper's eq. (2) (docs/clocks.md).
+std::string crosscheck_plot(const std::string& id, const io::CrosscheckRecord& c,
+                            bool clock = false);
 std::string diagnosis_plot(const std::string& id, const io::DiagnosisView& d,
                            const std::string& units);
 // The spread of each detected term of one channel kind across the units, `outliers` in red
@@ -172,6 +178,18 @@ std::string quality_section(const std::vector<Unit>& units);
 // unit has a diagnosis.
 std::string diagnoses_section(const std::vector<Unit>& units);
 
+// Clocks (clock.cpp, docs/clocks.md "The clock report"): whether a channel is a clock's
+// (kernels::powerlaw::is_clock_channel, the one rule), an alpha with its noise type's name
+// ("0 (white FM)"), the table of the power-law levels, the power-law model and the detected
+// levels' asymptotes on the Allan plot, the deviations against the model, and the lot page's
+// table of each clock's levels.
+bool is_clock_channel(const io::ChannelResult& ch);
+std::string noise_type_label(int alpha);
+std::string powerlaw_table_html(const io::ChannelResult& ch);
+void add_powerlaw(svg::Plot& p, const io::ChannelResult& ch, double factor);
+std::string powerlaw_residual_plot(const std::string& id, const io::ChannelResult& ch);
+std::string clock_summary_table(const std::string& channel, const std::vector<Member>& members);
+
 // A channel's data editing (editing.cpp): the drift removed with its residual plot, the edits
 // and the dynamic Allan deviation's heat map; "" when the channel has none of them.
 std::string editing_section(const std::string& id, const io::ChannelResult& ch);
@@ -181,7 +199,6 @@ std::string editing_section(const std::string& id, const io::ChannelResult& ch);
 // ITU-T masks as dashed curves on a time-error plot, in the plot's units (`factor`).
 std::string hat_section(const Unit& u);
 void add_mask_series(svg::Plot& p, const std::vector<const masks::Mask*>& ms, double factor);
-
 // Pages (unit_page.cpp, lot_page.cpp).
 std::string html_head(const std::string& title);
 std::string unit_section(const Unit& u, const ExtrasMap& extras, const std::string& lot_href);

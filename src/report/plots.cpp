@@ -180,6 +180,10 @@ std::string deviation_panel(const std::string& id, const io::ChannelResult& ch, 
     p.title += " and the eq. (3) fit";
     add_fit(p, *ch.fit, oadev, u.factor);
   }
+  if (!time_error && ch.powerlaw && ch.powerlaw->status == "ok") {
+    p.title += " and the power-law model";
+    add_powerlaw(p, ch, u.factor);
+  }
   // The optional statistics last, so that their legend entries, hidden with them, leave no
   // gap; the y range over every statistic (not the asymptotes, which run far below).
   std::vector<double> ys;
@@ -282,10 +286,12 @@ std::string psd_plot(const std::string& id, const io::ChannelResult& ch,
   return svg::render(p);
 }
 
-std::string crosscheck_plot(const std::string& id, const io::CrosscheckRecord& c) {
+std::string crosscheck_plot(const std::string& id, const io::CrosscheckRecord& c, bool clock) {
   svg::Plot p;
   p.id = id;
-  p.title = "Eq. (2) cross-check: Allan variance from the PSD / from the time series";
+  // A clock's page names the comparison by what it is, not by the paper's equation.
+  p.title = std::string(clock ? "PSD cross-check" : "Eq. (2) cross-check") +
+            ": Allan variance from the PSD / from the time series";
   p.x_label = "\xCF\x84 (s)";
   p.y_label = "ratio avar_psd / avar_time";
   svg::Series valid, invalid;

@@ -230,7 +230,7 @@ std::string deviation_tables(const std::string& id, const io::ChannelResult& ch)
     for (std::size_t i = 0; i < s.size() && i < s.dev.size(); ++i) {
       h << "<tr><td>" << cell_number(s.tau_s[i], 4) << "</td><td>"
         << (i < s.n.size() ? std::to_string(s.n[i]) : "") << "</td><td>"
-        << (i < s.alpha.size() ? std::to_string(s.alpha[i]) : "") << "</td>";
+        << (i < s.alpha.size() ? noise_type_label(s.alpha[i]) : "") << "</td>";
       if (ci) h << "<td>" << number(s.dev_lo[i] * u.factor, 4) << "</td>";
       h << "<td>" << number(s.dev[i] * u.factor, 4) << "</td>";
       if (ci) h << "<td>" << number(s.dev_hi[i] * u.factor, 4) << "</td>";
@@ -274,9 +274,10 @@ std::string channel_section(const Unit& u, const io::ChannelResult& ch, const Ex
         << " s (the sensor's low-pass filter acts below; " << escape(ch.fit->lowpass)
         << "; all taus: &chi;&sup2;/dof " << number(ch.fit->chi2_dof_all_taus, 3) << ")";
   }
+  // A clock's page speaks of its PSD cross-check, not of the paper's eq. (2) (docs/clocks.md).
   if (ch.crosscheck)
-    h << "; eq. (2) max |log&#8321;&#8320; ratio| "
-      << number(ch.crosscheck->max_abs_log10_ratio, 3);
+    h << (is_clock_channel(ch) ? "; PSD cross-check" : "; eq. (2)") << " max |log&#8321;&#8320; "
+      << "ratio| " << number(ch.crosscheck->max_abs_log10_ratio, 3);
   if (x && !x->spec.empty())
     h << "; spec: <span class=\"" << x->spec << "\">" << spec_cell(*x) << "</span>";
   if (x && x->agree == "no") h << "; <span class=\"bad\">time- and PSD-domain fits disagree</span>";
@@ -293,13 +294,17 @@ std::string channel_section(const Unit& u, const io::ChannelResult& ch, const Ex
                                                    : std::vector<const masks::Mask*>{});
     if (ch.psd && !ch.psd->f.empty()) h << psd_plot(id + "-psd", ch, psd_fit);
     if (ch.crosscheck && !ch.crosscheck->tau.empty())
-      h << crosscheck_plot(id + "-xc", *ch.crosscheck);
+      h << crosscheck_plot(id + "-xc", *ch.crosscheck, is_clock_channel(ch));
     h << "</div>\n";
     // The tables under the plots, at their own width, wrapping rather than scrolling.
     if (ch.fit && !ch.fit->terms.empty())
       h << "<div class=\"tables\"><div><h4>Equation (3) coefficients (datasheet units)</h4>\n"
         << coefficient_table(ch, psd_fit, x) << "</div><div><h4>Read-outs</h4>\n"
         << readout_table(*ch.fit) << "</div></div>\n";
+    if (ch.powerlaw)
+      h << "<div class=\"tables\"><div><h4>Power-law noise levels</h4>\n"
+        << powerlaw_table_html(ch) << "</div><div>" << powerlaw_residual_plot(id + "-res", ch)
+        << "</div></div>\n";
     h << deviation_tables(id, ch);
     h << editing_section(id, ch);
   }

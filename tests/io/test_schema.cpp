@@ -196,6 +196,16 @@ io::RecordingResult every_field() {
   ch.crosscheck = c;
   ch.diagnosis = diagnosis();
   ch.quality = quality();
+  io::PowerLawRecord pl;
+  pl.method = "nnls";
+  pl.status = "ok";
+  pl.levels = {{2, "white PM", 1e-21, 2e-22, 1.5e-21, true},
+               {0, "white FM", 0, 1e-23, 3e-23, false}};
+  pl.tau = {1, 2};
+  pl.adev_model = {1e-11, 7e-12};
+  pl.mdev_tau = {1};
+  pl.mdev_model = {1e-11};
+  ch.powerlaw = pl;
   r.channels.push_back(ch);
   return r;
 }
@@ -246,6 +256,9 @@ TEST(Schema, EveryTableLineRoundTrips) {
   expect_fields(*want.diagnosis, *got.diagnosis, s::diagnosis_fields(), "diagnosis");
   ASSERT_TRUE(got.quality);
   expect_fields(*want.quality, *got.quality, s::quality_fields(), "quality");
+  ASSERT_TRUE(got.powerlaw);
+  expect_fields(*want.powerlaw, *got.powerlaw, s::powerlaw_fields(), "powerlaw");
+  expect_columns(want.powerlaw->levels, got.powerlaw->levels, s::powerlaw_columns(), "powerlaw");
   EXPECT_EQ(got.diagnosis->number_attributes, want.diagnosis->number_attributes);
   EXPECT_EQ(got.diagnosis->string_attributes, want.diagnosis->string_attributes);
 
@@ -260,6 +273,10 @@ TEST(Schema, EveryTableLineRoundTrips) {
                 true);
   ASSERT_TRUE(sum.channels[0].quality);
   expect_fields(*want.quality, *sum.channels[0].quality, s::quality_fields(), "quality", true);
+  ASSERT_TRUE(sum.channels[0].powerlaw);
+  expect_fields(*want.powerlaw, *sum.channels[0].powerlaw, s::powerlaw_fields(), "powerlaw", true);
+  expect_columns(want.powerlaw->levels, sum.channels[0].powerlaw->levels, s::powerlaw_columns(),
+                 "powerlaw");
   EXPECT_TRUE(sum.channels[0].stats.empty());
   EXPECT_FALSE(sum.channels[0].psd || sum.channels[0].diagnosis);
 }
@@ -350,6 +367,10 @@ TEST(Schema, LotSummaryColumnsRoundTrip) {
     row.detected[i] = 1;
     row.upper[i] = 9.0 + static_cast<double>(i);
     row.spec_term_status[i] = "pass";
+    row.h[i] = 1e-22 * static_cast<double>(i + 1);
+    row.h_sigma[i] = 1e-23 * static_cast<double>(i + 1);
+    row.h_upper[i] = 2e-22 * static_cast<double>(i + 1);
+    row.h_detected[i] = 1;
   }
   row.chi2_dof = 1.02;
   row.fit_status = "poor fit (chi2/dof = 1.02)";
