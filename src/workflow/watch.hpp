@@ -1,11 +1,12 @@
-// `allanlot watch` (docs/cli.md "Command: watch", docs/production.md): follows a recording that
-// is still being written, judges it against a spec at looks every --interval seconds of data
+// The watch workflow (docs/cli.md "Command: watch", docs/production.md): follows a recording
+// that is still being written, judges it against a spec at looks every --interval seconds of data
 // with the sequential rule of kernels/plan/sequential.hpp, and ends as soon as every limit is
-// decided.
+// decided, reporting each look as it is made. The command line adds its
+// options; the Python module's watch() runs it too.
 #pragma once
 
-#include "src/cli/cli.hpp"
-#include "src/cli/input_options.hpp"
+#include "src/workflow/input_args.hpp"
+#include "src/workflow/status.hpp"
 
 #include "kernels/model/fit.hpp"
 
@@ -14,7 +15,7 @@
 #include <span>
 #include <string>
 
-namespace allanlot::cli {
+namespace allanlot::workflow {
 
 /// Exit status of a recording still undecided when watching ends (--max-duration reached,
 /// the recording stopped growing for --idle-timeout, or a --replay recording ended).
@@ -50,7 +51,4 @@ LookFit look_fit(std::span<const double> rate, double rate_hz, const std::string
 /// recording that cannot be read.
 int run_watch(const WatchOptions& opt, std::ostream& out, std::ostream& err);
 
-/// Adds the `watch` subcommand to `app` (see cli.hpp, struct Command).
-Command add_watch_command(CLI::App& app);
-
-}  // namespace allanlot::cli
+}  // namespace allanlot::workflow

@@ -1,8 +1,7 @@
 // The statistics' table (kernels/allan/stats.hpp StatInfo): its compile-time checks cover the
-// shape of every entry; these pin the facts that other code and files depend on (Stable32's stop
+// shape of every entry; these pin the facts that results and files depend on (Stable32's stop
 // ratios, the default --stats order recorded in results files, Greenhall's differences, the lag-1
-// depth, the plot colours) to the values they had as separate switches, so that an edit of one
-// entry that changes a result is seen.
+// depth, the plot colours), so that an edit of one entry that changes a result is seen.
 #include "kernels/allan/stats.hpp"
 #include "kernels/uncertainty/confidence.hpp"
 
