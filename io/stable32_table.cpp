@@ -1,52 +1,22 @@
 #include "io/stable32_table.hpp"
 
+#include "kernels/allan/stats.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <sstream>
+#include <stdexcept>
 #include <string_view>
 
 namespace allanlot::io {
 namespace {
 
-// Stable32 1.60's sigma type and column title line for each statistic, as its tables in
-// tests/data/stable32 print them (spacing included); PDEV, which Stable32 lacks, gets the
-// Allan layout.
-struct Layout {
-  std::string_view stat, sigma_type, title;
-};
-constexpr std::string_view kAllanTitle =
-    "#  AF        Tau        #    Alpha  Min Sigma      Sigma         Max Sigma";
-constexpr std::string_view kHadamardTitle =
-    "#  AF        Tau         #    Alpha  Min Sigma   Hadamard Sig     Max Sigma";
-constexpr std::string_view kTheoTitle =
-    "#  AF   Th\xC3\xAAo1 Tau   Th\xC3\xAAo1 #    Alpha   Min Th\xC3\xAAo1    Th\xC3\xAAo1    Max "
-    "Th\xC3\xAAo1";
-constexpr Layout kLayouts[] = {
-    {"adev", "Allan", kAllanTitle},
-    {"oadev", "Overlapping Allan", kAllanTitle},
-    {"mdev", "Modified Allan",
-     "#  AF        Tau         #    Alpha  Min Sigma     Mod Sigma      Max Sigma"},
-    {"tdev", "Time", "#  AF        Tau         #    Alpha  Min Sigma    Time Sigma      Max Sigma"},
-    {"hdev", "Hadamard", kHadamardTitle},
-    {"ohdev", "Overlapping Hadamard", kHadamardTitle},
-    {"totdev", "Total",
-     "#  AF        Tau         #    Alpha  Min Sigma    Total Sigma     Max Sigma"},
-    {"mtotdev", "Modified Total",
-     "# AF          Tau        #     Alpha  Min Sigma     Mod Totdev      Max Sigma"},
-    {"ttotdev", "Time Total",
-     "#AF          Tau       #      Alpha  Min Sigma    Time Totdev    Max Sigma"},
-    {"htotdev", "Hadamard Total", kHadamardTitle},
-    {"theo1", "Th\xC3\xAAo1", kTheoTitle},
-    {"theoh", "Th\xC3\xAAoH", kTheoTitle},
-    {"mtie", "MTIE", "#  AF      Tau           #       MTIE"},
-    {"tierms", "TIE rms", "#  AF      Tau           #      TIE rms"},
-    {"pdev", "Parabolic", kAllanTitle},
-};
-
-Layout layout_of(const std::string& stat) {
-  for (const Layout& l : kLayouts)
-    if (l.stat == stat) return l;
-  return {stat, stat, kAllanTitle};
+// Stable32 1.60's sigma type, column titles and row layout of each statistic are facts of the
+// statistic (kernels/allan/stats.hpp StatInfo); a name allanlot does not compute has none.
+const kernels::StatInfo& info_of(const std::string& stat) {
+  const auto s = kernels::parse_stat(stat);
+  if (!s) throw std::invalid_argument("stable32_table: no statistic '" + stat + "'");
+  return kernels::stat_info(*s);
 }
 
 // Stable32 prints 5 significant digits ("%.4e"); a value that is not a number is printed as
@@ -82,12 +52,12 @@ T at(const std::vector<T>& v, std::size_t i, T fallback) {
 }
 
 // One row, with Stable32's widths for the statistic's kind of table.
-std::string row(std::string_view stat, const kernels::StatResult& s, std::size_t i,
+std::string row(kernels::Stable32Row layout, const kernels::StatResult& s, std::size_t i,
                 std::int64_t count) {
   char buf[200];
   const auto m = static_cast<long long>(s.m[i]);
   const auto n = static_cast<long long>(count);
-  if (stat == "mtie" || stat == "tierms") {
+  if (layout == kernels::Stable32Row::TimeError) {
     std::snprintf(buf, sizeof buf, "%5lld   %s%9lld   %s\n", m, e4(s.tau_s[i]).c_str(), n,
                   e4(s.dev[i]).c_str());
     return buf;
@@ -96,7 +66,7 @@ std::string row(std::string_view stat, const kernels::StatResult& s, std::size_t
   const std::string lo = e4(ci ? at(s.dev_lo, i, 0.0) : 0.0);
   const std::string hi = e4(ci ? at(s.dev_hi, i, 0.0) : 0.0);
   const int alpha = at(s.alpha, i, 0);
-  if (stat == "theo1" || stat == "theoh") {
+  if (layout == kernels::Stable32Row::Theo) {
     // Thêo1's "#" is a weighted count, printed as a number (phase_dat_theo1.txt).
     std::snprintf(buf, sizeof buf, "%4lld  %s  %s%7d  %s %s %s\n", m, e4(s.tau_s[i]).c_str(),
                   e4_count(n).c_str(), alpha, lo.c_str(), e4(s.dev[i]).c_str(), hi.c_str());
@@ -111,7 +81,7 @@ std::string row(std::string_view stat, const kernels::StatResult& s, std::size_t
 
 std::string stable32_table(const Stable32Head& head, const std::string& stat,
                            const kernels::StatResult& s) {
-  const Layout l = layout_of(stat);
+  const kernels::StatInfo& l = info_of(stat);
   std::ostringstream o;
   char buf[160];
   o << "# STATISTICS FOR FILE: " << head.file << "\n";
@@ -124,19 +94,20 @@ std::string stable32_table(const Stable32Head& head, const std::string& stat,
                   head.max, head.min, head.mean);
     o << buf;
   }
-  const bool mtie = stat == "mtie";
-  o << "# Sigma Type: " << l.sigma_type << (mtie && head.mtie_fast ? " (Fast)" : "") << "\n";
-  if (stat != "mtie" && stat != "tierms") {
+  const bool mtie = l.id == kernels::Stat::Mtie;
+  o << "# Sigma Type: " << l.stable32_sigma_type << (mtie && head.mtie_fast ? " (Fast)" : "")
+    << "\n";
+  if (l.stable32_row != kernels::Stable32Row::TimeError) {
     std::snprintf(buf, sizeof buf, "# Confidence Factor = %.3f\n", s.confidence);
     o << buf;
   }
-  o << "# Deadtime T/Tau = 1.000000\n#\n" << l.title << "\n";
+  o << "# Deadtime T/Tau = 1.000000\n#\n" << l.stable32_title << "\n";
   for (std::size_t i = 0; i < s.size(); ++i) {
     // Stable32's non-fast MTIE prints the N points analysed as "#" and stops at its stop ratio
     // 2, m <= (N - 1) / 2; its fast MTIE prints the N - m windows up to m = N - 1.
     const bool slow_mtie = mtie && !head.mtie_fast;
     if (slow_mtie && s.m[i] > (head.n_points - 1) / 2) continue;
-    o << row(stat, s, i, slow_mtie ? head.n_points : s.n[i]);
+    o << row(l.stable32_row, s, i, slow_mtie ? head.n_points : s.n[i]);
   }
   o << head.trailer;
   return o.str();

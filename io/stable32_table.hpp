@@ -28,7 +28,9 @@ struct Stable32Head {
 /// TIE rms), the deadtime, Stable32's column titles for that statistic, and one row per tau
 /// with Stable32's widths and 5 significant digits (MTIE as Stable32's fast or non-fast run,
 /// Stable32Head::mtie_fast). Bounds not computed print as 0, as in
-/// Stable32. Every line that is not a row starts with '#'.
+/// Stable32. Every line that is not a row starts with '#'. The layout is the statistic's
+/// (kernels/allan/stats.hpp StatInfo); a name that is not a statistic throws
+/// std::invalid_argument.
 std::string stable32_table(const Stable32Head& head, const std::string& stat,
                            const kernels::StatResult& s);
 

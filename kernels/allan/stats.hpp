@@ -7,6 +7,7 @@
 #include "kernels/allan/sum_cache.hpp"
 #include "kernels/allan/tau_grid.hpp"
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -33,6 +34,72 @@ enum class Stat {
   Pdev,     // parabolic deviation, Vernotte et al. 2016 / 2020
   Theoh     // ThêoH: OADEV below 10 % of the record, bias-removed Thêo1 above, SP1065 eq. (32)
 };
+
+/// The number of statistics: one entry of the table of stats.cpp each (its static_asserts).
+inline constexpr std::size_t kStatCount = static_cast<std::size_t>(Stat::Theoh) + 1;
+
+/// Which equivalent degrees of freedom a statistic's confidence interval takes
+/// (kernels/uncertainty/confidence.hpp stat_edf).
+enum class EdfModel {
+  None,       // no chi-square model (MTIE, TIE rms): edf, dev_lo and dev_hi are NaN
+  Greenhall,  // Greenhall & Riley's finite differences (StatInfo::differences)
+  Totvar,     // Howe's b (T/tau) - c (edf_totvar)
+  Mtotvar,    // the MDEV edf below m = 10, SP1065 Table 8 (edf_mtotvar) from m = 10
+  Htotvar,    // Howe's fit (edf_htotvar) for FM noise at m >= 16, else the OHDEV edf
+  Theo1,      // Howe & Tasset's fits (edf_theo1)
+  Theoh,      // the OADEV edf on its OADEV rows, Thêo1's above
+  Pvar        // Vernotte et al.'s fit (edf_pvar), the OADEV edf at m = 1
+};
+
+/// The finite differences a statistic is built of (Greenhall & Riley 2003, sec. 2): d = 2 (Allan)
+/// or 3 (Hadamard), overlapping or not, modified (phase averaged over m points first) or not.
+/// d = 0: not a finite-difference variance (its EdfModel is not Greenhall).
+struct Differences {
+  int d = 0;
+  bool overlapping = false;
+  bool modified = false;
+};
+
+/// Which averaging factors `--taus stable32` and `decade` give a statistic (stat_m_list).
+enum class MGrid {
+  Common,  // make_m_list's, as for every statistic
+  Mtie,    // windows of 2^k points on the Stable32 grid
+  Theo1    // twice the Stable32 grid's m >= 5 (and the decade grid taken from it)
+};
+
+/// How Stable32 1.60 prints a statistic's rows (io/stable32_table.hpp).
+enum class Stable32Row {
+  Sigma,     // AF, Tau, #, Alpha, Min Sigma, Sigma, Max Sigma
+  Theo,      // the same, "#" a weighted count printed as a number
+  TimeError  // AF, Tau, # and the value: no alpha, no bounds, no confidence factor
+};
+
+/// Every fact of one statistic, in one place: the table of stats.cpp holds one entry per Stat,
+/// in the order of the enum, checked at compile time to cover every statistic. A new statistic
+/// is a new entry there (docs/development.md "How to add a statistic").
+struct StatInfo {
+  Stat id;
+  std::string_view name;       // allantools' and Stable32's name: --stats, the results group
+                               // allan/<name>/, the Python function allanlot.<name>
+  std::string_view reference;  // where it is defined (the Python docstrings)
+  std::int64_t stop_offset;    // max_m = (N - stop_offset) / stop_ratio
+  std::int64_t stop_ratio;
+  MGrid m_grid;
+  bool supports_gaps;  // false: refuses gapped data (see supports_gaps)
+  bool time_error;     // a time (phase) error in phase units rather than a deviation of the rate
+  int default_rank;    // its place in analyze's default --stats (docs/cli.md), 0 = not there
+  EdfModel edf;
+  Differences differences;  // for EdfModel::Greenhall
+  int noise_id_dmax;        // differencing depth of the lag-1 noise identification
+                            // (kernels/uncertainty/noise_id.hpp): 3 Hadamard family, else 2
+  std::string_view stable32_sigma_type;  // Stable32's "# Sigma Type:"
+  std::string_view stable32_title;       // Stable32's column titles, spacing included
+  Stable32Row stable32_row;
+  std::string_view color;  // its colour on every plot of the report
+};
+
+/// The entry of statistic s.
+const StatInfo& stat_info(Stat s);
 
 /// "oadev" etc.
 std::string_view stat_name(Stat s);

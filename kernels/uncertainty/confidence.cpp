@@ -31,23 +31,11 @@ Interval chi2_interval(double dev, double edf, double confidence) {
 }
 
 FiniteDifferenceKind difference_kind(Stat s) {
-  switch (s) {
-  case Stat::Adev:
-    return {2, false, false};
-  case Stat::Oadev:
-    return {2, true, false};
-  case Stat::Mdev:
-  case Stat::Tdev:
-    return {2, true, true};
-  case Stat::Hdev:
-    return {3, false, false};
-  case Stat::Ohdev:
-    return {3, true, false};
-  default:
-    break;
-  }
-  throw std::invalid_argument("difference_kind: " + std::string(stat_name(s)) +
-                              " is not a finite-difference variance");
+  const StatInfo& info = stat_info(s);
+  if (info.edf != EdfModel::Greenhall)
+    throw std::invalid_argument("difference_kind: " + std::string(info.name) +
+                                " is not a finite-difference variance");
+  return {info.differences.d, info.differences.overlapping, info.differences.modified};
 }
 
 namespace {
@@ -62,37 +50,39 @@ double shorter(double edf, std::int64_t n_phase, std::int64_t n_filled) {
 
 double edf_rows(Stat s, int alpha, std::int64_t m, std::int64_t n_phase, std::int64_t terms,
                 std::int64_t n_filled) {
-  if (!has_interval(s)) return std::numeric_limits<double>::quiet_NaN();
-  if (s == Stat::Mtotdev || s == Stat::Ttotdev) {
+  switch (stat_info(s).edf) {
+  case EdfModel::None:
+    return std::numeric_limits<double>::quiet_NaN();
+  case EdfModel::Mtotvar:
     // Below m = 10, SP1065 Table 8 promises up to 1.4 times the edf that Stable32's bounds on
     // PHASE.DAT imply (1099 against 791 at m = 1), while MDEV's edf over the same N - 3m + 1
     // terms is within 1.5 % of it at m = 1 .. 8 (docs/statistics.md); from m = 10 on Stable32
     // is above Table 8, which stays (the published, conservative side).
     if (m < 10) return edf_rows(Stat::Mdev, alpha, m, n_phase, terms, n_filled);
     return shorter(edf_mtotvar(alpha, m, n_phase), n_phase, n_filled);
-  }
-  if (s == Stat::Htotdev) {
+  case EdfModel::Htotvar:
     // Howe's HTOT fits (edf_htotvar) cover FM noise from m = 16 on; below, and for PM noise,
     // the overlapping Hadamard variance's edf (Greenhall & Riley) over the same terms stands
     // in: HTOT averages more (reflected) terms than OHVAR, so this is the conservative side.
     if (m >= 16 && alpha <= 0) return shorter(edf_htotvar(alpha, m, n_phase), n_phase, n_filled);
     return edf_rows(Stat::Ohdev, alpha, m, n_phase, terms, n_filled);
-  }
-  if (s == Stat::Theo1) return shorter(edf_theo1(alpha, m, n_phase), n_phase, n_filled);
-  if (s == Stat::Theoh) {
+  case EdfModel::Theo1:
+    return shorter(edf_theo1(alpha, m, n_phase), n_phase, n_filled);
+  case EdfModel::Theoh:
     // Below k = floor(0.1 (N - 1)) a ThêoH row is OADEV (theo.hpp), above it bias-removed Thêo1.
     if (m < (n_phase - 1) / 10) return edf_rows(Stat::Oadev, alpha, m, n_phase, terms, n_filled);
     return shorter(edf_theo1(alpha, m, n_phase), n_phase, n_filled);
-  }
-  if (s == Stat::Pdev) {
+  case EdfModel::Pvar:
     // PVAR at m = 1 is the overlapping Allan variance (parabolic.hpp).
     if (m == 1) return edf_rows(Stat::Oadev, alpha, m, n_phase, terms, n_filled);
     return shorter(edf_pvar(alpha, m, n_phase), n_phase, n_filled);
-  }
-  if (s == Stat::Totdev) {
+  case EdfModel::Totvar: {
     // Stable32 prints N - 1 terms for every m; fewer mean samples lost to gaps.
     const std::int64_t n_eff = std::min(n_phase, terms + 1);
     return shorter(edf_totvar(alpha, m, n_eff), n_eff, std::min(n_filled, n_eff - 1));
+  }
+  case EdfModel::Greenhall:
+    break;
   }
   const FiniteDifferenceKind kind = difference_kind(s);
   if (n_filled > 0) {

@@ -30,25 +30,28 @@ struct Interval {
 };
 Interval chi2_interval(double dev, double edf, double confidence);
 
-/// How statistic s is built, for edf_greenhall: d = 2 (Allan) or 3 (Hadamard), overlapping or
-/// not, modified (Mdev, Tdev) or not (Greenhall & Riley 2003, sec. 2). Totdev has no entry
-/// (its edf is edf_totvar).
+/// How statistic s is built, for edf_greenhall: its StatInfo::differences (the table of
+/// kernels/allan/stats.cpp), d = 2 (Allan) or 3 (Hadamard), overlapping or not, modified or not
+/// (Greenhall & Riley 2003, sec. 2). Throws std::invalid_argument for a statistic whose
+/// EdfModel is not Greenhall (its edf is another fit).
 FiniteDifferenceKind difference_kind(Stat s);
 
 /// The edf Stable32 1.60 uses for statistic s at averaging factor m with noise alpha, over N
-/// phase points with `terms` terms in the estimator:
-///  - Adev, Oadev, Mdev, Tdev, Hdev, Ohdev: Greenhall & Riley's combined algorithm
-///    (edf_greenhall); Stable32's bounds on PHASE.DAT match it within 4e-4, while the simple
+/// phase points with `terms` terms in the estimator, by the statistic's EdfModel
+/// (kernels/allan/stats.hpp StatInfo::edf):
+///  - Greenhall: Greenhall & Riley's combined algorithm (edf_greenhall) with the statistic's
+///    Differences; Stable32's bounds on PHASE.DAT match it within 4e-4, while the simple
 ///    SP1065 Table 5 formula for white FM (edf = (3(N-1)/(2m) - 2(N-2)/N) 4m^2/(4m^2+5)) gives
 ///    666 instead of Stable32's 782 at m = 1;
-///  - Totdev: Howe's b (T/tau) - c (edf_totvar);
-///  - Mtotdev, Ttotdev: the Mdev edf below m = 10 (where Stable32's bounds imply it), SP1065
+///  - Totvar: Howe's b (T/tau) - c (edf_totvar);
+///  - Mtotvar: the modified Allan edf below m = 10 (where Stable32's bounds imply it), SP1065
 ///    Table 8 (edf_mtotvar) from m = 10 on;
-///  - Htotdev: Howe's fit (edf_htotvar) for FM noise at m >= 16, else the Ohdev edf;
-///  - Theo1: Howe & Tasset's fits (edf_theo1); Theoh: the Oadev edf on its OADEV rows
-///    (m < floor(0.1 (N - 1))), edf_theo1 on its ThêoBR rows;
-///  - Pdev: Vernotte et al.'s fit (edf_pvar), the Oadev edf at m = 1;
-///  - Mtie, Tierms: NaN (no interval, stats.hpp has_interval).
+///  - Htotvar: Howe's fit (edf_htotvar) for FM noise at m >= 16, else the overlapping Hadamard
+///    edf;
+///  - Theo1: Howe & Tasset's fits (edf_theo1); Theoh: the overlapping Allan edf on its OADEV
+///    rows (m < floor(0.1 (N - 1))), edf_theo1 on its ThêoBR rows;
+///  - Pvar: Vernotte et al.'s fit (edf_pvar), the overlapping Allan edf at m = 1;
+///  - None: NaN (no interval, stats.hpp has_interval).
 /// Gaps: when `terms` is below the count of a contiguous record of N points, the edf is that
 /// of the shortest contiguous record with `terms` terms (greenhall_phase_points), i.e. the
 /// missing terms are treated as a shorter record. This is exact for a gap at either end and
@@ -59,8 +62,8 @@ FiniteDifferenceKind difference_kind(Stat s);
 /// the edf of a record with F fewer points. For the finite-difference variances the terms are
 /// reduced by those F points give, G(N) - G(N - F) (greenhall_terms; at least 1 term left),
 /// and the shorter-record rule above applies to what remains, so the correlation of the
-/// overlapping terms stays in Greenhall & Riley's sum; the edf of TOTDEV, MTOT, HTOT, Thêo1
-/// and PDEV, fits proportional to the record length T / tau (b (T / tau) - c), is scaled by
+/// overlapping terms stays in Greenhall & Riley's sum; the other models' edf, fits proportional
+/// to the record length T / tau (b (T / tau) - c), is scaled by
 /// (N - F) / N. F = 0 changes nothing. Throws std::invalid_argument unless 0 <= F < N.
 double stat_edf(Stat s, int alpha, std::int64_t m, std::int64_t n_phase, std::int64_t terms,
                 std::int64_t n_filled = 0);

@@ -69,10 +69,6 @@ double allan_variance(const PhaseData& p, std::int64_t m, std::int64_t stride) {
   return sc.n > 0 ? sc.sum / (2.0 * tau * tau * static_cast<double>(sc.n)) : kNaN;
 }
 
-int stable32_dmax(Stat s) {
-  return (s == Stat::Hdev || s == Stat::Ohdev || s == Stat::Htotdev) ? 3 : 2;
-}
-
 // The alpha at row i when it does not depend on the previous row; `keep_previous` rows are
 // resolved afterwards in increasing m.
 struct RowId {
@@ -86,7 +82,7 @@ RowId identify_row(Stat s, const PhaseData& p, const StatResult& r, std::size_t 
   const std::int64_t nf = (p.n_points() - 1) / m;
   RowId out;
   if (nf >= kLag1MinPoints) {
-    const int dmax = stable32_dmax(s);
+    const int dmax = stat_info(s).noise_id_dmax;
     out.alpha = (cache ? cache->get(p, m, dmax) : noise_id_lag1(p, m, dmax)).alpha;
     return out;
   }
@@ -108,11 +104,12 @@ RowId identify_row(Stat s, const PhaseData& p, const StatResult& r, std::size_t 
     return out;
   }
   out.alpha = alpha_from_b1(svar / avar, static_cast<double>(std::max<std::int64_t>(r.n[i], 2)));
-  if (out.alpha == 1 && (s == Stat::Mdev || s == Stat::Tdev)) {
-    // R(n) = MVAR / AVAR separates white from flicker PM, which B1 cannot.
+  if (out.alpha == 1 && stat_info(s).differences.modified) {
+    // R(n) = MVAR / AVAR separates white from flicker PM, which B1 cannot. TDEV is
+    // tau / sqrt(3) MDEV (SP1065 eq. (16)).
     const double tau = static_cast<double>(m) * p.tau0_s;
     const double mvar =
-        s == Stat::Mdev ? r.dev[i] * r.dev[i] : 3.0 * r.dev[i] * r.dev[i] / (tau * tau);
+        is_time_error(s) ? 3.0 * r.dev[i] * r.dev[i] / (tau * tau) : r.dev[i] * r.dev[i];
     const double oavar = allan_variance(p, m, 1);
     if (oavar > 0.0 && std::isfinite(mvar)) out.alpha = alpha_from_rn(mvar / oavar, m);
   }
@@ -538,7 +535,7 @@ std::vector<int> identify_alpha(Stat s, const PhaseData& p, const StatResult& r,
   std::vector<std::int64_t> lag1_m;
   for (std::size_t i = 0; i < rows; ++i)
     if ((p.n_points() - 1) / r.m[i] >= kLag1MinPoints) lag1_m.push_back(r.m[i]);
-  lag1->prefetch(p, lag1_m, stable32_dmax(s), nthreads);
+  lag1->prefetch(p, lag1_m, stat_info(s).noise_id_dmax, nthreads);
   std::vector<RowId> ids(rows);
   ExceptionCollector errors;
   const std::int64_t count = static_cast<std::int64_t>(rows);

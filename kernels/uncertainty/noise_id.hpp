@@ -88,7 +88,8 @@ double rn_expected(std::int64_t m, int alpha);
 int alpha_from_rn(double rn, std::int64_t m);
 
 /// Identified alpha for every row of `r` (statistic s computed on p), in Stable32's way:
-///  - lag-1 method (noise_id_lag1, dmax 3 for Hdev/Ohdev, else 2) when at least 30 m-sample
+///  - lag-1 method (noise_id_lag1, dmax the statistic's StatInfo::noise_id_dmax) when at least 30
+///  m-sample
 ///    averages exist (floor((N - 1) / m) >= 30, Stable32's documented threshold);
 ///  - otherwise the B1 ratio s^2 / AVAR(m): s^2 the sample variance (n - 1 denominator) of the
 ///    non-overlapping m-sample rate averages, AVAR the non-overlapping Allan variance at m

@@ -256,20 +256,6 @@ def three_cornered_hat_phase(phasedata_ab, phasedata_bc, phasedata_ca, rate, tau
     return tau_ab, dev_a, dev_a / np.sqrt(np.asarray(ns_ab, dtype=np.float64)), ns_ab
 
 
-# Where each statistic is defined (NIST SP1065, docs/statistics.md), for the docstrings.
-_REFERENCES = {
-    "adev": "NIST SP1065 eq. (7) (p. 14)", "oadev": "NIST SP1065 eq. (11) (p. 16)",
-    "mdev": "NIST SP1065 eq. (14) (p. 17)", "tdev": "NIST SP1065 eq. (16) (p. 18)",
-    "hdev": "NIST SP1065 eq. (17) (p. 19)", "ohdev": "NIST SP1065 eq. (18) (p. 20)",
-    "totdev": "NIST SP1065 eq. (25) (p. 23)", "mtotdev": "NIST SP1065 eq. (27) (p. 25)",
-    "ttotdev": "NIST SP1065 eq. (28) (p. 26)", "htotdev": "NIST SP1065 eq. (29) (p. 27)",
-    "theo1": "NIST SP1065 eq. (30) (p. 29)", "theoh": "NIST SP1065 eqs. (31)-(32) (pp. 30-31)",
-    "mtie": "NIST SP1065 sec. 5.2.15 (p. 32); ITU-T G.810 eq. (II.4)",
-    "tierms": "NIST SP1065 sec. 5.2.16 (p. 33)",
-    "pdev": ("Vernotte et al., IEEE Trans. UFFC 63 (2016) 611 (parabolic variance); at m = 1 "
-             "it is NIST SP1065 eq. (11) (p. 16)"),
-}
-
 _DOC = """{stat} with AllanTools' arguments and return value, {same}.
 
 Parameters
@@ -312,7 +298,7 @@ def _make(stat):
     f.__qualname__ = stat
     same = ("as allantools.%s(data, rate, data_type, taus)" % stat if stat != "theoh" else
             "in the form of AllanTools' functions (AllanTools has no ThêoH)")
-    f.__doc__ = _DOC.format(stat=stat, same=same, ref=_REFERENCES[stat])
+    f.__doc__ = _DOC.format(stat=stat, same=same, ref=_allanlot.stat_reference(stat))
     return f
 
 

@@ -129,6 +129,12 @@ void bind_deviation(py::module_& m) {
       },
       py::arg("stat"), py::arg("n_points"),
       "Stable32's largest averaging factor for a record of n_points phase points.");
+  m.def(
+      "stat_reference",
+      [](const std::string& stat) {
+        return std::string(kernels::stat_info(parse_stat(stat)).reference);
+      },
+      py::arg("stat"), "Where the statistic is defined (kernels/allan/stats.hpp StatInfo).");
 }
 
 }  // namespace allanlot::python

@@ -1,10 +1,11 @@
-// allanlot._allanlot: `plan` and `watch` as the command line runs them (src/cli/plan.hpp,
-// src/cli/watch.hpp), and the sequential rule's quantile (kernels/plan/sequential.hpp).
+// allanlot._allanlot: `plan` and `watch` as the command line runs them (src/workflow/plan.hpp,
+// src/workflow/watch.hpp), and the sequential rule's quantile (kernels/plan/sequential.hpp).
 #include "python/bindings/bindings.hpp"
 
 #include "kernels/plan/sequential.hpp"
-#include "src/cli/plan.hpp"
-#include "src/cli/watch.hpp"
+#include "src/lot/spec.hpp"
+#include "src/workflow/plan.hpp"
+#include "src/workflow/watch.hpp"
 
 #include <pybind11/stl.h>
 
@@ -20,7 +21,7 @@ namespace {
 py::object plan(const std::string& model, const std::map<std::string, double>& targets,
                 const std::string& spec, double margin, double confidence, int verify,
                 std::uint64_t seed, double max_duration, int threads) {
-  cli::PlanOptions opt;
+  workflow::PlanOptions opt;
   opt.model_path = model;
   for (const auto& [term, precision] : targets)
     opt.targets.push_back(term + "=" + std::to_string(precision));
@@ -33,23 +34,29 @@ py::object plan(const std::string& model, const std::map<std::string, double>& t
   opt.verify = verify;
   opt.seed = seed;
   opt.max_duration_s = max_duration;
-  opt.json = true;
   opt.threads = kernel_threads(threads);
-  std::ostringstream out, err;
-  int rc = 0;
+  std::string json;
   {
     const py::gil_scoped_release unlocked;
-    rc = cli::run_plan(opt, out, err);
+    try {
+      json = workflow::plan_json(workflow::plan_recording(opt)).dump();
+    } catch (const spec::Error& e) {
+      std::string text;
+      for (const std::string& msg : e.messages())
+        text += (text.empty() ? "" : "\n") + msg;
+      throw std::invalid_argument(text);
+    } catch (const std::exception& e) {
+      throw std::invalid_argument(e.what());
+    }
   }
-  if (rc == cli::kExitUsage) throw std::invalid_argument(err.str());
-  return py::module_::import("json").attr("loads")(out.str());
+  return py::module_::import("json").attr("loads")(json);
 }
 
 // (exit status, printed text) of `allanlot watch`.
 py::tuple watch(const std::string& recording, const std::string& spec, double interval,
                 double max_duration, bool replay, double poll, double idle_timeout,
                 double sample_rate, const std::string& units, int threads) {
-  cli::WatchOptions opt;
+  workflow::WatchOptions opt;
   opt.recording = recording;
   opt.spec_path = spec;
   opt.interval_s = interval;
@@ -64,9 +71,9 @@ py::tuple watch(const std::string& recording, const std::string& spec, double in
   int rc = 0;
   {
     const py::gil_scoped_release unlocked;
-    rc = cli::run_watch(opt, out, err);
+    rc = workflow::run_watch(opt, out, err);
   }
-  if (rc == cli::kExitUsage) throw std::invalid_argument(err.str());
+  if (rc == workflow::kExitUsage) throw std::invalid_argument(err.str());
   return py::make_tuple(rc, out.str());
 }
 

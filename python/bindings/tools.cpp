@@ -2,11 +2,11 @@
 #include "python/bindings/bindings.hpp"
 #include "python/bindings/convert.hpp"
 
-#include "kernels/diagnose/diagnose.hpp"
 #include "kernels/simulate/simulate.hpp"
 #include "kernels/spectral/psd.hpp"
-#include "src/cli/diagnosis_json.hpp"
 #include "src/lot/model.hpp"
+#include "src/workflow/diagnose.hpp"
+#include "src/workflow/diagnosis_json.hpp"
 
 #include <pybind11/stl.h>
 
@@ -85,14 +85,10 @@ std::string diagnose(const Samples& data, double rate, const std::string& data_t
                      int max_effects) {
   const std::span<const double> samples = samples_of(data);
   std::vector<double> y(samples.begin(), samples.end());
-  if (data_type == "phase") {
-    // As `allanlot diagnose` does: successive differences times the rate.
-    for (std::size_t k = 0; k + 1 < y.size(); ++k)
-      y[k] = (y[k + 1] - y[k]) * rate;
-    if (!y.empty()) y.pop_back();
-  } else if (data_type != "freq" && data_type != "rate") {
+  if (data_type == "phase")
+    workflow::phase_to_rate(y, rate);  // as `allanlot diagnose` does
+  else if (data_type != "freq" && data_type != "rate")
     throw std::invalid_argument("data_type must be 'phase' or 'freq' (also 'rate')");
-  }
   const model::UnitModel m = model_of(json_text, source);
   std::size_t mc = 0;
   if (m.channels.size() > 1) {
@@ -105,18 +101,14 @@ std::string diagnose(const Samples& data, double rate, const std::string& data_t
                                   " (channel=...)");
   }
   if (replicas < 0) throw std::invalid_argument("replicas must be >= 0");
-  kernels::DiagnoseOptions opt;
-  opt.mc_replicas = replicas;
-  opt.mc_seed = seed;
-  opt.nthreads = kernel_threads(threads);
-  opt.max_effects = max_effects;
-  kernels::Diagnosis d;
+  const workflow::DiagnoseSettings settings{replicas, max_effects, seed, kernel_threads(threads)};
+  const std::string name = channel.empty() ? m.channels[mc].name : channel;
+  workflow::ChannelDiagnosis d;
   {
     const py::gil_scoped_release unlocked;
-    d = kernels::diagnose(y, rate, model::to_spec(m, mc), opt);
+    d = workflow::diagnose_channel(y, rate, m, mc, name, settings);
   }
-  const std::string name = channel.empty() ? m.channels[mc].name : channel;
-  return cli::diagnosis_json(name, d).dump();
+  return workflow::diagnosis_json(name, d.diagnosis).dump();
 }
 
 }  // namespace

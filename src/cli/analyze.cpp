@@ -539,14 +539,16 @@ std::vector<kernels::Stat> parse_stats(const std::string& list) {
   return out;
 }
 
-// The default statistics of docs/cli.md, reduced to those this build computes (so that the default
-// never names a statistic that is not there).
+// The default statistics of docs/cli.md, in their order there (kernels::StatInfo::default_rank).
 std::string default_stats() {
+  std::vector<const kernels::StatInfo*> chosen;
+  for (const kernels::Stat s : kernels::all_stats())
+    if (kernels::stat_info(s).default_rank > 0) chosen.push_back(&kernels::stat_info(s));
+  std::sort(chosen.begin(), chosen.end(),
+            [](const auto* a, const auto* b) { return a->default_rank < b->default_rank; });
   std::string s;
-  for (const char* name : {"oadev", "mdev", "hdev", "ohdev", "tdev", "totdev"}) {
-    if (!kernels::parse_stat(name)) continue;
-    s += (s.empty() ? "" : ",") + std::string(name);
-  }
+  for (const auto* info : chosen)
+    s += (s.empty() ? "" : ",") + std::string(info->name);
   return s;
 }
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "kernels/common/thread_cap.hpp"
+#include "src/workflow/status.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -12,8 +13,9 @@
 namespace allanlot::cli {
 
 /// Exit statuses (docs/cli.md "Exit status"): every input analysed; some inputs failed; usage
-/// error or nothing could be analysed.
-enum ExitStatus : int { kExitOk = 0, kExitSomeFailed = 1, kExitUsage = 2 };
+/// error or nothing could be analysed. The workflows under the commands own them.
+using workflow::ExitStatus;
+using enum workflow::ExitStatus;
 
 int run(int argc, char** argv);
 

@@ -1,32 +1,21 @@
 #include "src/cli/diagnose.hpp"
 
-#include "io/atomic_file.hpp"
-#include "io/diagnosis.hpp"
 #include "io/error.hpp"
-#include "io/paths.hpp"
-#include "io/recording.hpp"
 #include "io/usage_error.hpp"
 #include "kernels/diagnose/diagnose.hpp"
-#include "src/cli/diagnosis_json.hpp"
 #include "src/cli/input_options.hpp"
-#include "src/lot/model.hpp"
+#include "src/workflow/diagnose.hpp"
+#include "src/workflow/diagnosis_json.hpp"
+#include "src/workflow/status.hpp"
 
 #include <CLI/CLI.hpp>
-#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <ostream>
-#include <sstream>
 
 namespace allanlot::cli {
 namespace {
-
-// A usage-level failure (exit status 2), as opposed to a failed diagnosis (1).
-struct UsageError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
 
 std::string num(double v) {
   char buf[32];
@@ -126,141 +115,19 @@ void print_report(std::ostream& out, const std::string& file, const std::string&
     out << "note: " << n << "\n";
 }
 
-io::DiagnosisRecord make_record(const std::string& channel, const kernels::Diagnosis& d,
-                                const Json& report, const std::string& model_before,
-                                const std::string& model_after, const std::string& source) {
-  io::DiagnosisRecord r;
-  r.channel = channel;
-  r.m = d.m;
-  r.tau = d.tau_s;
-  r.avar_measured = d.avar_measured;
-  r.edf = d.edf;
-  r.avar_model_before = d.before.avar_model;
-  r.avar_model_after = d.after.avar_model;
-  const auto band = [&](const std::vector<double>& v) {
-    return v.empty() ? std::vector<double>(d.tau_s.size(), std::nan("")) : v;
-  };
-  r.mc_before_lo = band(d.mc_before.avar_lo);
-  r.mc_before_hi = band(d.mc_before.avar_hi);
-  r.mc_after_lo = band(d.mc_after.avar_lo);
-  r.mc_after_hi = band(d.mc_after.avar_hi);
-  r.z_before = d.before.z;
-  r.z_after = d.after.z;
-  r.significant_before = d.before.significant;
-  r.significant_after = d.after.significant;
-  for (const auto& it : d.iterations) {
-    r.effect.emplace_back(kernels::effect_name(it.effect));
-    Json p = parameters_json(it.parameters);
-    r.parameters_json.push_back(p.dump());
-    r.gap_before.push_back(it.gap_before);
-    r.gap_after.push_back(it.gap_after);
-    r.delta_ic.push_back(it.delta_ic);
-  }
-  r.number_attributes = {{"gap_before", d.before.gap},
-                         {"gap_after", d.after.gap},
-                         {"gap_noise_p95", d.mc_after.gap_p95},
-                         {"gap_within_noise", d.gap_within_noise ? 1.0 : 0.0},
-                         {"n_eff", d.n_eff},
-                         {"z_threshold", d.z_threshold},
-                         {"mc_replicas", static_cast<double>(d.mc_after.replicas)}};
-  r.string_attributes = {{"mc_band", "per-tau 5 % and 95 % quantiles of the replicas' avar"},
-                         {"model_before", model_before},
-                         {"model_after", model_after},
-                         {"source_file", source},
-                         {"report", report.dump()}};
-  return r;
-}
-
 }  // namespace
 
 int run_diagnose(const DiagnoseOptions& opt, std::ostream& out, std::ostream& err) {
   try {
-    // The corrected model and -o never replace the recording or the model read (an existing
-    // -o results file is edited on purpose, in a copy: io::write_diagnosis).
-    const std::vector<std::filesystem::path> outputs = {opt.model_out, opt.output};
-    const std::vector<std::filesystem::path> read = {opt.input, opt.model_path};
-    if (const std::string clash = io::outputs_conflict(outputs, read); !clash.empty())
-      throw UsageError(clash);
-    model::UnitModel model;
-    try {
-      model = model::load_model(opt.model_path);
-    } catch (const std::exception& e) {
-      throw UsageError(e.what());
-    }
-    const io::RecordingReader reader(opt.input, opt.input_options);
-    const io::RecordingInfo& info = reader.info();
-    const io::ChannelInfo* ch = nullptr;
-    std::string names;
-    for (const auto& c : info.channels) {
-      names += (names.empty() ? "" : ", ") + c.path;
-      const std::string name = c.path.substr(c.path.find_last_of('/') + 1);
-      if (opt.channel.empty() ? info.channels.size() == 1
-                              : (c.path == opt.channel || name == opt.channel))
-        ch = &c;
-    }
-    if (!ch)
-      throw UsageError(opt.input + ": " +
-                       (opt.channel.empty()
-                            ? "several channels (" + names + "); choose one with --channel"
-                            : "no channel '" + opt.channel +
-                                  "' (channels: " + (names.empty() ? "none" : names) + ")"));
-    const std::string name = ch->path.substr(ch->path.find_last_of('/') + 1);
-    std::size_t mc = 0;
-    if (!model.single_channel) {
-      while (mc < model.channels.size() && model.channels[mc].name != name)
-        ++mc;
-      if (mc == model.channels.size())
-        throw UsageError(opt.model_path + ": no channel '" + name + "' in the unit model");
-    }
-    if (!ch->units.empty() && ch->units != model.channels[mc].units)
-      throw UsageError(opt.input + ":" + ch->path + ": units '" + ch->units +
-                       "' differ from the model's '" + model.channels[mc].units + "' (" +
-                       opt.model_path + ")");
-    kernels::LargeVector<double> y = reader.read(*ch);
-    if (ch->data_type == kernels::DataType::Phase) {
-      // Phase samples to rate: successive differences times the sample rate (a NaN point makes
-      // both of its increments missing, as kernels::phase_from_phase treats it).
-      for (std::size_t k = 0; k + 1 < y.size(); ++k)
-        y[k] = (y[k + 1] - y[k]) * ch->sample_rate_hz;
-      if (!y.empty()) y.pop_back();
-    }
-    if (std::abs(model.sample_rate_hz / ch->sample_rate_hz - 1.0) > 1e-9)
-      err << "allanlot: note: the model's sample_rate_hz " << model.sample_rate_hz
-          << " differs from the recording's " << ch->sample_rate_hz
-          << "; the recording's rate is used\n";
-
-    kernels::DiagnoseOptions kopt;
-    kopt.mc_replicas = opt.replicas;
-    kopt.max_effects = opt.max_effects;
-    kopt.mc_seed = opt.seed;
-    kopt.nthreads = opt.threads;
-    const kernels::Diagnosis d =
-        kernels::diagnose(y, ch->sample_rate_hz, model::to_spec(model, mc), kopt);
-
-    model::UnitModel corrected = model;
-    model::Channel& cc = corrected.channels[mc];
-    cc.terms = d.model_after.terms;
-    cc.sinusoids = d.model_after.sinusoids;
-    cc.markovs = d.model_after.markovs;
-    cc.resonances = d.model_after.resonances;
-    cc.steps = d.model_after.steps;
-    cc.lowpass = d.model_after.lowpass;
-    const std::string before_json = model::to_json(model), after_json = model::to_json(corrected);
-    const Json report = diagnosis_json(ch->path, d);
+    const workflow::ChannelDiagnosis d = workflow::diagnose_recording(
+        opt, [&](const std::string& note) { err << "allanlot: note: " << note << "\n"; });
     if (opt.json)
-      out << report.dump() << "\n";
+      out << workflow::diagnosis_json(d.channel, d.diagnosis).dump() << "\n";
     else
-      print_report(out, opt.input, ch->path, opt.model_path, d);
-    if (!opt.model_out.empty()) {
-      model::validate(corrected, opt.model_out);
-      io::write_text_atomic(opt.model_out, after_json + "\n");
-    }
-    if (!opt.output.empty())
-      io::write_diagnosis(opt.output, opt.input,
-                          make_record(ch->path, d, report, before_json, after_json,
-                                      std::filesystem::absolute(opt.input).string()));
+      print_report(out, opt.input, d.channel, opt.model_path, d.diagnosis);
+    workflow::write_diagnosis_outputs(opt, d);
     return kExitOk;
-  } catch (const UsageError& e) {
+  } catch (const workflow::UsageError& e) {
     err << "allanlot: error: " << e.what() << "\n";
     return kExitUsage;
   } catch (const io::UsageError& e) {
@@ -291,16 +158,17 @@ Command add_diagnose_command(CLI::App& app) {
   sub->add_option("--model-out", opt->model_out, "Write the corrected model file (JSON)");
   sub->add_flag("--json", opt->json,
                 "Print one JSON object (docs/diagnose.md) instead of the report");
-  sub->add_option("--replicas", opt->replicas, "Monte Carlo replicas per model")
+  sub->add_option("--replicas", opt->settings.replicas, "Monte Carlo replicas per model")
       ->check(CLI::Range(0, 100000))
       ->capture_default_str();
-  sub->add_option("--max-effects", opt->max_effects, "At most this many effects are named")
+  sub->add_option("--max-effects", opt->settings.max_effects, "At most this many effects are named")
       ->check(CLI::Range(1, kernels::kMaxEffects))
       ->capture_default_str();
-  sub->add_option("--seed", opt->seed, "Seed of the Monte Carlo replicas")
+  sub->add_option("--seed", opt->settings.seed, "Seed of the Monte Carlo replicas")
       ->check(seed_number())
       ->capture_default_str();
-  sub->add_option("--threads", opt->threads, "Threads (default: OMP_NUM_THREADS, else all cores)")
+  sub->add_option("--threads", opt->settings.threads,
+                  "Threads (default: OMP_NUM_THREADS, else all cores)")
       ->check(CLI::Range(0, kMaxThreads));
   return {sub, [opt, input](const std::string&) {
             opt->input_options = input_options(*input);

@@ -3,27 +3,16 @@
 // (kernels/diagnose/diagnose.hpp).
 #pragma once
 
-#include "io/input_options.hpp"
 #include "src/cli/cli.hpp"
+#include "src/workflow/diagnose.hpp"
 
-#include <cstdint>
 #include <iosfwd>
-#include <string>
 
 namespace allanlot::cli {
 
-struct DiagnoseOptions {
-  std::string input;               // the recording (HDF5 or text)
-  std::string model_path;          // model file (JSON), required
-  std::string channel;             // channel path or name; "" = the only channel
-  std::string output;              // -o OUT.h5: group /<channel>/diagnosis ("" = none)
-  std::string model_out;           // --model-out FILE.json: the corrected model ("" = none)
-  bool json = false;               // print the JSON object of docs/diagnose.md instead
-  int replicas = 30;               // Monte Carlo replicas per model
-  int max_effects = 8;             // at most this many effects are added
-  std::uint64_t seed = 7;          // seed of the replicas
-  int threads = 0;                 // 0 = OMP_NUM_THREADS, else all cores
-  io::InputOptions input_options;  // --data-type and the options of text recordings
+/// The workflow's request (src/workflow/diagnose.hpp) and how to print its outcome.
+struct DiagnoseOptions : workflow::DiagnoseRequest {
+  bool json = false;  // print the JSON object of docs/diagnose.md instead of the report
 };
 
 /// Exit status: 0 diagnosed (whatever was found); 1 the diagnosis could not be made or written

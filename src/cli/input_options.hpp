@@ -6,6 +6,7 @@
 
 #include "io/input_options.hpp"
 #include "src/cli/inputs.hpp"
+#include "src/workflow/input_args.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -14,13 +15,8 @@
 
 namespace allanlot::cli {
 
-/// The options as given, before they are checked.
-struct InputArgs {
-  std::string data_type, time_unit;
-  std::vector<std::string> units;  // --units [GLOB=]UNIT,... as given
-  double sample_rate_hz = 0.0, tau0_s = 0.0, nominal_frequency_hz = 0.0;
-  io::InputOptions options;
-};
+/// The options as given, before they are checked (src/workflow/input_args.hpp).
+using workflow::InputArgs;
 
 /// Adds the input options to `sub`, filling `args` when parsed.
 void add_input_options(CLI::App* sub, InputArgs& args);

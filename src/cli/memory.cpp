@@ -40,13 +40,6 @@ std::uint64_t parse_memory_size(const std::string& text) {
   return static_cast<std::uint64_t>(std::min(v * scale, 1.8e19));
 }
 
-std::uint64_t physical_memory() {
-  const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
-  return pages > 0 && page > 0
-             ? static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page)
-             : std::uint64_t{8} << 30;
-}
-
 // getrusage gives kilobytes on Linux.
 std::uint64_t peak_rss_bytes() {
   rusage ru{};

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "kernels/common/large_vector.hpp"
+#include "src/workflow/input_args.hpp"
 
 #include <cstdint>
 #include <string>
@@ -13,8 +14,8 @@ namespace allanlot::cli {
 /// Throws std::invalid_argument naming the text.
 std::uint64_t parse_memory_size(const std::string& text);
 
-/// This machine's physical memory in bytes (8 GiB when it cannot be read).
-std::uint64_t physical_memory();
+/// This machine's physical memory (src/workflow/input_args.hpp).
+using workflow::physical_memory;
 
 /// Peak resident memory of this process so far, in bytes.
 std::uint64_t peak_rss_bytes();

@@ -1,11 +1,13 @@
 #include "src/report/parts.hpp"
 
+#include "kernels/allan/stats.hpp"
 #include "kernels/model/units.hpp"
 #include "src/lot/spec.hpp"
 #include "src/report/svg.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace allanlot::report {
 
@@ -28,15 +30,12 @@ std::string sanitize(std::string_view s) {
   return out;
 }
 
-// Distinct, colour-blind-safe-ish colours per statistic (matplotlib's tab10 order), the same
-// on every plot so that a reader learns them once.
+// Each statistic's colour, the same on every plot, is a fact of the statistic
+// (kernels/allan/stats.hpp StatInfo::color).
 std::string stat_color(const std::string& s) {
-  static const std::map<std::string, std::string> c = {
-      {"oadev", "#1f77b4"}, {"adev", "#17becf"},   {"mdev", "#2ca02c"},    {"hdev", "#9467bd"},
-      {"ohdev", "#d62728"}, {"totdev", "#8c564b"}, {"mtotdev", "#bcbd22"}, {"htotdev", "#e377c2"},
-      {"theo1", "#ff7f0e"}, {"theoh", "#aec7e8"},  {"pdev", "#98df8a"}};
-  const auto it = c.find(s);
-  return it == c.end() ? "#7f7f7f" : it->second;
+  const auto stat = kernels::parse_stat(s);
+  if (!stat) throw std::invalid_argument("stat_color: no statistic '" + s + "'");
+  return std::string(kernels::stat_info(*stat).color);
 }
 
 int term_index(const std::string& name) {

@@ -102,7 +102,7 @@ struct Outlier {
 // An id or file name made of [A-Za-z0-9_-] only: device ids and channel paths come from the
 // data, and must neither break the HTML nor lead a link outside the report's directory.
 std::string sanitize(std::string_view s);
-// Distinct colours per statistic, the same on every plot so that a reader learns them once.
+// The colour of statistic s (kernels/allan/stats.hpp StatInfo::color), the same on every plot.
 std::string stat_color(const std::string& s);
 int term_index(const std::string& name);
 // "pass", "fail", "undecided" as the lot summary writes them, or "" (no colouring).

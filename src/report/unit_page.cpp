@@ -119,7 +119,7 @@ std::vector<std::string> diagnose_notes(const io::DiagnosisView& d) {
 }
 
 // An iteration's parameters ({"parameters": {name: value}, "sigmas": {name: sigma or null}},
-// src/cli/diagnosis_json.hpp) as "name = value ± sigma" lines; the text as it is otherwise.
+// src/workflow/diagnosis_json.hpp) as "name = value ± sigma" lines; the text as it is otherwise.
 std::string parameters_html(const std::string& text) {
   const nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
   if (!j.is_object() || !j.contains("parameters") || !j["parameters"].is_object())

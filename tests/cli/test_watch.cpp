@@ -1,6 +1,6 @@
 // `allanlot watch` and its sequential rule. Over 40 simulated units near a B limit, judged at
 // looks with the alpha-spending quantiles (kernels/plan/sequential.hpp) and the fit watch
-// makes (cli::look_fit),
+// makes (workflow::look_fit),
 // wrong decisions stay within the stated rate (with its binomial margin) and the mean
 // recording time is at least 30 % shorter than the fixed length `plan --spec` gives for the
 // same limit. The command itself: a unit far inside the limit passes, one far outside fails,
@@ -9,9 +9,9 @@
 #include "kernels/plan/record_fit.hpp"
 #include "kernels/plan/sequential.hpp"
 #include "src/cli/plan.hpp"
-#include "src/cli/watch.hpp"
 #include "src/lot/model.hpp"
 #include "src/lot/spec.hpp"
+#include "src/workflow/watch.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -87,8 +87,8 @@ TEST(WatchRule, FewWrongDecisionsAndShorterThanThePlan) {
     const auto n = static_cast<std::size_t>(std::llround(t * model.rate_hz));
     for (int u = 0; u < kUnits; ++u) {
       if (!open[u]) continue;
-      const cli::LookFit f =
-          cli::look_fit(std::span<const double>(y[u].data(), n), model.rate_hz, "deg/s", 1);
+      const workflow::LookFit f =
+          workflow::look_fit(std::span<const double>(y[u].data(), n), model.rate_hz, "deg/s", 1);
       if (f.status != kernels::FitStatus::Ok) continue;
       const auto& b = f.terms[static_cast<std::size_t>(kernels::Term::B)];
       const spec::Estimate e{b.value, b.sigma, std::nan(""), b.detected};

@@ -1,10 +1,10 @@
-#include "src/cli/diagnosis_json.hpp"
+#include "src/workflow/diagnosis_json.hpp"
 
 #include <cmath>
 #include <string>
 #include <vector>
 
-namespace allanlot::cli {
+namespace allanlot::workflow {
 namespace {
 
 Json bands_json(const std::vector<kernels::Band>& bands) {
@@ -131,4 +131,4 @@ Json parameters_json(const std::vector<kernels::Parameter>& ps) {
   return {{"parameters", params_json(ps)}, {"sigmas", sigmas_json(ps)}};
 }
 
-}  // namespace allanlot::cli
+}  // namespace allanlot::workflow

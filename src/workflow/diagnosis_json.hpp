@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace allanlot::cli {
+namespace allanlot::workflow {
 
 using Json = nlohmann::ordered_json;
 
@@ -20,4 +20,4 @@ Json diagnosis_json(const std::string& channel, const kernels::Diagnosis& d);
 /// {"parameters": {name: value}, "sigmas": {name: sigma or null}} of one effect.
 Json parameters_json(const std::vector<kernels::Parameter>& ps);
 
-}  // namespace allanlot::cli
+}  // namespace allanlot::workflow
