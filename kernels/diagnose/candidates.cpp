@@ -26,9 +26,7 @@ std::vector<double> basis_of(const Component& c, const Curve& cv, const Bases& b
   // A step is removed from the record instead (diagnose.cpp, Search::curve_without): no
   // variance on the curves compared.
   if (c.kind == Kind::Lowpass || c.kind == Kind::Step) return std::vector<double>(cv.size(), 0.0);
-  if (c.kind == Kind::Markov) return markov_curve(1.0, c.nl, cv, b.lowpass, b.rate_hz);
-  if (c.kind == Kind::Resonance)
-    return resonance_curve({1.0, c.nl, c.q, c.spread}, cv, b.lowpass, b.rate_hz);
+  if (c.kind == Kind::Markov || c.kind == Kind::Resonance) return shaped_curve(c, cv, b);
   ChannelSpec s;
   s.rate_hz = b.rate_hz;
   s.sinusoids.push_back({1.0, c.nl, 0.0});

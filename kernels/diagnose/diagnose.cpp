@@ -412,6 +412,12 @@ SpectralLine Search::line_witness(const Fit& ref) const {
   return line.found ? line : focused_line(ref, known_f, known_wide, line);
 }
 
+StepWitness Search::jump_witness(const std::vector<Step>& steps) {
+  if (!last_jump || last_jump->first != steps)
+    last_jump.emplace(steps, find_step(rate, crit.rate_hz, steps, opt.step_false_alarm));
+  return last_jump->second;
+}
+
 // One round of the add-and-repeat loop (see diagnose()): false when it adds nothing and the
 // loop ends; `iter` counts the effects added.
 bool Search::round(int& iter) {
@@ -429,7 +435,7 @@ bool Search::round(int& iter) {
       std::count_if(free_now.begin(), free_now.end(), [](const auto& c) { return c.free; }));
   const SpectralLine line = line_witness(ref);
   // The step's and the ramp's witnesses under the model as it stands (no ramp's beside a ramp).
-  const StepWitness jump = find_step(rate, crit.rate_hz, now.steps, opt.step_false_alarm);
+  const StepWitness jump = jump_witness(now.steps);
   const TrendWitness trend = now.terms.R > 0.0 ? TrendWitness{} : trend_under(now);
   if (iter == 0 && !refit_taken) {
     d.line = line;
@@ -549,8 +555,8 @@ Diagnosis diagnose(std::span<const double> rate, double rate_hz, const ChannelSp
   validate(spec);
 
   Diagnosis d;
-  Search search{opt, spec, d,  {},    {},   {},      0.0, {},    {}, 0.0,
-                {},  {},   {}, false, rate, threads, {},  false, {}, {}};
+  Search search{opt, spec, d,     {},   {},      {}, 0.0,   {}, {}, 0.0, {},
+                {},  {},   false, rate, threads, {}, false, {}, {}, {}};
   search.crit.rate_hz = rate_hz;
   // The given model's steps are removed from the record before anything is compared.
   search.cv = search.curve_without(spec.steps);
@@ -580,7 +586,7 @@ Diagnosis diagnose(std::span<const double> rate, double rate_hz, const ChannelSp
     d.notes.push_back("the record has gaps: no PSD witness, so no sinusoid can be named");
   else if (rate.size() >= 256) {
     search.periodogram = full_periodogram(rate, rate_hz, threads);
-    search.line_medians = line_backgrounds(*search.periodogram);
+    search.line_medians = line_backgrounds(*search.periodogram, threads);
   }
   search.t_record = static_cast<double>(rate.size() - rate.size() % 2) / rate_hz;
 

@@ -107,16 +107,47 @@ struct Whittle {
       s += ls[j] + p[j] * std::exp(-ls[j]);
     return block * s;
   }
-  // d ln S_j / d x_a of every parameter, by central differences.
+  // d ln S_j / d x_a of every parameter, by central differences. A parameter moves one part of
+  // the spectrum (the background, or one resonance), so each difference recomputes that part
+  // alone beside the others' sum: the spectrum's resonances evaluated 2 + count times instead
+  // of 2 x (parameters) x count (this Jacobian was a tenth of a modelled accelerometer's time).
   Eigen::MatrixXd jacobian(const Layout& l, const Params& x) const {
     Eigen::MatrixXd jac(static_cast<Eigen::Index>(f.size()), static_cast<Eigen::Index>(x.size()));
+    const auto background = [&](const Params& y) {
+      std::vector<double> s(f.size());
+      for (std::size_t j = 0; j < f.size(); ++j)
+        s[j] = std::exp(y[0] + y[1] * (f[j] - f_mid) / f_span);
+      return s;
+    };
+    const auto resonance = [&](const Params& y, std::size_t r) {
+      std::vector<double> s(f.size(), 0.0);
+      add_resonance_psd(l.unit(y, r), rate_hz, std::exp(y[l.at[r] + 2]), trig, s);
+      return s;
+    };
+    std::vector<std::vector<double>> part{background(x)};
+    for (std::size_t r = 0; r < l.count(); ++r)
+      part.push_back(resonance(x, r));
+    const auto column = [&](std::size_t a, std::size_t which, const std::vector<double>& lo,
+                            const std::vector<double>& hi) {
+      for (std::size_t j = 0; j < f.size(); ++j) {
+        double rest = 0.0;
+        for (std::size_t q = 0; q < part.size(); ++q)
+          if (q != which) rest += part[q][j];
+        jac(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(a)) =
+            (std::log(rest + hi[j]) - std::log(rest + lo[j])) / 2e-6;
+      }
+    };
     for (std::size_t a = 0; a < x.size(); ++a) {
       Params lo = x, hi = x;
       lo[a] -= 1e-6;
       hi[a] += 1e-6;
-      const std::vector<double> sl = ln_spectrum(l, lo), sh = ln_spectrum(l, hi);
-      for (std::size_t j = 0; j < f.size(); ++j)
-        jac(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(a)) = (sh[j] - sl[j]) / 2e-6;
+      std::size_t which = 0;  // the background's parameters come first
+      for (std::size_t r = 0; r < l.count(); ++r)
+        if (a >= l.at[r]) which = r + 1;
+      if (which == 0)
+        column(a, 0, background(lo), background(hi));
+      else
+        column(a, which, resonance(lo, which - 1), resonance(hi, which - 1));
     }
     return jac;
   }

@@ -176,6 +176,10 @@ double golden_min(const std::function<double(double)>& f, double a, double c);
 Fit search_tau_c(std::vector<Component> comps, std::size_t idx, const Curve& cv, const Bases& b);
 std::vector<double> markov_curve(double sigma, double tau_c_s, const Curve& cv, const Lowpass& lp,
                                  double rate_hz);
+/// The unit curve (coefficient 1) of a Markov or resonance component at the curve's taus under
+/// b's filter: markov_curve or resonance_curve, computed once a thread for the same inputs
+/// (curve_cache.cpp).
+std::vector<double> shaped_curve(const Component& c, const Curve& cv, const Bases& b);
 CandidateFit hump_candidate(std::vector<Component> comps, const Curve& cv, const Bases& b);
 /// The filter of the lowpass component comps[idx] searched (both forms, a grid then refined),
 /// the free coefficients fitted at each trial; `b` unfiltered.
@@ -256,7 +260,7 @@ double effective_taus(const Curve& cv, const Eigen::MatrixXd& corr);
 /// OavarCovariance, kernels/model/fit.hpp); empty when that fit has no terms.
 Eigen::MatrixXd tau_correlation(const Curve& cv);
 // Each bin's background median for the line search (NaN where it has none).
-std::vector<double> line_backgrounds(const PsdResult& psd);
+std::vector<double> line_backgrounds(const PsdResult& psd, int threads = 1);
 // The line search of find_spectral_line over the bins from f_lo_hz to f_hi_hz (all by default),
 // against the backgrounds line_backgrounds(psd) gives.
 SpectralLine search_line(const PsdResult& psd, std::span<const double> medians, double n_seconds,

@@ -9,6 +9,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace allanlot::kernels::diagnose_detail {
@@ -34,6 +35,11 @@ struct Search {
   bool witnessed_only = false;  // the verdict's round (verdict_round): witnessed effects alone
   std::string last_criteria;    // the criteria of a verdict's round that named nothing
   Eigen::MatrixXd tau_corr;     // tau_correlation(cv): the correlation of the curve's estimates
+  // The change-point test's result for the record with the steps named so far (find_step, a
+  // scan of every window at every scale): rounds that name no step ask it again unchanged.
+  std::optional<std::pair<std::vector<Step>, StepWitness>> last_jump;
+
+  StepWitness jump_witness(const std::vector<Step>& steps);
 
   SpectralLine focused_line(const Fit& ref, const std::vector<double>& known_f,
                             const std::vector<double>& known_wide,

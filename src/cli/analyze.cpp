@@ -160,6 +160,26 @@ io::RecordingResult recording_header(const std::string& file, const io::Recordin
   return rec;
 }
 
+// The poor fits left by the channels' workers (ChannelOptions::defer_model), modelled side by
+// side, one thread each, while at least as many remain as there are threads, then one at a time
+// with every thread. A model's serial parts (the final refit, the fit on the drawn curve, the
+// periodogram's backgrounds, the largest candidate of a round) leave a core idle when one model
+// has both; two models side by side keep both busy. No model depends on its thread count
+// (ChannelModel.ModelDoesNotDependOnTheThreadCount), so the order changes no number.
+void model_poor_fits(std::vector<pipeline::ChannelAnalysis>& done,
+                     const pipeline::ChannelOptions& copt, int threads) {
+  std::vector<pipeline::ChannelAnalysis*> todo;
+  for (pipeline::ChannelAnalysis& c : done)
+    if (c.deferred) todo.push_back(&c);
+  const auto t = static_cast<std::size_t>(std::max(threads, 1));
+  const auto side = static_cast<std::int64_t>(todo.size() - todo.size() % t);
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
+  for (std::int64_t k = 0; k < side; ++k)
+    pipeline::model_deferred(*todo[static_cast<std::size_t>(k)], copt, 1);
+  for (auto k = static_cast<std::size_t>(side); k < todo.size(); ++k)
+    pipeline::model_deferred(*todo[k], copt, threads);
+}
+
 // Analyses one recording. Throws io::Error when the input as a whole cannot be analysed
 // (unreadable, no channel, every channel failed); channel failures inside a readable file are
 // recorded in the channel's status and reported on `err`. At most
@@ -224,8 +244,8 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
              : 1;
   const int kernel_threads = std::max(1, threads / workers);
   pipeline::ChannelOptions copt = channel_options(opt, kernel_threads);
-  // Poor fits are modelled after the channels, one at a time with every thread, when every
-  // channel's phase fits the memory limit at once (each deferred model keeps its channel's).
+  // Poor fits are modelled after the channels (model_poor_fits), when every channel's phase fits
+  // the memory limit at once (each deferred model keeps its channel's).
   copt.defer_model = workers > 1 && slots >= n_selected;
   std::vector<pipeline::ChannelAnalysis> done(n_selected);
   std::vector<std::optional<std::uint64_t>> digest(n_selected);  // of the channels read
@@ -249,8 +269,7 @@ io::RecordingResult analyze_recording(const std::string& file, const AnalyzeOpti
     digest[i] = io::channel_digest(selected[i]->path, samples);
     done[i] = pipeline::analyze_channel(*selected[i], std::move(samples), copt);
   }
-  for (pipeline::ChannelAnalysis& c : done)
-    pipeline::model_deferred(c, copt, threads);
+  model_poor_fits(done, copt, threads);
   times.analysis_wall += seconds_since(t_analysis);
   for (const pipeline::ChannelAnalysis& c : done) {
     times.kernels += c.times.kernels;
