@@ -20,7 +20,8 @@ constexpr std::size_t kEditRows = 40;
 
 std::string drift_part(const std::string& id, const io::DriftRecord& d) {
   std::ostringstream h;
-  h << "<div><h4>Drift removed (" << escape(d.model) << ", fitted to the " << escape(d.fitted_to)
+  h << "<div class=\"fig\"><h4>Drift removed (" << escape(d.model) << ", fitted to the "
+    << escape(d.fitted_to)
     << ")</h4>\n<table><tr><th>parameter</th><th>value</th><th>sigma</th><th>unit</th></tr>\n";
   for (std::size_t i = 0; i < d.parameter.size() && i < d.value.size(); ++i)
     h << "<tr><td>" << escape(d.parameter[i]) << "</td><td>" << number(d.value[i], 6) << "</td><td>"
@@ -155,7 +156,7 @@ std::string dynamic_part(const std::string& id, const io::DynamicRecord& d) {
         "start");
   label(672, top + height, "\xC3\x97" + number(std::pow(10.0, -span), 3), "start");
   s << "</svg>\n";
-  return "<div><h4>Dynamic Allan deviation</h4>\n" + s.str() + "</div>\n";
+  return "<div class=\"fig\"><h4>Dynamic Allan deviation</h4>\n" + s.str() + "</div>\n";
 }
 
 }  // namespace

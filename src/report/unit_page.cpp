@@ -45,6 +45,7 @@ td.words{white-space:normal;min-width:7em}td.verdict{white-space:normal;text-ali
 svg.plot{width:100%;height:auto;display:block;border:1px solid #e4e4e4;box-sizing:border-box}
 .dists{display:grid;grid-template-columns:repeat(auto-fill,minmax(420px,1fr));gap:10px}
 .tables{display:flex;flex-wrap:wrap;gap:0 28px;align-items:flex-start}.tables>*{max-width:100%}
+.tables>.fig{flex:1 1 560px;max-width:780px}
 details.devtables>summary{cursor:pointer;margin:4px 0}table.dev caption{font-weight:bold;text-align:left}
 nav.units a{display:inline-block;margin:0 10px 2px 0}
 .legend-key span{display:inline-block;padding:0 8px;margin-right:6px;border:1px solid #ccc}
@@ -303,8 +304,8 @@ std::string channel_section(const Unit& u, const io::ChannelResult& ch, const Ex
         << readout_table(*ch.fit) << "</div></div>\n";
     if (ch.powerlaw)
       h << "<div class=\"tables\"><div><h4>Power-law noise levels</h4>\n"
-        << powerlaw_table_html(ch) << "</div><div>" << powerlaw_residual_plot(id + "-res", ch)
-        << "</div></div>\n";
+        << powerlaw_table_html(ch) << "</div><div class=\"fig\">"
+        << powerlaw_residual_plot(id + "-res", ch) << "</div></div>\n";
     h << deviation_tables(id, ch);
     h << editing_section(id, ch);
   }
