@@ -167,9 +167,26 @@ def same_unit(axis, table):
     return axis == table or (axis == "dimensionless" and table == "1")
 
 
-def check_channel(c, fit, fail):
+def check_clock_model(c, a, t, fail):
+    """A clock's section: the power-law model and each detected level's asymptote on the Allan
+    panel, the levels' table, and the axes in the clock's own units (docs/clocks.md)."""
+    if "power-law model" not in a["visible"]:
+        fail("%s: the Allan panel has no power-law model" % c["id"])
+    for level in c["detected"]:
+        if not any(e.startswith(level + ": slope") for e in a["visible"]):
+            fail("%s: no asymptote of the detected level %s" % (c["id"], level))
+    if not c["has_coef"]:
+        fail("%s: no table of the power-law levels" % c["id"])
+    if a["yunit"] != "dimensionless":
+        fail("%s: the Allan axis is in %r, not fractional frequency" % (c["id"], a["yunit"]))
+    if t and t["yunit"] != "s":
+        fail("%s: the TDEV axis is in %r, not s" % (c["id"], t["yunit"]))
+
+
+def check_channel(c, fit, fail, clock=False):
     """One channel section: the Allan panel (OADEV, the fit and its terms, tick boxes), the
-    TDEV panel, both in the table's units, labels off the curves, the deviation tables."""
+    TDEV panel, both in the table's units, labels off the curves, the deviation tables; for a
+    clock the power-law model in place of the fit."""
     a, t = c["adev"], c["tdev"]
     if not a:
         fail("%s: no Allan deviation panel" % c["id"])
@@ -178,7 +195,9 @@ def check_channel(c, fit, fail):
     if stats != [DEFAULT_STAT]:
         fail("%s: the Allan panel shows %s by default, expected only %s"
              % (c["id"], stats, DEFAULT_STAT))
-    if fit:
+    if clock:
+        check_clock_model(c, a, t, fail)
+    elif fit:
         # A poor fit's curve is its model's, labelled "model: eq. (3) + ..." (fit-and-psd.md).
         if not any(e == "eq. (3) fit" or e.startswith("model: eq. (3)") for e in a["visible"]):
             fail("%s: the Allan panel has no eq. (3) fit or model" % c["id"])
@@ -199,7 +218,7 @@ def check_channel(c, fit, fail):
     if not t:
         fail("%s: no TDEV panel" % c["id"])
     # The plots' units are the table's: B's for a deviation of the rate, Q's for a time error.
-    if fit or c["has_coef"]:
+    if not clock and (fit or c["has_coef"]):
         if not same_unit(a["yunit"], c["coef_units"].get("B")):
             fail("%s: the Allan axis is in %r, the table's B in %r"
                  % (c["id"], a["yunit"], c["coef_units"].get("B")))
@@ -218,7 +237,8 @@ def check_channel(c, fit, fail):
                                                               sorted(STATS)))
 
 
-def check_page(m, label, fail, fit=True, channels=None, dists=None, tables=None, verdicts=False):
+def check_page(m, label, fail, fit=True, channels=None, dists=None, tables=None, verdicts=False,
+               clock=False):
     """The checks every page gets, and the per-channel and lot ones asked for."""
     where = "%s at %d px" % (label, m["width"])
     f = lambda msg: fail("%s: %s" % (where, msg))
@@ -246,7 +266,7 @@ def check_page(m, label, fail, fit=True, channels=None, dists=None, tables=None,
         if len(m["channels"]) != channels:
             f("%d channel sections, expected %d" % (len(m["channels"]), channels))
         for c in m["channels"]:
-            check_channel(c, fit, f)
+            check_channel(c, fit, f, clock)
     if dists is not None:
         got = sorted(d["title"] for d in m["dists"])
         if len(got) != len(dists) or any(not g.startswith(e) for g, e in zip(got, sorted(dists))):
@@ -354,8 +374,8 @@ def main():
         check_page(measure(chromium, profile, unit_page, width), "unit page", fail,
                    channels=len(CHANNELS))
         check_page(measure(chromium, profile, clock_page, width), "clock lot", fail,
-                   channels=2, dists=["/data (1, rate", "/data (s, phase"],
-                   tables=["/data (1, rate", "/data (s, phase"])
+                   channels=2, dists=[], tables=["/data (1, rate", "/data (s, phase"],
+                   clock=True)
         check_page(measure(chromium, profile, nofit_page, width), "--no-fit --no-psd lot", fail,
                    fit=False, channels=UNITS * len(CHANNELS), dists=[],
                    tables=["/imu/accel_x", "/imu/gyro_x"])

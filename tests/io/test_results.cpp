@@ -170,13 +170,15 @@ TEST(Results, LotSummaryRoundTripAndCsv) {
                       "readout_K_tau,readouts_valid,quality,n_missing,n_gap_runs,n_time_errors,"
                       "n_saturated,longest_run,n_stuck,n_spikes,max_spike_sigmas,"
                       "unit_spec_status,unit_spec_detail,lowpass,lowpass_cutoff_hz,lowpass_taps,"
-                      "first_tau_fitted,chi2_dof_all_taus\n",
+                      "first_tau_fitted,chi2_dof_all_taus,h2,h2_sigma,h2_upper,h2_detected,h1,"
+                      "h1_sigma,h1_upper,h1_detected,h0,h0_sigma,h0_upper,h0_detected,hm1,"
+                      "hm1_sigma,hm1_upper,hm1_detected,hm2,hm2_sigma,hm2_upper,hm2_detected\n",
                       0),
             0u);
   EXPECT_NE(csv.find("SN 1,/imu/gyro_x,deg/s,5400000,ok,/data/sn1.h5,,,,,,,,,,,,,18,0.036,deg/h/"
                      "sqrt(Hz),1,0,1.7,urad,0,0.97,ok,,,0,4.5,,,,18.4,3.5,,,0,,,,,,,18,0.14,"
                      "deg/h/sqrt(Hz),0.3,0.0024,deg/sqrt(h),,,,,,,,,N,,,,,,,,,,,,auto,29.2,,0.9,"
-                     "365.7\n"),
+                     "365.7,,,,,,,,,,,,,,,,,,,,\n"),
             std::string::npos)
       << csv;
   EXPECT_NE(csv.find("\"failed: not an HDF5 file, \"\"really\"\"\""), std::string::npos);
