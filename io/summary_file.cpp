@@ -352,8 +352,11 @@ std::vector<schema::TableColumn> table_of(const std::vector<Row>& rows,
         } else if constexpr (std::is_same_v<V, ChannelStatus>) {
           col.text.push_back(to_string(v));
         } else {
+          // A cell the CSV leaves empty (a flag without its value, a count not screened) is
+          // NaN, so that the table reads as the CSV does (docs/python.md).
+          const bool empty = c.column->csv && c.column->csv(r, c.term).empty();
           col.numeric = true;
-          col.numbers.push_back(static_cast<double>(v));
+          col.numbers.push_back(empty ? std::nan("") : static_cast<double>(v));
         }
       });
     out.push_back(std::move(col));
