@@ -235,7 +235,9 @@ void parse_clock_keys(const Json& j, Channel& ch, const std::string& source,
   if (j.contains("powerlaw")) {
     const std::string pp = join(path, "powerlaw");
     const Json& levels = object(j["powerlaw"], source, pp);
-    for (const auto& [key, value] : levels.items()) {
+    for (const auto& item : levels.items()) {
+      const std::string& key = item.key();
+      const Json& value = item.value();
       const auto& keys = kernels::powerlaw::kLevelKeys;
       const auto it =
           std::find_if(keys.begin(), keys.end(), [&](const char* k) { return key == k; });
