@@ -1,6 +1,7 @@
 #include "src/cli/plan.hpp"
 
 #include "src/lot/spec.hpp"
+#include "src/workflow/status.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -51,13 +52,8 @@ int run_plan(const PlanOptions& opt, std::ostream& out, std::ostream& err) {
   workflow::Plan p;
   try {
     p = workflow::plan_recording(opt);
-  } catch (const spec::Error& e) {
-    for (const std::string& msg : e.messages())
-      err << "allanlot: error: " << msg << "\n";
-    return kExitUsage;
-  } catch (const std::exception& e) {
-    err << "allanlot: error: " << e.what() << "\n";
-    return kExitUsage;
+  } catch (const std::exception&) {
+    return workflow::print_usage_error(std::current_exception(), err);
   }
   if (opt.json)
     out << workflow::plan_json(p).dump(2) << "\n";

@@ -3,6 +3,8 @@
 // them from main; the Python module turns a usage error into ValueError.
 #pragma once
 
+#include <exception>
+#include <ostream>
 #include <stdexcept>
 
 namespace allanlot::workflow {
@@ -16,5 +18,9 @@ enum ExitStatus : int { kExitOk = 0, kExitSomeFailed = 1, kExitUsage = 2 };
 struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+
+/// Prints the exception `e` that stopped a command before any work (a spec's every message, or
+/// one what()) as "allanlot: error: ..." lines on `err`, and returns kExitUsage.
+int print_usage_error(const std::exception_ptr& e, std::ostream& err);
 
 }  // namespace allanlot::workflow

@@ -155,13 +155,8 @@ int run_watch(const WatchOptions& opt, std::ostream& out, std::ostream& err) {
   try {
     s = spec::load_spec(opt.spec_path);
     input = checked_input_options(opt.input);
-  } catch (const spec::Error& e) {
-    for (const std::string& msg : e.messages())
-      err << "allanlot: error: " << msg << "\n";
-    return kExitUsage;
-  } catch (const std::exception& e) {
-    err << "allanlot: error: " << e.what() << "\n";
-    return kExitUsage;
+  } catch (const std::exception&) {
+    return print_usage_error(std::current_exception(), err);
   }
   const double alpha = 1.0 - (opt.confidence > 0.0 ? opt.confidence : s.confidence);
   const int threads = kernels::resolve_threads(opt.threads);
