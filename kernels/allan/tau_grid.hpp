@@ -33,7 +33,7 @@ struct TauGridSpec {
 /// floor(215 / log10(N - 1)) gave 49 there (256 taus, diverging at m = 50): K changes with the
 /// whole number of decades of N, not with log10(N). Stable32's overlapping runs on
 /// pink_frequency use K = 42 instead, a choice no rule of N alone reproduces together with the
-/// others (see tests/kernels/test_tau_stable32.cpp); select it with "stable32:42".
+/// others (see tests/kernels/test_tau_grid_stable32.cpp); select it with "stable32:42".
 std::int64_t stable32_step_constant(std::int64_t n_points);
 
 /// Parses "octave", "decade", "all", "stable32", "stable32:K" (1 <= K <= 10^9), "log:K"

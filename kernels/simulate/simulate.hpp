@@ -100,7 +100,7 @@ struct ChannelSpec {
   // to the rate with the phase before the record zero; its Allan variance is SP1065's
   // [1.038 + 3 ln(2 pi f_h tau)] h_1 / (4 pi^2 tau^2) (kernels/powerlaw/theory.hpp), which
   // model_avar uses, within 10 % from m = 4 on (17 % above it at m = 1: the discrete
-  // sequence's power near Nyquist; tests/kernels/test_powerlaw.cpp).
+  // sequence's power near Nyquist; tests/kernels/test_powerlaw_fit.cpp).
   double flicker_pm = 0;
   friend bool operator==(const ChannelSpec&, const ChannelSpec&) = default;
 };

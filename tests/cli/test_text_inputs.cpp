@@ -55,7 +55,7 @@ const kernels::StatResult& stat(const io::ChannelResult& c, const std::string& n
   throw std::runtime_error("no statistic " + name);
 }
 
-// Stable32 prints 5 significant digits (as tests/kernels/test_oadev.cpp).
+// Stable32 prints 5 significant digits (as tests/kernels/test_allan_oadev.cpp).
 constexpr double kStable32Rel = 1e-4;
 
 TEST(TextInputs, PhaseDatPlainAndGzippedMatchStable32) {

@@ -161,7 +161,7 @@ TEST(AllanFamilyStable32, PhaseDatOctave) {
 TEST(AllanFamilyStable32, PinkFrequencyAllTau) {
   const auto p = pink();
   // The overlapping and total runs used step constant 42 and stopped at tau <= 1e5 s
-  // (m <= 2380): settings of those runs, see tests/kernels/test_tau_stable32.cpp.
+  // (m <= 2380): settings of those runs, see tests/kernels/test_tau_grid_stable32.cpp.
   const std::int64_t run_stop = 100000 / 42;
   for (const Stable32Case& c : {
            Stable32Case{"stable32/pink_frequency/adev.txt", Stat::Adev, "stable32", 0},
