@@ -1,9 +1,10 @@
 // libFuzzer target: manifest expansion and the --channels matcher and selection
-// (src/cli/inputs.cpp). The input is written as a manifest file, whose lines name paths relative to
-// it (some exist: the manifest itself, its directory); expansion must never throw, list a path
-// twice, list more paths than the manifest has lines that are neither blank nor comments, or pass
-// over an empty manifest in silence. The same bytes, split in two, are a glob and a channel path.
-#include "src/cli/inputs.hpp"
+// (src/workflow/inputs.cpp). The input is written as a manifest file, whose lines name paths
+// relative to it (some exist: the manifest itself, its directory); expansion must never throw, list
+// a path twice, list more paths than the manifest has lines that are neither blank nor comments, or
+// pass over an empty manifest in silence. The same bytes, split in two, are a glob and a channel
+// path.
+#include "src/workflow/inputs.hpp"
 
 #include <algorithm>
 #include <cstddef>
@@ -37,7 +38,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string text(reinterpret_cast<const char*>(data), size);
   const auto manifest = workdir() / "m.txt";
   std::ofstream(manifest, std::ios::binary | std::ios::trunc) << text;
-  const cli::InputList list = cli::expand_inputs({"@" + manifest.string()});
+  const workflow::InputList list = workflow::expand_inputs({"@" + manifest.string()});
   // The lines that name a recording: not blank, not a comment after trimming.
   std::size_t listed = 0;
   for (std::size_t b = 0; b <= text.size();) {
@@ -55,12 +56,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const auto cut = text.find('\n');
   const std::string glob = text.substr(0, cut);
   const std::string path = cut == std::string::npos ? std::string() : text.substr(cut + 1);
-  (void)cli::channel_matches(glob, path);
+  (void)workflow::channel_matches(glob, path);
   // The same line as a --channels list: what it selects is what its own text selects again
   // (the resume stamp stands for the selection).
   try {
-    const cli::ChannelSelection sel({glob}, {});
-    const cli::ChannelSelection again({sel.text()}, {});
+    const workflow::ChannelSelection sel({glob}, {});
+    const workflow::ChannelSelection again({sel.text()}, {});
     if (sel.selects(path) != again.selects(path) || again.text() != sel.text()) std::abort();
   } catch (const std::invalid_argument&) {
     // A '!' without a glob: a usage error.

@@ -39,7 +39,7 @@ struct InputOptions {
   /// Bytes a text recording's parsed samples (and its longest line) may hold, so that a gzip
   /// bomb or an endless line ends with an error naming the file and the limit instead of
   /// exhausting memory; 0 = no bound. The commands set --memory-limit, or their default (half
-  /// of the machine's memory, src/cli/memory.hpp).
+  /// of the machine's memory, src/workflow/memory.hpp).
   std::uint64_t memory_limit = 0;
   /// --topic GLOB, repeatable: the sensor_msgs/Imu topics of a ROS bag or MCAP file to read
   /// (docs/robotics.md); empty reads every Imu topic.

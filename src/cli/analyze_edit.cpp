@@ -1,7 +1,6 @@
 #include "src/cli/analyze_edit.hpp"
 
 #include <cmath>
-#include <cstdio>
 #include <stdexcept>
 
 namespace allanlot::cli {
@@ -49,12 +48,6 @@ double parse_outliers(const std::string& text) {
                                                "mad:K (K > 0 robust sigmas)");
 }
 
-std::string number(double v) {
-  char s[32];
-  std::snprintf(s, sizeof s, "%.17g", v);
-  return s;
-}
-
 }  // namespace
 
 void add_edit_options(CLI::App* sub, EditArgs& a) {
@@ -92,19 +85,6 @@ pipeline::EditOptions checked_edit_options(const EditArgs& a) {
     }
   }
   return opt;
-}
-
-std::string edit_stamp(const pipeline::EditOptions& opt) {
-  std::string s;
-  if (opt.drift != kernels::DriftModel::None)
-    s += ";drift=" + std::string(kernels::to_string(opt.drift));
-  if (opt.outlier_sigmas > 0) s += ";outliers=" + number(opt.outlier_sigmas);
-  for (const kernels::TimeRange& r : opt.exclude)
-    s += ";exclude=" + number(r.t0_s) + ":" + number(r.t1_s);
-  if (opt.dynamic.enabled())
-    s += ";dynamic=" + number(opt.dynamic.window) + ":" + number(opt.dynamic.step) +
-         (opt.dynamic.in_seconds ? "s" : "");
-  return s;
 }
 
 }  // namespace allanlot::cli

@@ -1,6 +1,6 @@
 // The data-editing options of `analyze` (docs/cli.md "Command: analyze", docs/editing.md):
-// --drift, --outliers, --exclude and --dynamic, as given and as checked, and their part of the
-// resume stamp.
+// --drift, --outliers, --exclude and --dynamic, as given and as checked (their part of the resume
+// stamp: src/workflow/analyze_stamp.hpp).
 #pragma once
 
 #include "src/pipeline/channel_edits.hpp"
@@ -25,8 +25,5 @@ void add_edit_options(CLI::App* sub, EditArgs& args);
 
 /// The options checked; throws CLI::ValidationError (a usage error) naming the option.
 pipeline::EditOptions checked_edit_options(const EditArgs& args);
-
-/// The options in the resume stamp, "" when none is given (a default run's stamp is unchanged).
-std::string edit_stamp(const pipeline::EditOptions& opt);
 
 }  // namespace allanlot::cli

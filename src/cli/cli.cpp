@@ -7,11 +7,12 @@
 #include "src/cli/export.hpp"
 #include "src/cli/hat.hpp"
 #include "src/cli/plan.hpp"
-#include "src/cli/progress.hpp"
 #include "src/cli/report.hpp"
 #include "src/cli/simulate.hpp"
 #include "src/cli/summarize.hpp"
 #include "src/cli/watch.hpp"
+#include "src/workflow/input_args.hpp"
+#include "src/workflow/notes.hpp"
 
 #include <allanlot/version.hpp>
 
@@ -25,7 +26,6 @@
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
-#include <ctime>
 #include <iostream>
 #include <string_view>
 #include <thread>
@@ -62,6 +62,12 @@ void cap_omp_threads(std::ostream& err) {
 #endif
 }
 
+int usage_error(const char* what) {
+  std::cerr << "allanlot: usage error: " << what << "\n"
+            << "Run 'allanlot --help' or 'allanlot <command> --help'.\n";
+  return kExitUsage;
+}
+
 }  // namespace
 
 int run(int argc, char** argv) {
@@ -70,7 +76,7 @@ int run(int argc, char** argv) {
   const bool quiet = std::any_of(argv + 1, argv + argc, [](const char* a) {
     return std::string_view(a) == "-q" || std::string_view(a) == "--quiet";
   });
-  cap_omp_threads(notes_stream(quiet, std::cerr));
+  cap_omp_threads(workflow::notes_stream(quiet, std::cerr));
   CLI::App app{"allanlot: Allan-family noise characterization of sensor production lots"};
   app.set_version_flag("--version", std::string("allanlot ") + kVersion + " (" + kGitSha + ")");
   app.require_subcommand(1);
@@ -97,9 +103,11 @@ int run(int argc, char** argv) {
     return kExitOk;
   } catch (const CLI::ParseError& e) {
     // CLI11's own exit codes differ per error; docs/cli.md says 2 for every usage error.
-    std::cerr << "allanlot: usage error: " << e.what() << "\n"
-              << "Run 'allanlot --help' or 'allanlot <command> --help'.\n";
-    return kExitUsage;
+    return usage_error(e.what());
+  } catch (const workflow::OptionError& e) {
+    // An argument that a workflow found wrong once it looked at it (an INPUT that is a list
+    // of files, not data) is a usage error as CLI11's are.
+    return usage_error(e.what());
   } catch (const std::exception& e) {
     std::cerr << "allanlot: error: " << e.what() << "\n";
     return kExitUsage;
@@ -128,15 +136,6 @@ CLI::Validator seed_number() {
         return fits ? "" : "not a whole number from 0 to 18446744073709551615: " + text;
       },
       "UINT64");
-}
-
-std::string utc_now() {
-  const std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
 }
 
 }  // namespace allanlot::cli

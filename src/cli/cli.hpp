@@ -38,7 +38,4 @@ inline constexpr int kMaxThreads = kernels::kMaxThreads;
 CLI::Validator finite_number();
 CLI::Validator seed_number();
 
-/// Now, as results files record their creation: ISO 8601 UTC, e.g. "2026-11-24T10:46:04Z".
-std::string utc_now();
-
 }  // namespace allanlot::cli

@@ -6,7 +6,7 @@
 #include "io/text_recording.hpp"
 #include "src/cli/input_options.hpp"
 #include "src/cli/inputs.hpp"
-#include "src/cli/progress.hpp"
+#include "src/workflow/notes.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -101,7 +101,7 @@ int run_convert(const ConvertArgs& a, const io::InputOptions& options) {
   for (const std::string& file : inputs.files) {
     try {
       const fs::path out = convert_one(file, options, outdir, paths, written, std::cerr,
-                                       notes_stream(a.quiet, std::cerr), left_out);
+                                       workflow::notes_stream(a.quiet, std::cerr), left_out);
       ++n_ok;
       if (!a.quiet) std::cout << file << " -> " << out.string() << "\n";
     } catch (const io::Error& e) {

@@ -1,12 +1,7 @@
 #include "src/cli/input_options.hpp"
 
-#include "io/error.hpp"
-#include "io/recording.hpp"
 #include "io/usage_error.hpp"
-#include "kernels/model/units.hpp"
 #include "src/cli/cli.hpp"
-
-#include <sstream>
 
 namespace allanlot::cli {
 
@@ -74,14 +69,10 @@ ChannelSelection channel_selection(const std::vector<std::string>& include,
 }
 
 void check_inputs_need(const std::vector<std::string>& files, const io::InputOptions& options) {
-  for (const std::string& f : files) {
-    try {
-      io::check_input_options(f, options);
-    } catch (const io::UsageError& e) {
-      throw CLI::ValidationError(e.what());
-    } catch (const io::Error&) {
-      // Any other problem of the file is its own failure, reported when it is read.
-    }
+  try {
+    workflow::check_inputs_need(files, options);
+  } catch (const io::UsageError& e) {
+    throw CLI::ValidationError(e.what());
   }
 }
 

@@ -6,11 +6,11 @@
 #include "kernels/allan/stats.hpp"
 #include "kernels/common/parallel.hpp"
 #include "src/cli/cli.hpp"
+#include "src/workflow/provenance.hpp"
 
 #include <allanlot/version.hpp>
 
 #include <cmath>
-#include <ctime>
 #include <ostream>
 
 namespace allanlot::cli {
@@ -166,8 +166,8 @@ io::RecordingResult paired_root(const PairedOptions& opt, const std::vector<Pair
     rec.source_file += sep + std::filesystem::absolute(r.file).string();
     channels += sep + r.file + ":" + r.channel.path;
   }
-  rec.tool_version = std::string(kVersion) + " (" + kGitSha + ")";
-  rec.created_utc = utc_now();
+  rec.tool_version = workflow::tool_version();
+  rec.created_utc = workflow::utc_now();
   rec.command_line = opt.command_line;
   rec.attributes = {{"statistic", statistic},
                     {"taus", kernels::to_string(opt.grid)},

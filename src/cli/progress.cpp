@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cstdio>
 #include <ostream>
-#include <streambuf>
 #include <unistd.h>
 
 namespace allanlot::cli {
@@ -16,22 +15,7 @@ std::string hms(double s) {
   return buf;
 }
 
-// A stream buffer that takes every character and keeps none.
-class Discard : public std::streambuf {
-protected:
-  int overflow(int c) override { return traits_type::not_eof(c); }
-  std::streamsize xsputn(const char*, std::streamsize n) override { return n; }
-};
-
 }  // namespace
-
-std::ostream& notes_stream(bool quiet, std::ostream& err) {
-  if (!quiet) return err;
-  // One per thread: a stream's state (its width, reset by every <<) is not shared.
-  thread_local Discard buffer;
-  thread_local std::ostream discard(&buffer);
-  return discard;
-}
 
 Progress::Progress(bool enabled, std::size_t total, std::ostream& err)
     : enabled_(enabled && total > 1 && isatty(2) == 1), total_(total), err_(err),

@@ -1,5 +1,4 @@
-// The progress line of `analyze` (docs/lots-and-slurm.md "Progress"), and where notes and
-// warnings go under -q (docs/cli.md "Exit statuses and messages").
+// The progress line of `analyze` (docs/lots-and-slurm.md "Progress").
 #pragma once
 
 #include <chrono>
@@ -8,10 +7,6 @@
 #include <string>
 
 namespace allanlot::cli {
-
-/// The stream for notes and warnings: `err`, or one that discards them under -q/--quiet, which
-/// prints errors only. Errors are always written to `err` itself.
-std::ostream& notes_stream(bool quiet, std::ostream& err);
 
 /// On a terminal only (stderr a terminal): one line rewritten in place after every recording,
 /// erased before anything else is printed, so that it never runs into a coefficient table or a

@@ -2,7 +2,8 @@
 // samples, every requested Allan-family statistic with its confidence intervals, the eq. (3)
 // fit of the overlapping Allan curve, the Welch PSD with its own fit and the eq. (2)
 // cross-check. What the results file's channel group holds, computed from the samples alone:
-// no file, no thread across channels, no printing (the driver, src/cli/analyze.cpp, owns those).
+// no file, no thread across channels, no printing (src/workflow/analyze_recording.cpp owns
+// those).
 #pragma once
 
 #include "src/pipeline/channel_edits.hpp"

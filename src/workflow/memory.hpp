@@ -1,5 +1,6 @@
-// Memory of an analyze run: the limit's text (--memory-limit), the machine's memory, the
-// process's peak, and the reuse of the channels' arrays from one channel to the next.
+// Memory of an analyze run: the limit's text (--memory-limit, a share of the machine's memory of
+// src/workflow/input_args.hpp), the process's peak, and the reuse of the channels' arrays from
+// one channel to the next.
 #pragma once
 
 #include "kernels/common/large_vector.hpp"
@@ -8,14 +9,11 @@
 #include <cstdint>
 #include <string>
 
-namespace allanlot::cli {
+namespace allanlot::workflow {
 
 /// Parses a memory size: "512M", "8G", "1.5GiB", "2000000000", or "40%" of the machine's RAM.
 /// Throws std::invalid_argument naming the text.
 std::uint64_t parse_memory_size(const std::string& text);
-
-/// This machine's physical memory (src/workflow/input_args.hpp).
-using workflow::physical_memory;
 
 /// Peak resident memory of this process so far, in bytes.
 std::uint64_t peak_rss_bytes();
@@ -35,4 +33,4 @@ private:
   kernels::HugeBlockPool::Scope blocks_;
 };
 
-}  // namespace allanlot::cli
+}  // namespace allanlot::workflow

@@ -1,11 +1,11 @@
-#include "src/cli/resume.hpp"
+#include "src/workflow/resume.hpp"
 
 #include "io/recording.hpp"
-#include "src/cli/inputs.hpp"
+#include "src/workflow/inputs.hpp"
 
 namespace fs = std::filesystem;
 
-namespace allanlot::cli {
+namespace allanlot::workflow {
 
 std::optional<std::pair<fs::path, std::string>> current_results(const std::string& file,
                                                                 const io::InputStat& st,
@@ -48,4 +48,4 @@ std::string results_of_another_recording(const fs::path& results, const std::str
          "; they are kept (give this recording its own device_id, or remove those results)";
 }
 
-}  // namespace allanlot::cli
+}  // namespace allanlot::workflow

@@ -1,14 +1,20 @@
-#include "src/cli/analyze_stamp.hpp"
+#include "src/workflow/analyze_stamp.hpp"
 
 #include "io/recording.hpp"
-#include "src/cli/analyze_edit.hpp"
 
 #include <allanlot/version.hpp>
 
 #include <cstdio>
 
-namespace allanlot::cli {
+namespace allanlot::workflow {
 namespace {
+
+// A number as the stamp writes it: every digit a double has, so that a stamp names its value.
+std::string number(double v) {
+  char s[32];
+  std::snprintf(s, sizeof s, "%.17g", v);
+  return s;
+}
 
 // The input options that change what is read, only when given: the stamp of a run without
 // them stays that of earlier versions, whose results remain current.
@@ -37,6 +43,19 @@ std::string gaps_stamp(const kernels::GapPolicy& gaps) {
 
 }  // namespace
 
+std::string edit_stamp(const pipeline::EditOptions& opt) {
+  std::string s;
+  if (opt.drift != kernels::DriftModel::None)
+    s += ";drift=" + std::string(kernels::to_string(opt.drift));
+  if (opt.outlier_sigmas > 0) s += ";outliers=" + number(opt.outlier_sigmas);
+  for (const kernels::TimeRange& r : opt.exclude)
+    s += ";exclude=" + number(r.t0_s) + ":" + number(r.t1_s);
+  if (opt.dynamic.enabled())
+    s += ";dynamic=" + number(opt.dynamic.window) + ":" + number(opt.dynamic.step) +
+         (opt.dynamic.in_seconds ? "s" : "");
+  return s;
+}
+
 std::string options_stamp(const AnalyzeOptions& opt) {
   char conf[32];
   std::snprintf(conf, sizeof conf, "%.17g", opt.confidence);
@@ -58,4 +77,4 @@ std::string join_stats(const std::vector<kernels::Stat>& stats) {
   return s;
 }
 
-}  // namespace allanlot::cli
+}  // namespace allanlot::workflow

@@ -5,14 +5,14 @@
 #pragma once
 
 #include "io/fingerprint.hpp"
-#include "src/cli/analyze.hpp"
+#include "src/workflow/analyze.hpp"
 
 #include <filesystem>
 #include <optional>
 #include <string>
 #include <utility>
 
-namespace allanlot::cli {
+namespace allanlot::workflow {
 
 /// The results file of `file` in OUTDIR when it is complete and current (see
 /// io/fingerprint.hpp), with the device id it was found under; nullopt otherwise (absent,
@@ -28,4 +28,4 @@ current_results(const std::string& file, const io::InputStat& st, const std::str
 std::string results_of_another_recording(const std::filesystem::path& results,
                                          const std::string& file, const std::string& input_hash);
 
-}  // namespace allanlot::cli
+}  // namespace allanlot::workflow

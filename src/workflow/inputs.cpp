@@ -1,10 +1,9 @@
-#include "src/cli/inputs.hpp"
+#include "src/workflow/inputs.hpp"
 
 #include "io/paths.hpp"
 #include "io/recording_source.hpp"
 #include "io/text_fields.hpp"
-
-#include <CLI/CLI.hpp>
+#include "io/usage_error.hpp"
 
 #include <sys/stat.h>
 
@@ -20,7 +19,7 @@
 
 namespace fs = std::filesystem;
 
-namespace allanlot::cli {
+namespace allanlot::workflow {
 namespace {
 
 // What a directory search takes for a recording, by the end of its name in any case
@@ -180,10 +179,9 @@ InputList expand_inputs(const std::vector<std::string>& inputs, const fs::path& 
     else if (fs::is_directory(in, ec) && !is_recording_folder(in))
       add_directory(x, in);
     else if (looks_like_manifest(in))
-      throw CLI::ValidationError(in +
-                                 ": every line names an existing file: to read it as a "
-                                 "manifest, give it as @" +
-                                 in + " (or --manifest " + in + ")");
+      throw OptionError(in, "every line names an existing file: to read it as a manifest, give "
+                            "it as @" +
+                                in + " (or --manifest " + in + ")");
     else
       add_file(x, in);
   }
@@ -269,4 +267,16 @@ void note_unmatched(const std::string& file, const ChannelSelection& selection,
           << "' matches no channel of this recording\n";
 }
 
-}  // namespace allanlot::cli
+void check_inputs_need(const std::vector<std::string>& files, const io::InputOptions& options) {
+  for (const std::string& f : files) {
+    try {
+      io::check_input_options(f, options);
+    } catch (const io::UsageError&) {
+      throw;
+    } catch (const io::Error&) {
+      // Any other problem of the file is its own failure, reported when it is read.
+    }
+  }
+}
+
+}  // namespace allanlot::workflow

@@ -1,4 +1,4 @@
-#include "src/cli/memory.hpp"
+#include "src/workflow/memory.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -9,7 +9,7 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
-namespace allanlot::cli {
+namespace allanlot::workflow {
 
 std::uint64_t parse_memory_size(const std::string& text) {
   std::size_t pos = 0;
@@ -54,4 +54,4 @@ MemoryReuse::MemoryReuse(std::uint64_t memory_limit)
   mallopt(M_TRIM_THRESHOLD, 256 << 20);
 }
 
-}  // namespace allanlot::cli
+}  // namespace allanlot::workflow
