@@ -372,8 +372,10 @@ TEST(Eq3Fit, QrAgreesWithCodAndSvd) {
     a.col(j) *= scale(j);
   }
   const Eigen::VectorXd x_cod = scale.cwiseProduct(a.completeOrthogonalDecomposition().solve(b));
+  // Jacobi's SVD: Eigen's BDCSVD hands a matrix of fewer than 16 columns to it anyway, and
+  // instantiating BDCSVD as well doubles this file's compile time under ASan.
   const Eigen::VectorXd x_svd =
-      scale.cwiseProduct(a.bdcSvd(Eigen::ComputeThinU | Eigen::ComputeThinV).solve(b));
+      scale.cwiseProduct(a.jacobiSvd(Eigen::ComputeThinU | Eigen::ComputeThinV).solve(b));
   for (int j = 0; j < kNumTerms; ++j) {
     const double got = r.terms[static_cast<std::size_t>(j)].theta;
     // The fit's own model-weighted solution is a fixed point: the weights come from it.
