@@ -2,6 +2,8 @@
 // measured curve, the uncertainties of their parameters and the candidates of a round.
 #include "kernels/diagnose/internal.hpp"
 
+#include "kernels/common/tasks.hpp"
+
 #include "kernels/model/least_squares.hpp"
 #include "kernels/simulate/rng.hpp"
 #include "kernels/uncertainty/chi2.hpp"
@@ -64,15 +66,25 @@ Fit search_lowpass(std::vector<Component> comps, std::size_t idx, const Curve& c
   const int n_taps = static_cast<int>(std::ceil((t_hi - t_lo) / (std::numbers::ln2 / 8.0))) + 1;
   // Grid point x (0 .. n_grid - 1: cutoffs; n_grid .. n_grid + n_taps - 1: taps; a fraction
   // between points of one form interpolates on the log scale).
-  const auto fit_at = [&](double x) {
+  const auto fit_with = [&](std::vector<Component>& own, double x) {
     Lowpass lp;
     if (x < n_grid)
       lp.cutoff_hz = std::exp(lo + (hi - lo) * x / (n_grid - 1));
     else
       lp.taps = std::exp(t_lo + (t_hi - t_lo) * (x - n_grid) / (n_taps - 1));
-    comps[idx].lp = lp;
-    return fit_components(comps, cv, filtered_bases(b, cv, lp));
+    own[idx].lp = lp;
+    return fit_components(own, cv, filtered_bases(b, cv, lp));
   };
+  const auto fit_at = [&](double x) { return fit_with(comps, x); };
+  // The grid's fits are independent (each on its own copy of the components): made as tasks
+  // (for_each_index) and read in the grid's order below, so the same point wins whatever thread
+  // made each fit. Each is a new filter, so every hump's and resonance's curve under it is
+  // computed afresh: the grid is most of a refit's time.
+  std::vector<Fit> grid(static_cast<std::size_t>(n_grid + n_taps));
+  for_each_index(n_grid + n_taps, 1, [&](std::int64_t g) {
+    std::vector<Component> own = comps;
+    grid[static_cast<std::size_t>(g)] = fit_with(own, static_cast<double>(g));
+  });
   // Each form's best grid point is refined by a golden-section search between its neighbours:
   // the grid's step (9 %) is coarse against what a long record resolves (the ADIS16405's
   // deficit at tau0 has an edf of 10^5), so the forms are compared refined. Compared on the
@@ -87,7 +99,7 @@ Fit search_lowpass(std::vector<Component> comps, std::size_t idx, const Curve& c
     Fit form_best;
     int g_best = first;
     for (int g = first; g <= last; ++g)
-      if (Fit f = fit_at(g); g == first || f.chi2 < form_best.chi2) {
+      if (Fit& f = grid[static_cast<std::size_t>(g)]; g == first || f.chi2 < form_best.chi2) {
         form_best = std::move(f);
         g_best = g;
       }

@@ -1,7 +1,7 @@
 #include "kernels/diagnose/diagnose.hpp"
 
 #include "kernels/allan/stats.hpp"
-#include "kernels/common/parallel.hpp"
+#include "kernels/common/tasks.hpp"
 #include "kernels/diagnose/internal.hpp"
 #include "kernels/diagnose/lot_noise.hpp"
 #include "kernels/diagnose/rounds.hpp"
@@ -358,18 +358,20 @@ CandidateFit Search::candidate(Effect e, const std::vector<Component>& fixed_now
 }
 
 // Every effect's candidate of a round. They are independent fits of the same curve: each is made
-// on one thread, in kAllEffects order whatever the thread count (results do not depend on it).
+// on one thread (a task of analyze's team when there is one: for_each_index), each into its own
+// slot in kAllEffects order, whatever the thread count (results do not depend on it).
 std::vector<CandidateFit> Search::candidates(const std::vector<Component>& fixed_now,
                                              const std::vector<Component>& free_now,
                                              const Witnesses& seen, double chi2_ref,
                                              double chi2_refit, int n_free) const {
   std::vector<CandidateFit> cands(kAllEffects.size());
   ExceptionCollector ec;
-#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
-  for (std::size_t k = 0; k < kAllEffects.size(); ++k)
+  for_each_index(static_cast<std::int64_t>(kAllEffects.size()), threads, [&](std::int64_t i) {
+    const auto k = static_cast<std::size_t>(i);
     ec.run([&] {
       cands[k] = candidate(kAllEffects[k], fixed_now, free_now, seen, chi2_ref, chi2_refit, n_free);
     });
+  });
   ec.rethrow();
   return cands;
 }

@@ -2,6 +2,7 @@
 // the search of its frequency and quality factor on the measured curve, and its candidate.
 #include "kernels/diagnose/internal.hpp"
 
+#include "kernels/common/tasks.hpp"
 #include "kernels/simulate/rng.hpp"
 
 #include <algorithm>
@@ -251,12 +252,25 @@ Fit search_resonance(std::vector<Component> comps, std::size_t idx, const Curve&
   if (grid) {
     const int n_f = static_cast<int>(std::ceil((f_hi - f_lo) / f_step)) + 1;
     std::vector<GridRow> rows(static_cast<std::size_t>(n_f));
-    for (int i = 0; i < n_f; ++i) {
-      GridRow& row = rows[static_cast<std::size_t>(i)];
-      row.ln_f = std::min(f_lo + f_step * i, f_hi);
-      for (int j = 0; q_lo + q_step * (j - 1) < q_top(row.ln_f); ++j) {
-        const double lq = std::min(q_lo + q_step * j, q_top(row.ln_f));
-        const double c = eval(row.ln_f, lq).chi2;
+    // Each frequency's fits over q are independent of the others' (fit_components of a copy of
+    // the components): they are made as tasks (for_each_index, a row each) and read in the grid's
+    // order below, so the best point is the same whatever thread made each fit.
+    std::vector<std::vector<std::pair<double, double>>> fits(rows.size());
+    for_each_index(n_f, 1, [&](std::int64_t i) {
+      const auto row = static_cast<std::size_t>(i);
+      std::vector<Component> own = comps;
+      rows[row].ln_f = std::min(f_lo + f_step * static_cast<double>(i), f_hi);
+      const double ln_f = rows[row].ln_f;
+      for (int j = 0; q_lo + q_step * (j - 1) < q_top(ln_f); ++j) {
+        const double lq = std::min(q_lo + q_step * j, q_top(ln_f));
+        own[idx].nl = std::exp(ln_f);
+        own[idx].q = std::clamp(std::exp(lq), kQLo, kQHi);
+        fits[row].emplace_back(lq, fit_components(own, cv, b).chi2);
+      }
+    });
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      GridRow& row = rows[i];
+      for (const auto& [lq, c] : fits[i]) {
         if (c < row.chi2) std::tie(row.chi2, row.ln_q) = std::tuple(c, lq);
         if (c < best_chi2) {
           best_chi2 = c;

@@ -5,8 +5,8 @@
 
 #include "kernels/allan/phase.hpp"
 #include "kernels/allan/stats.hpp"
-#include "kernels/common/parallel.hpp"
 #include "kernels/common/quantile.hpp"
+#include "kernels/common/tasks.hpp"
 #include "kernels/model/effective_taus.hpp"
 #include "kernels/model/fit.hpp"
 #include "kernels/uncertainty/chi2.hpp"
@@ -72,13 +72,18 @@ McBand monte_carlo(const ChannelSpec& spec, const Curve& cv, const std::vector<d
   ExceptionCollector errors;
   // One simulation plan a thread (simulate_channel's, kept): the flicker filter's spectrum, an
   // FFT of twice the record, is made once a thread rather than once a replica (a sixth of the
-  // replicas' time on 10^6 samples); a plan gives the same samples as a fresh one.
-  std::vector<std::unique_ptr<SimulationPlan>> plans(
-      static_cast<std::size_t>(std::max(threads, 1)));
-  // One replica per iteration, each written by one thread into its own row, with its own
-  // Philox stream (the replica index): the band does not depend on the thread count.
-#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
-  for (int r = 0; r < replicas; ++r) {
+  // replicas' time on 10^6 samples); a plan gives the same samples as a fresh one. The threads
+  // are those of the team that runs the replicas: this call's own, or the enclosing region's
+  // when the replicas are its tasks (for_each_index).
+#ifdef _OPENMP
+  const int team = omp_in_parallel() ? omp_get_num_threads() : threads;
+#else
+  const int team = 1;
+#endif
+  std::vector<std::unique_ptr<SimulationPlan>> plans(static_cast<std::size_t>(std::max(team, 1)));
+  // One replica per index, each written by one thread into its own row, with its own Philox
+  // stream (the replica index): the band does not depend on the thread count.
+  for_each_index(replicas, threads, [&](std::int64_t r) {
     errors.run([&] {
 #ifdef _OPENMP
       auto& plan = plans[static_cast<std::size_t>(omp_get_thread_num())];
@@ -101,7 +106,7 @@ McBand monte_carlo(const ChannelSpec& spec, const Curve& cv, const std::vector<d
       add_steps(buf, spec.steps, spec.rate_hz);
       avar_of(drawn[static_cast<std::size_t>(r)]);
     });
-  }
+  });
   errors.rethrow();
   const auto& band_rows = spec.steps.empty() ? avar : drawn;
   out.avar_lo.resize(p);

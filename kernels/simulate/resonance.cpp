@@ -215,25 +215,30 @@ PsdTrig::PsdTrig(std::span<const double> f_hz, double rate_hz)
 
 // |1 - a1 e^-iw - a2 e^-2iw|^2 = (1 - a1 c1 - a2 c2)^2 + (a1 s1 + a2 s2)^2 with c_k = cos(k w),
 // s_k = sin(k w): the trigonometry once per frequency, the nodes' coefficients once per node.
+// The nodes are the outer loop and the frequencies the inner one, each frequency's sum over the
+// nodes taken in node order as before (the same sum, bit for bit): the inner loop then has no
+// dependence from one step to the next and runs as vector divisions, where a sum per frequency
+// waited on each division in turn (a wandering resonance's Whittle fits, up to 129 nodes at every
+// block of a peak's window, were a quarter of a modelled ADIS16405 accelerometer's time).
 void add_resonance_psd(const Resonance& r, double rate_hz, double scale, const PsdTrig& trig,
                        std::span<double> out) {
-  struct Node {
-    double a1, a2, gain;
-  };
-  std::vector<Node> nodes;
+  const std::size_t n = trig.size();
+  std::vector<double> s(n, 0.0);
+  const double* c1 = trig.c1.data();
+  const double* c2 = trig.c2.data();
+  const double* s1 = trig.s1.data();
+  const double* s2 = trig.s2.data();
+  double* acc = s.data();
   for (const auto& [node, weight] : resonance_nodes(r)) {
     const Ar2 p = ar2_of(node, rate_hz);
-    nodes.push_back({p.a1, p.a2, scale * weight * 2.0 * p.sd_e * p.sd_e / rate_hz});
-  }
-  for (std::size_t i = 0; i < trig.size(); ++i) {
-    double s = 0.0;
-    for (const Node& n : nodes) {
-      const double re = 1.0 - n.a1 * trig.c1[i] - n.a2 * trig.c2[i],
-                   im = n.a1 * trig.s1[i] + n.a2 * trig.s2[i];
-      s += n.gain / (re * re + im * im);
+    const double a1 = p.a1, a2 = p.a2, gain = scale * weight * 2.0 * p.sd_e * p.sd_e / rate_hz;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double re = 1.0 - a1 * c1[i] - a2 * c2[i], im = a1 * s1[i] + a2 * s2[i];
+      acc[i] += gain / (re * re + im * im);
     }
-    out[i] += s;
   }
+  for (std::size_t i = 0; i < n; ++i)
+    out[i] += s[i];
 }
 
 void add_resonance_psd(const Resonance& r, double rate_hz, double scale,

@@ -126,24 +126,29 @@ io::RecordingResult recording_header(const std::string& file, const io::Recordin
   return rec;
 }
 
-// The poor fits left by the channels' workers (ChannelOptions::defer_model), modelled side by
-// side, one thread each, while at least as many remain as there are threads, then one at a time
-// with every thread. A model's serial parts (the final refit, the fit on the drawn curve, the
-// periodogram's backgrounds, the largest candidate of a round) leave a core idle when one model
-// has both; two models side by side keep both busy. No model depends on its thread count
-// (ChannelModel.ModelDoesNotDependOnTheThreadCount), so the order changes no number.
+// The poor fits left by the channels' workers (ChannelOptions::defer_model), modelled as tasks of
+// one team, one a channel: a thread that finishes its channel takes the next, and when none is
+// left it takes the loops of those still running (their candidates, resonance grid rows and
+// replicas are tasks too: kernels::for_each_index), so that the longest channel does not leave a
+// core idle. No model depends on its thread count or on which thread ran what
+// (ChannelModel.ModelDoesNotDependOnTheThreadCount), so the schedule changes no number.
 void model_poor_fits(std::vector<pipeline::ChannelAnalysis>& done,
                      const pipeline::ChannelOptions& copt, int threads) {
   std::vector<pipeline::ChannelAnalysis*> todo;
   for (pipeline::ChannelAnalysis& c : done)
     if (c.deferred) todo.push_back(&c);
-  const auto t = static_cast<std::size_t>(std::max(threads, 1));
-  const auto side = static_cast<std::int64_t>(todo.size() - todo.size() % t);
-#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
-  for (std::int64_t k = 0; k < side; ++k)
-    pipeline::model_deferred(*todo[static_cast<std::size_t>(k)], copt, 1);
-  for (auto k = static_cast<std::size_t>(side); k < todo.size(); ++k)
-    pipeline::model_deferred(*todo[k], copt, threads);
+  if (todo.empty()) return;
+  if (threads <= 1) {
+    for (pipeline::ChannelAnalysis* c : todo)
+      pipeline::model_deferred(*c, copt, threads);
+    return;
+  }
+#pragma omp parallel num_threads(threads)
+#pragma omp single
+  for (pipeline::ChannelAnalysis* c : todo) {
+#pragma omp task firstprivate(c)
+    pipeline::model_deferred(*c, copt, threads);
+  }
 }
 
 }  // namespace

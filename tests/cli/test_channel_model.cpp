@@ -3,7 +3,8 @@
 // low-pass filter, whose eq. (3) fit is poor, is modelled by analyze; its coefficients lie
 // within their sigmas of the truth, the effects are stored in fit/effects, the drawn curve
 // follows the measured one, and the lot summary carries the model. --model-poor-fits off keeps
-// eq. (3) alone; the model does not depend on the thread count; a channel that eq. (3) fits is
+// eq. (3) alone; the model does not depend on the thread count nor on the schedule of two
+// channels modelled side by side; a channel that eq. (3) fits is
 // not modelled and is bit for bit the same.
 #include "io/results.hpp"
 #include "support/h5_fixture.hpp"
@@ -157,16 +158,21 @@ TEST(ChannelModel, RoundedOutputIsModelledAndTheDrawnCurveFollowsTheData) {
   EXPECT_NEAR(n.value, kN, 3.0 * n.sigma);
 }
 
-// The model does not depend on the thread count (diagnose's replicas are streams of one seed,
-// and every kernel is thread-invariant): one thread and two give the same terms and effects.
-TEST(ChannelModel, ModelDoesNotDependOnTheThreadCount) {
-  const fs::path dir = test::fresh_dir("channel_model_threads");
-  simulate(dir, R"({"type": "lowpass", "taps": 1.2},
-                   {"type": "resonance", "sigma": 0.02, "frequency_hz": 0.5, "q": 20})");
-  std::string out;
-  const io::ChannelResult one = analyze(dir, "--threads 1", &out);
-  const io::ChannelResult two = analyze(dir, "--threads 2", &out);
-  ASSERT_FALSE(one.fit->model.empty()) << out;
+// `dir`/u.h5 with its channel twice (/imu/gyro and /imu/gyro_again, the same samples), as
+// `dir`/twice.h5: with two threads analyze models two poor fits as tasks of one team.
+void copy_channel_twice(const fs::path& dir) {
+  const hid_t src = H5Fopen((dir / "u.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const hid_t dst = H5Fcreate((dir / "twice.h5").c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  ASSERT_GE(src, 0);
+  ASSERT_GE(dst, 0);
+  EXPECT_GE(H5Ocopy(src, "/imu", dst, "/imu", H5P_DEFAULT, H5P_DEFAULT), 0);
+  EXPECT_GE(H5Ocopy(src, "/imu/gyro", dst, "/imu/gyro_again", H5P_DEFAULT, H5P_DEFAULT), 0);
+  H5Fclose(dst);
+  H5Fclose(src);
+}
+
+void expect_same_model(const io::ChannelResult& one, const io::ChannelResult& two) {
+  ASSERT_TRUE(two.fit.has_value());
   EXPECT_EQ(one.fit->model, two.fit->model);
   EXPECT_EQ(one.fit->model_gap, two.fit->model_gap);
   EXPECT_EQ(one.fit->model_gap_p95, two.fit->model_gap_p95);
@@ -181,6 +187,31 @@ TEST(ChannelModel, ModelDoesNotDependOnTheThreadCount) {
     EXPECT_EQ(one.fit->effects[i].parameter, two.fit->effects[i].parameter);
     EXPECT_EQ(one.fit->effects[i].value, two.fit->effects[i].value);
   }
+}
+
+// The model does not depend on the thread count (diagnose's replicas are streams of one seed,
+// and every kernel is thread-invariant) nor on which thread made which part: one thread on one
+// channel, and two threads on two copies of it (modelled side by side as tasks of one team, each
+// taking the other's candidates, grid rows and replicas when idle), give the same terms and
+// effects.
+TEST(ChannelModel, ModelDoesNotDependOnTheThreadCount) {
+  const fs::path dir = test::fresh_dir("channel_model_threads");
+  simulate(dir, R"({"type": "lowpass", "taps": 1.2},
+                   {"type": "resonance", "sigma": 0.02, "frequency_hz": 0.5, "q": 20})");
+  std::string out;
+  const io::ChannelResult one = analyze(dir, "--threads 1", &out);
+  ASSERT_FALSE(one.fit->model.empty()) << out;
+  copy_channel_twice(dir);
+  fs::remove_all(dir / "out");
+  ASSERT_EQ(test::run_command(test::binary() + " analyze --no-progress --no-psd --threads 2 -o " +
+                                  (dir / "out").string() + " " + (dir / "twice.h5").string(),
+                              &out),
+            0)
+      << out;
+  const auto two = io::read_results(dir / "out" / "twice.allan.h5");
+  ASSERT_EQ(two.channels.size(), 2u);
+  for (const io::ChannelResult& ch : two.channels)
+    expect_same_model(one, ch);
 }
 
 TEST(ChannelModel, ChannelThatFitsIsNotModelled) {
