@@ -89,10 +89,6 @@ void validate_resonance(const Resonance& r, double rate_hz, const std::string& a
                                 std::to_string(r.wander_s));
 }
 
-double resonance_max_spread(double frequency_hz, double rate_hz) {
-  return std::min(frequency_hz, rate_hz / 2 - frequency_hz) / 5.0;
-}
-
 std::vector<std::pair<Resonance, double>> resonance_nodes(const Resonance& r) {
   Resonance node = r;
   node.spread_hz = 0.0;
