@@ -75,6 +75,12 @@ void for_each_effect_list(Model& m, F&& f) {
 /// The effects and the filter of `from` in place of those of `to` (a diagnosed model's copy).
 void assign_effects(NoiseModel& to, const NoiseModel& from);
 
+/// Throws std::invalid_argument "<what>: <name>[i].<key>: <reason>" for the first effect in a
+/// list (the filter aside: kernels/simulate/lowpass.hpp validate_lowpass) that breaks its traits'
+/// rules at m.rate_hz: every key finite and by its KeyRule (a Presence::When key only when
+/// needed), then the effect's check; or "<what>: at most N <name> effects, got M".
+void validate_effects(const NoiseModel& m, const std::string& what);
+
 /// The model file's effect types, "sinusoid, markov, ... or lowpass", for a message.
 std::string effect_type_list();
 

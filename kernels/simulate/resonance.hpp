@@ -51,11 +51,6 @@ namespace allanlot::kernels {
 /// width f0 / (2 q) apart (at most 129). A stationary r is its own one node.
 std::vector<std::pair<Resonance, double>> resonance_nodes(const Resonance& r);
 
-/// Throws std::invalid_argument naming `at` + the field: sigma finite and >= 0, frequency_hz in
-/// (0, rate_hz / 2), q finite in [kResonanceMinQ, kResonanceMaxQ], spread_hz in
-/// [0, resonance_max_spread], wander_s finite and > 0 when spread_hz > 0 (else ignored).
-void validate_resonance(const Resonance& r, double rate_hz, const std::string& at);
-
 /// The autocovariance C(k) of the samples at lags k = 0 .. n_lags - 1 (the closed form above).
 std::vector<double> resonance_autocovariance(const Resonance& r, double rate_hz,
                                              std::size_t n_lags);

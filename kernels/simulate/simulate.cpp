@@ -126,44 +126,7 @@ void validate(const ChannelSpec& spec) {
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(std::string("simulate: ") + e.what());
   }
-  for (std::size_t i = 0; i < spec.sinusoids.size(); ++i) {
-    const auto& s = spec.sinusoids[i];
-    const std::string at = "sinusoids[" + std::to_string(i) + "].";
-    check_finite_nonneg(s.amplitude, at + "amplitude");
-    if (!std::isfinite(s.frequency_hz) || s.frequency_hz <= 0 || s.frequency_hz > spec.rate_hz / 2)
-      throw std::invalid_argument("simulate: " + at + "frequency_hz must be in (0, rate_hz/2 = " +
-                                  std::to_string(spec.rate_hz / 2) + "], got " +
-                                  std::to_string(s.frequency_hz));
-    if (!std::isfinite(s.phase_rad))
-      throw std::invalid_argument("simulate: " + at + "phase_rad must be finite");
-  }
-  if (spec.markovs.size() > rng::kMaxMarkov)
-    throw std::invalid_argument("simulate: at most " + std::to_string(rng::kMaxMarkov) +
-                                " Gauss-Markov effects, got " +
-                                std::to_string(spec.markovs.size()));
-  for (std::size_t i = 0; i < spec.markovs.size(); ++i) {
-    const auto& g = spec.markovs[i];
-    const std::string at = "markovs[" + std::to_string(i) + "].";
-    check_finite_nonneg(g.sigma, at + "sigma");
-    if (!std::isfinite(g.tau_c_s) || g.tau_c_s <= 0)
-      throw std::invalid_argument("simulate: " + at + "tau_c_s must be finite and > 0, got " +
-                                  std::to_string(g.tau_c_s));
-  }
-  if (spec.resonances.size() > rng::kMaxResonance)
-    throw std::invalid_argument("simulate: at most " + std::to_string(rng::kMaxResonance) +
-                                " resonances, got " + std::to_string(spec.resonances.size()));
-  for (std::size_t i = 0; i < spec.resonances.size(); ++i)
-    validate_resonance(spec.resonances[i], spec.rate_hz,
-                       "simulate: resonances[" + std::to_string(i) + "].");
-  for (std::size_t i = 0; i < spec.steps.size(); ++i) {
-    const auto& st = spec.steps[i];
-    const std::string at = "steps[" + std::to_string(i) + "].";
-    if (!std::isfinite(st.size))
-      throw std::invalid_argument("simulate: " + at + "size must be finite");
-    if (!std::isfinite(st.time_s) || st.time_s <= 0)
-      throw std::invalid_argument("simulate: " + at + "time_s must be finite and > 0, got " +
-                                  std::to_string(st.time_s));
-  }
+  validate_effects(spec, "simulate");
 }
 
 void add_steps(std::span<double> y, std::span<const Step> steps, double rate_hz, double scale,

@@ -56,10 +56,9 @@ void add_steps(std::span<double> y, std::span<const Step> steps, double rate_hz,
 using ChannelSpec = NoiseModel;
 
 /// Checks a spec; throws std::invalid_argument naming the field and its value: rate_hz finite
-/// and > 0; the lowpass as validate_lowpass; every coefficient, amplitude and sigma finite and >=
-/// 0; 0 < frequency_hz <= rate_hz / 2; tau_c_s finite and > 0; phase and offset finite; at most
-/// rng::kMaxMarkov Gauss-Markov effects; at most rng::kMaxResonance resonances, each as
-/// validate_resonance; every step's size finite and its time_s finite and > 0.
+/// and > 0; every coefficient finite and >= 0; offset finite; the lowpass as validate_lowpass;
+/// each effect by its traits' rules (validate_effects, kernels/model/noise_model.hpp: e.g. a
+/// sinusoid's frequency_hz in (0, rate_hz / 2], at most 200 markov and 32 resonance effects).
 void validate(const ChannelSpec& spec);
 
 /// Owns the workspaces and FFTW plans for simulating channels of one length, so that a unit's
