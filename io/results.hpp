@@ -52,7 +52,7 @@ struct ReadoutRecord {
 /// one row per parameter, the effects in the order they were named.
 struct EffectRecord {
   std::int64_t effect_index = 0;  // 0, 1, ...: which named effect the row belongs to
-  std::string effect;             // "lowpass", "resonance", "markov", "sinusoid", "step", ...
+  std::string effect;             // the effect's name (kernels::effect_name)
   std::string parameter;          // its key in the model file: "frequency_hz", "q", "sigma", ...
   double value = 0, sigma = 0;    // sigma NaN when not estimable
   std::int64_t bound = 0;         // 0 estimate; -1 at the search's lower end, +1 upper end

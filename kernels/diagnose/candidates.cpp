@@ -484,15 +484,15 @@ std::vector<Parameter> parameters_of(const Component& c, const Sigmas& sigmas, s
 std::string component_label(const std::vector<Component>& comps, std::size_t idx) {
   const Component& c = comps[idx];
   if (c.kind == Kind::Term) return term_key(c.term);
-  if (c.kind == Kind::Lowpass) return "lowpass";
+  if (c.kind == Kind::Lowpass) return std::string(EffectTraits<Lowpass>::name);
   int ordinal = 0;
   for (std::size_t i = 0; i < idx; ++i)
     ordinal += comps[i].kind == c.kind ? 1 : 0;
-  const char* kind = c.kind == Kind::Sinusoid    ? "sinusoid["
-                     : c.kind == Kind::Step      ? "step["
-                     : c.kind == Kind::Resonance ? "resonance["
-                                                 : "markov[";
-  return std::string(kind) + std::to_string(ordinal) + "]";
+  const std::string_view kind = c.kind == Kind::Sinusoid    ? EffectTraits<Sinusoid>::name
+                                : c.kind == Kind::Step      ? EffectTraits<Step>::name
+                                : c.kind == Kind::Resonance ? EffectTraits<Resonance>::name
+                                                            : EffectTraits<GaussMarkov>::name;
+  return std::string(kind) + "[" + std::to_string(ordinal) + "]";
 }
 
 // model_avar_sampled of spec `s` at the curve's taus, from the cached term bases.
@@ -594,6 +594,7 @@ CandidateFit evaluate_candidate(Effect e, std::vector<Component> comps, const Wi
     cf.fit = fit_components(std::move(comps), cv, b);
     cf.info.note = "PSD line at " + std::to_string(line.frequency_hz) + " Hz, peak/background " +
                    std::to_string(line.peak_ratio);
+    k += EffectTraits<Sinusoid>::curve_parameters;
     // No penalty: the line's frequency and amplitude come from its witness, not from the Allan
     // curve, and the witness has its own false-alarm level (line_false_alarm per record). The
     // curve is asked only whether the line is part of what it measures (its chi-square falls).
@@ -625,6 +626,7 @@ CandidateFit evaluate_candidate(Effect e, std::vector<Component> comps, const Wi
     cf.fit = fit_components(std::move(comps), *fit_cv, b);
     cf.info.note = "jump of " + std::to_string(jump.size) + " at " + std::to_string(jump.time_s) +
                    " s, p = " + std::to_string(jump.p_value);
+    k += EffectTraits<Step>::curve_parameters;
     // No penalty, as for a sinusoid: size and time come from the witness (step_false_alarm).
   } else if (e == Effect::Lowpass) {
     if (lowpass_of(comps).active()) {
@@ -633,11 +635,11 @@ CandidateFit evaluate_candidate(Effect e, std::vector<Component> comps, const Wi
     }
     cf = lowpass_candidate(std::move(comps), cv, b);
     cf.info.effect = e;
-    k += 1;
+    k += EffectTraits<Lowpass>::curve_parameters;
   } else if (e == Effect::Markov) {
     cf = hump_candidate(std::move(comps), cv, b);
     if (cf.fit.comps.empty()) return cf;
-    k += 2;
+    k += EffectTraits<GaussMarkov>::curve_parameters;
   } else if (e == Effect::Resonance && line.narrowband.found) {
     // Its witness, a PSD peak wider than a line, measured f0, q and sigma: no penalty, as for a
     // witnessed line.
@@ -658,7 +660,7 @@ CandidateFit evaluate_candidate(Effect e, std::vector<Component> comps, const Wi
 // periodogram measured the shape (psd_shape): the shape then has its witness and that witness's
 // false alarm (fit_peak_shapes' likelihood ratio at line_false_alarm), as a witnessed line has.
 int resonance_parameters(const Component& c) {
-  return c.psd_shape ? 1 : 3;
+  return c.psd_shape ? 1 : EffectTraits<Resonance>::curve_parameters;
 }
 
 void score_candidate(CandidateFit& cf, int k, double chi2_ref, const Curve& fit_cv, const Bases& b,

@@ -125,8 +125,8 @@ enum class Effect {
 };
 inline constexpr int kNumEffects = 10;
 
-/// "quantization", "white", "flicker", "random_walk", "ramp", "sinusoid", "markov", "lowpass",
-/// "step", "resonance".
+/// The eq. (3) terms' names (quantization, white, flicker, random_walk, ramp) and each other
+/// effect's EffectTraits name (kernels/model/effects/).
 std::string_view effect_name(Effect e);
 /// Inverse of effect_name; nullopt for anything else.
 std::optional<Effect> parse_effect(std::string_view name);

@@ -1,5 +1,6 @@
 // Diagnose's vocabulary of effects (docs/diagnose.md, the vocabulary): each effect's name as
-// the JSON, the model file and the terminal spell it, and the eq. (3) term a term effect is.
+// the JSON, the model file and the terminal spell it (an effect outside eq. (3): its own header's,
+// kernels/model/effects/), and the eq. (3) term a term effect is.
 #include "kernels/diagnose/diagnose.hpp"
 
 #include "kernels/diagnose/internal.hpp"
@@ -24,15 +25,15 @@ std::string_view effect_name(Effect e) {
   case Effect::Ramp:
     return "ramp";
   case Effect::Sinusoid:
-    return "sinusoid";
+    return EffectTraits<Sinusoid>::name;
   case Effect::Markov:
-    return "markov";
+    return EffectTraits<GaussMarkov>::name;
   case Effect::Lowpass:
-    return "lowpass";
+    return EffectTraits<Lowpass>::name;
   case Effect::Step:
-    return "step";
+    return EffectTraits<Step>::name;
   case Effect::Resonance:
-    return "resonance";
+    return EffectTraits<Resonance>::name;
   }
   return "?";
 }

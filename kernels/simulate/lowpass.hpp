@@ -4,21 +4,14 @@
 // Allan deviation lies below the white-noise line the longer taus follow.
 #pragma once
 
+#include "kernels/model/effects/lowpass.hpp"
+
 #include <cstdint>
 #include <functional>
 #include <span>
 #include <vector>
 
 namespace allanlot::kernels {
-
-/// At most one of the two forms; both zero means no filter.
-struct Lowpass {
-  double cutoff_hz = 0;  // first-order (one-pole) low-pass with this -3 dB frequency [Hz], > 0
-  double taps = 0;       // moving average over this many samples, > 1 (non-integer: the last
-                         // sample weighted by the fraction, a boxcar of taps tau0 seconds)
-  bool active() const { return cutoff_hz > 0 || taps > 0; }
-  friend bool operator==(const Lowpass&, const Lowpass&) = default;
-};
 
 /// Checks a filter against the sample rate (simulate's model, analyze's --lowpass); throws
 /// std::invalid_argument naming the field:

@@ -67,32 +67,6 @@ double sum_var(const Ar2& p, double k) {
 
 }  // namespace
 
-void validate_resonance(const Resonance& r, double rate_hz, const std::string& at) {
-  if (!std::isfinite(r.sigma) || r.sigma < 0)
-    throw std::invalid_argument(at + "sigma must be finite and >= 0, got " +
-                                std::to_string(r.sigma));
-  if (!std::isfinite(r.frequency_hz) || r.frequency_hz <= 0 || r.frequency_hz >= rate_hz / 2)
-    throw std::invalid_argument(
-        at + "frequency_hz must be in (0, rate_hz/2 = " + std::to_string(rate_hz / 2) + "), got " +
-        std::to_string(r.frequency_hz));
-  if (!std::isfinite(r.q) || r.q < kResonanceMinQ || r.q > kResonanceMaxQ)
-    throw std::invalid_argument(at + "q must be in [" + std::to_string(kResonanceMinQ) + ", " +
-                                std::to_string(kResonanceMaxQ) + "], got " + std::to_string(r.q));
-  const double top = resonance_max_spread(r.frequency_hz, rate_hz);
-  if (!std::isfinite(r.spread_hz) || r.spread_hz < 0 || r.spread_hz > top)
-    throw std::invalid_argument(
-        at + "spread_hz must be in [0, " + std::to_string(top) +
-        "] (a fifth of frequency_hz's distance to 0 or to rate_hz/2), got " +
-        std::to_string(r.spread_hz));
-  if (r.spread_hz > 0 && !(std::isfinite(r.wander_s) && r.wander_s > 0))
-    throw std::invalid_argument(at + "wander_s must be finite and > 0 with spread_hz > 0, got " +
-                                std::to_string(r.wander_s));
-}
-
-double resonance_max_spread(double frequency_hz, double rate_hz) {
-  return std::min(frequency_hz, rate_hz / 2 - frequency_hz) / 5.0;
-}
-
 std::vector<std::pair<Resonance, double>> resonance_nodes(const Resonance& r) {
   Resonance node = r;
   node.spread_hz = 0.0;

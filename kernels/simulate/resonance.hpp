@@ -35,6 +35,8 @@
 // on the frequency's track through the record).
 #pragma once
 
+#include "kernels/model/effects/resonance.hpp"
+
 #include <cstdint>
 #include <span>
 #include <string>
@@ -43,38 +45,11 @@
 
 namespace allanlot::kernels {
 
-/// A resonance: narrowband noise of stationary standard deviation `sigma` [u] at `frequency_hz`
-/// with quality factor `q` (about frequency_hz over its PSD's half-power width).
-struct Resonance {
-  double sigma = 0;         // stationary standard deviation [u], >= 0
-  double frequency_hz = 0;  // f0, 0 < f0 < rate_hz / 2
-  double q = 0;             // quality factor, kResonanceMinQ <= q <= kResonanceMaxQ
-  double spread_hz = 0;     // sd of the frequency's slow wander; 0 (stationary) <= spread_hz
-                            // <= resonance_max_spread(frequency_hz, rate_hz)
-  double wander_s = 0;      // the wander's correlation time [s], > 0 when spread_hz > 0
-  friend bool operator==(const Resonance&, const Resonance&) = default;
-};
-
-/// The range of q: at 0.5 the envelope decays within the oscillation's period (a hump, which
-/// `markov` describes); above 1e5 the coherence time exceeds any record at any rate the
-/// project meets, and the process is a line of random phase (`sinusoid`).
-inline constexpr double kResonanceMinQ = 0.5;
-inline constexpr double kResonanceMaxQ = 1e5;
-
-/// The largest spread_hz at f0: a fifth of the distance to 0 or to the Nyquist frequency, so that
-/// the mixture's nodes (4 standard deviations either side) and the wander stay inside.
-double resonance_max_spread(double frequency_hz, double rate_hz);
-
 /// The mixture of a wandering resonance: stationary resonances (spread_hz 0, each of r's sigma)
 /// and their weights (sum 1), by the trapezoidal rule over +-4 standard deviations of the
 /// frequency with the normal density's weights; nodes at most half an sd and half the half-power
 /// width f0 / (2 q) apart (at most 129). A stationary r is its own one node.
 std::vector<std::pair<Resonance, double>> resonance_nodes(const Resonance& r);
-
-/// Throws std::invalid_argument naming `at` + the field: sigma finite and >= 0, frequency_hz in
-/// (0, rate_hz / 2), q finite in [kResonanceMinQ, kResonanceMaxQ], spread_hz in
-/// [0, resonance_max_spread], wander_s finite and > 0 when spread_hz > 0 (else ignored).
-void validate_resonance(const Resonance& r, double rate_hz, const std::string& at);
 
 /// The autocovariance C(k) of the samples at lags k = 0 .. n_lags - 1 (the closed form above).
 std::vector<double> resonance_autocovariance(const Resonance& r, double rate_hz,

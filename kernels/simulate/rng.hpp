@@ -7,6 +7,9 @@
 // for every thread count and every block decomposition.
 #pragma once
 
+#include "kernels/model/effects/markov.hpp"
+#include "kernels/model/effects/resonance.hpp"
+
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -53,8 +56,14 @@ enum class Component : std::uint32_t {
   MarkovFirst = 16,     // Gauss-Markov effect i uses MarkovFirst + i (i < kMaxMarkov)
   ResonanceFirst = 216  // resonance i uses ResonanceFirst + i (i < kMaxResonance)
 };
-inline constexpr std::uint32_t kMaxMarkov = 200;
-inline constexpr std::uint32_t kMaxResonance = 32;
+inline constexpr std::uint32_t kMaxMarkov =
+    static_cast<std::uint32_t>(EffectTraits<GaussMarkov>::max_count);
+inline constexpr std::uint32_t kMaxResonance =
+    static_cast<std::uint32_t>(EffectTraits<Resonance>::max_count);
+// The effects' streams stay apart and inside the counter's byte.
+static_assert(static_cast<std::uint32_t>(Component::MarkovFirst) + kMaxMarkov <=
+              static_cast<std::uint32_t>(Component::ResonanceFirst));
+static_assert(static_cast<std::uint32_t>(Component::ResonanceFirst) + kMaxResonance <= 256);
 
 /// The random bits for one index of one component's sequence. The counter layout is
 /// injective: index (< 2^56) in the first 56 bits, the component in the next 8, the stream

@@ -42,26 +42,6 @@ void check_finite_nonneg(double v, const std::string& name) {
                                 std::to_string(v));
 }
 
-// u(a) = 2a - 3 + 4 e^-a - e^-2a = sum_{k>=3} (-1)^k (4 - 2^k) a^k / k!. It is the
-// Gauss-Markov Allan variance (times tau^2 / (sigma tau_c)^2) and the variance of the
-// integral of an OU process over a step given its start; it behaves as (2/3) a^3 for small a,
-// where the closed form cancels catastrophically, so the series is used below a = 0.5 (where
-// its terms fall below 1e-17 relative by k = 25).
-double ou_u(double a) {
-  if (a < 0.5) {
-    double sum = 0;
-    double term = a * a * a / 6.0;  // a^k / k! at k = 3
-    for (int k = 3; k <= 25; ++k) {
-      const double c = (k % 2 == 0 ? 1.0 : -1.0) * (4.0 - std::ldexp(1.0, k));
-      sum += c * term;
-      term *= a / (k + 1);
-    }
-    return sum;
-  }
-  const double e = std::exp(-a);
-  return 2 * a - 3 + 4 * e - e * e;
-}
-
 // dst[i] = standard normal number first + i of a component's sequence, i < count; pairs are
 // computed once and both members used.
 void fill_normals(std::uint64_t seed, std::uint64_t stream, std::uint32_t comp, std::size_t first,
@@ -119,7 +99,7 @@ MarkovStep markov_step(const GaussMarkov& gm, double h) {
   const double one_m_phi = -std::expm1(-a);
   s.s_m = gm.sigma * std::sqrt(-std::expm1(-2 * a));
   s.mean_i = gm.tau_c_s * one_m_phi;
-  const double var_i = gm.sigma * gm.sigma * gm.tau_c_s * gm.tau_c_s * ou_u(a);
+  const double var_i = gm.sigma * gm.sigma * gm.tau_c_s * gm.tau_c_s * markov_u(a);
   const double cov = gm.sigma * gm.sigma * gm.tau_c_s * one_m_phi * one_m_phi;
   s.c = cov / s.s_m;
   s.d = std::sqrt(std::max(0.0, var_i - s.c * s.c));
@@ -146,44 +126,7 @@ void validate(const ChannelSpec& spec) {
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(std::string("simulate: ") + e.what());
   }
-  for (std::size_t i = 0; i < spec.sinusoids.size(); ++i) {
-    const auto& s = spec.sinusoids[i];
-    const std::string at = "sinusoids[" + std::to_string(i) + "].";
-    check_finite_nonneg(s.amplitude, at + "amplitude");
-    if (!std::isfinite(s.frequency_hz) || s.frequency_hz <= 0 || s.frequency_hz > spec.rate_hz / 2)
-      throw std::invalid_argument("simulate: " + at + "frequency_hz must be in (0, rate_hz/2 = " +
-                                  std::to_string(spec.rate_hz / 2) + "], got " +
-                                  std::to_string(s.frequency_hz));
-    if (!std::isfinite(s.phase_rad))
-      throw std::invalid_argument("simulate: " + at + "phase_rad must be finite");
-  }
-  if (spec.markovs.size() > rng::kMaxMarkov)
-    throw std::invalid_argument("simulate: at most " + std::to_string(rng::kMaxMarkov) +
-                                " Gauss-Markov effects, got " +
-                                std::to_string(spec.markovs.size()));
-  for (std::size_t i = 0; i < spec.markovs.size(); ++i) {
-    const auto& g = spec.markovs[i];
-    const std::string at = "markovs[" + std::to_string(i) + "].";
-    check_finite_nonneg(g.sigma, at + "sigma");
-    if (!std::isfinite(g.tau_c_s) || g.tau_c_s <= 0)
-      throw std::invalid_argument("simulate: " + at + "tau_c_s must be finite and > 0, got " +
-                                  std::to_string(g.tau_c_s));
-  }
-  if (spec.resonances.size() > rng::kMaxResonance)
-    throw std::invalid_argument("simulate: at most " + std::to_string(rng::kMaxResonance) +
-                                " resonances, got " + std::to_string(spec.resonances.size()));
-  for (std::size_t i = 0; i < spec.resonances.size(); ++i)
-    validate_resonance(spec.resonances[i], spec.rate_hz,
-                       "simulate: resonances[" + std::to_string(i) + "].");
-  for (std::size_t i = 0; i < spec.steps.size(); ++i) {
-    const auto& st = spec.steps[i];
-    const std::string at = "steps[" + std::to_string(i) + "].";
-    if (!std::isfinite(st.size))
-      throw std::invalid_argument("simulate: " + at + "size must be finite");
-    if (!std::isfinite(st.time_s) || st.time_s <= 0)
-      throw std::invalid_argument("simulate: " + at + "time_s must be finite and > 0, got " +
-                                  std::to_string(st.time_s));
-  }
+  validate_effects(spec, "simulate");
 }
 
 void add_steps(std::span<double> y, std::span<const Step> steps, double rate_hz, double scale,
@@ -573,11 +516,34 @@ double flicker_avar_factor(std::int64_t m) {
 
 namespace {
 
-// A Gauss-Markov effect's Allan variance at tau, sigma^2 tau_c^2 u(tau / tau_c) / tau^2 (IEEE
-// Std 952-1997, annex C; see model_avar), unfiltered.
-double markov_avar(const GaussMarkov& g, double tau) {
-  return g.sigma * g.sigma * g.tau_c_s * g.tau_c_s * ou_u(tau / g.tau_c_s) / (tau * tau);
+// Each registered effect's share of model_avar at tau (continuous, unfiltered) and of the
+// one-sided PSD; an effect registered in kernels/model/noise_model.hpp without them does not
+// compile. A step adds nothing to either (model_avar's doc), a sinusoid nothing to the PSD (a
+// line has no density).
+double effect_avar(const Sinusoid& s, double, double tau) {
+  return sinusoid_avar(s, tau);
 }
+double effect_avar(const GaussMarkov& g, double, double tau) {
+  return markov_avar(g, tau);
+}
+double effect_avar(const Resonance& r, double rate_hz, double tau) {
+  return resonance_avar(r, rate_hz, tau * rate_hz);
+}
+double effect_avar(const Step&, double, double) {
+  return 0.0;
+}
+
+void add_effect_psd(const Sinusoid&, double, std::span<const double>, std::vector<double>&) {}
+void add_effect_psd(const GaussMarkov& g, double, std::span<const double> f_hz,
+                    std::vector<double>& out) {
+  for (std::size_t i = 0; i < f_hz.size(); ++i)
+    out[i] += markov_psd_one_sided(g, 2 * pi * f_hz[i]);
+}
+void add_effect_psd(const Resonance& r, double rate_hz, std::span<const double> f_hz,
+                    std::vector<double>& out) {
+  add_resonance_psd(r, rate_hz, 1.0, f_hz, out);
+}
+void add_effect_psd(const Step&, double, std::span<const double>, std::vector<double>&) {}
 
 }  // namespace
 
@@ -589,15 +555,10 @@ double model_avar(const ChannelSpec& spec, double tau_s) {
   const double tau = tau_s;
   double v = t.R * t.R * tau * tau / 2 + t.K * t.K * tau / 3 +
              t.B * t.B * 2 * std::numbers::ln2 / pi + t.N * t.N / tau + 3 * t.Q * t.Q / (tau * tau);
-  for (const auto& s : spec.sinusoids) {
-    const double x = pi * s.frequency_hz * tau;
-    const double sx = std::sin(x);
-    v += s.amplitude * s.amplitude * sx * sx * sx * sx / (x * x);
-  }
-  for (const auto& g : spec.markovs)
-    v += markov_avar(g, tau);
-  for (const auto& r : spec.resonances)
-    v += resonance_avar(r, spec.rate_hz, tau * spec.rate_hz);
+  for_each_effect_list(spec, [&](const auto& list) {
+    for (const auto& e : list)
+      v += effect_avar(e, spec.rate_hz, tau);
+  });
   // The output's rounding: white of variance quantum^2 / 12 per sample, so quantum^2 / (12 m).
   v += spec.quantum * spec.quantum / (12.0 * tau * spec.rate_hz);
   if (spec.flicker_pm > 0) v += spec.flicker_pm * powerlaw::avar_per_h(1, tau, 1.0 / spec.rate_hz);
@@ -617,12 +578,8 @@ double model_avar_sampled(const ChannelSpec& spec, std::int64_t m, std::int64_t 
   const auto& t = spec.terms;
   v += t.N * t.N / tau * (lowpass_white_fm_factor(lp, spec.rate_hz, m) - 1.0);
   v += 3 * t.Q * t.Q / (tau * tau) * (lowpass_white_pm_factor(lp, spec.rate_hz, m) - 1.0);
-  for (const auto& s : spec.sinusoids) {
-    const double x = pi * s.frequency_hz * tau;
-    const double sx = std::sin(x);
-    v += s.amplitude * s.amplitude * sx * sx * sx * sx / (x * x) *
-         (lowpass_gain2(lp, spec.rate_hz, s.frequency_hz) - 1.0);
-  }
+  for (const auto& s : spec.sinusoids)
+    v += sinusoid_avar(s, tau) * (lowpass_gain2(lp, spec.rate_hz, s.frequency_hz) - 1.0);
   if (spec.markovs.empty() && spec.resonances.empty()) return v;
   const std::vector<double> rho = lowpass_autocorrelation(lp, spec.rate_hz);
   for (const auto& g : spec.markovs)
@@ -646,17 +603,16 @@ std::vector<double> model_psd_one_sided(const ChannelSpec& spec, std::span<const
       throw std::invalid_argument("model_psd_one_sided: f_hz must be finite and > 0, got " +
                                   std::to_string(f));
     const double w = 2 * pi * f;
-    double s = t.K * t.K / (2 * pi * pi * f * f) + t.B * t.B / (pi * f) + 2 * t.N * t.N +
-               2 * w * w * t.Q * t.Q / spec.rate_hz +
-               spec.quantum * spec.quantum / (6.0 * spec.rate_hz) + spec.flicker_pm * f;
-    for (const auto& g : spec.markovs) {
-      const double wt = w * g.tau_c_s;
-      s += 4 * g.sigma * g.sigma * g.tau_c_s / (1 + wt * wt);
-    }
-    out[i] = s;
+    out[i] = t.K * t.K / (2 * pi * pi * f * f) + t.B * t.B / (pi * f) + 2 * t.N * t.N +
+             2 * w * w * t.Q * t.Q / spec.rate_hz +
+             spec.quantum * spec.quantum / (6.0 * spec.rate_hz) + spec.flicker_pm * f;
   }
-  for (const auto& r : spec.resonances)
-    add_resonance_psd(r, spec.rate_hz, 1.0, f_hz, out);
+  // Each effect's density added at every frequency in turn: per frequency the same sums, in the
+  // same order, as one frequency at a time.
+  for_each_effect_list(spec, [&](const auto& list) {
+    for (const auto& e : list)
+      add_effect_psd(e, spec.rate_hz, f_hz, out);
+  });
   return out;
 }
 

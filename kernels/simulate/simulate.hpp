@@ -33,7 +33,7 @@
 // thread count, with or without OpenMP.
 #pragma once
 
-#include "kernels/model/terms.hpp"
+#include "kernels/model/noise_model.hpp"
 #include "kernels/simulate/lowpass.hpp"
 #include "kernels/simulate/resonance.hpp"
 
@@ -45,31 +45,6 @@
 
 namespace allanlot::kernels {
 
-/// A sinusoidal rate error A sin(2 pi f t + phase) (e.g. a vibration or a thermal cycle).
-struct Sinusoid {
-  double amplitude = 0;     // A [u], >= 0
-  double frequency_hz = 0;  // f, 0 < f <= rate_hz / 2
-  double phase_rad = 0;     // phase at t = 0
-  friend bool operator==(const Sinusoid&, const Sinusoid&) = default;
-};
-
-/// First-order Gauss-Markov (Ornstein-Uhlenbeck) rate error: stationary, autocovariance
-/// sigma^2 exp(-|t| / tau_c).
-struct GaussMarkov {
-  double sigma = 0;    // stationary standard deviation [u], >= 0
-  double tau_c_s = 0;  // correlation time [s], > 0
-  friend bool operator==(const GaussMarkov&, const GaussMarkov&) = default;
-};
-
-/// A bias jump: the rate error changes by `size` at `time_s` after the first sample's start and
-/// stays (e.g. a turn-on transient ending, a mechanical shock, a temperature-driven bias shift).
-/// The sample that straddles time_s takes the fraction of it that lies after the jump.
-struct Step {
-  double size = 0;    // [u], either sign
-  double time_s = 0;  // > 0; a step at or after the record's end changes nothing
-  friend bool operator==(const Step&, const Step&) = default;
-};
-
 /// Adds `scale` times each step to the samples y (sample i is sample first + i of the record,
 /// at rate_hz): sample k averages the rate over [k, k + 1] sample intervals, so a jump at
 /// s = time_s rate_hz samples counts for clamp(k + 1 - s, 0, 1) of itself. With scale = -1 it
@@ -77,39 +52,13 @@ struct Step {
 void add_steps(std::span<double> y, std::span<const Step> steps, double rate_hz, double scale = 1.0,
                std::size_t first = 0);
 
-/// Everything that defines one simulated channel.
-struct ChannelSpec {
-  double rate_hz = 1;                 // sample rate; tau0 = 1 / rate_hz
-  NoiseTerms terms;                   // eq. (3) coefficients
-  std::vector<Sinusoid> sinusoids;    // effects outside eq. (3)
-  std::vector<GaussMarkov> markovs;   // at most rng::kMaxMarkov
-  std::vector<Resonance> resonances;  // narrowband noises, at most rng::kMaxResonance
-  std::vector<Step> steps;            // bias jumps, in any order
-  double offset = 0;                  // constant added to every sample [u] (e.g. 1 g)
-  Lowpass lowpass;                    // the sensor's filter, applied to the sum (none by default)
-  // The step of the output word [u] (0: none). A sensor quantizes after its filter: its rounding
-  // error is white, of variance quantum^2 / 12 (uniform on one step), and unfiltered. That holds
-  // when the rounded signal's standard deviation is a step or more (Widrow & Kollar,
-  // "Quantization Noise", 2008, ch. 4: the characteristic function at 2 pi / quantum is then
-  // below 3e-9), so simulate_channel rounds the filtered sum to whole steps and model_avar adds
-  // quantum^2 / (12 m) at tau = m / rate_hz.
-  double quantum = 0;
-  // Flicker PM, a clock's noise type that eq. (3) lacks: the level h_1 of the rate's one-sided
-  // PSD S(f) = h_1 f [u^2/Hz^2] (docs/clocks.md). Synthesized as Kasdin's flicker sequence on
-  // the phase (S_x = h_1 / (4 pi^2 f), so the driving variance is h_1 / (4 pi)), differenced
-  // to the rate with the phase before the record zero; its Allan variance is SP1065's
-  // [1.038 + 3 ln(2 pi f_h tau)] h_1 / (4 pi^2 tau^2) (kernels/powerlaw/theory.hpp), which
-  // model_avar uses, within 10 % from m = 4 on (17 % above it at m = 1: the discrete
-  // sequence's power near Nyquist; tests/kernels/test_powerlaw_fit.cpp).
-  double flicker_pm = 0;
-  friend bool operator==(const ChannelSpec&, const ChannelSpec&) = default;
-};
+/// Everything that defines one simulated channel: the noise model (kernels/model/noise_model.hpp).
+using ChannelSpec = NoiseModel;
 
 /// Checks a spec; throws std::invalid_argument naming the field and its value: rate_hz finite
-/// and > 0; the lowpass as validate_lowpass; every coefficient, amplitude and sigma finite and >=
-/// 0; 0 < frequency_hz <= rate_hz / 2; tau_c_s finite and > 0; phase and offset finite; at most
-/// rng::kMaxMarkov Gauss-Markov effects; at most rng::kMaxResonance resonances, each as
-/// validate_resonance; every step's size finite and its time_s finite and > 0.
+/// and > 0; every coefficient finite and >= 0; offset finite; the lowpass as validate_lowpass;
+/// each effect by its traits' rules (validate_effects, kernels/model/noise_model.hpp: e.g. a
+/// sinusoid's frequency_hz in (0, rate_hz / 2], at most 200 markov and 32 resonance effects).
 void validate(const ChannelSpec& spec);
 
 /// Owns the workspaces and FFTW plans for simulating channels of one length, so that a unit's

@@ -126,59 +126,74 @@ bool valid_name(std::string_view name) {
   return true;
 }
 
-// The sensor's filter: {"type": "lowpass", "cutoff_hz": f} (first order) or
-// {"type": "lowpass", "taps": L} (moving average over L > 1 samples, L need not be whole), at
-// most one per channel.
-void parse_lowpass(const Json& e, double rate_hz, Channel& ch, const std::string& source,
-                   const std::string& at) {
-  only_keys(e, {"type", "cutoff_hz", "taps"}, source, at);
-  if (ch.lowpass.active()) fail(source, at, "at most one lowpass effect");
-  if (e.contains("cutoff_hz") == e.contains("taps"))
-    fail(source, at, "a lowpass has exactly one of cutoff_hz and taps");
-  if (e.contains("cutoff_hz")) {
-    ch.lowpass.cutoff_hz = positive(e["cutoff_hz"], source, join(at, "cutoff_hz"));
-    if (ch.lowpass.cutoff_hz >= rate_hz / 2)
-      fail(source, join(at, "cutoff_hz"),
-           "must be below the Nyquist frequency " + Json(rate_hz / 2).dump() + " Hz, got " +
-               Json(ch.lowpass.cutoff_hz).dump());
-  } else {
-    ch.lowpass.taps = number(e["taps"], source, join(at, "taps"));
-    if (!(ch.lowpass.taps > 1 && ch.lowpass.taps <= 100000))
-      fail(source, join(at, "taps"), "must be in (1, 100000], got " + e["taps"].dump());
+std::string number_text(double v) {
+  return Json(v).dump();
+}
+
+double keyed_number(const Json& j, kernels::KeyRule rule, const std::string& source,
+                    const std::string& path) {
+  switch (rule) {
+  case kernels::KeyRule::NonNegative:
+    return nonneg(j, source, path);
+  case kernels::KeyRule::Positive:
+    return positive(j, source, path);
+  case kernels::KeyRule::Finite:
+    break;
+  }
+  return number(j, source, path);
+}
+
+// Only "type" and effect E's own keys (kernels/model/effects/).
+template <class E>
+void only_effect_keys(const Json& e, const std::string& source, const std::string& at) {
+  for (const auto& item : e.items()) {
+    const std::string& key = item.key();
+    const auto& keys = kernels::EffectTraits<E>::keys;
+    if (key != "type" &&
+        std::none_of(keys.begin(), keys.end(), [&](const auto& k) { return key == k.name; }))
+      fail(source, join(at, key), "unknown key");
   }
 }
 
-void parse_resonance(const Json& e, double rate_hz, Channel& ch, const std::string& source,
-                     const std::string& at) {
-  only_keys(e, {"type", "sigma", "frequency_hz", "q", "spread_hz", "wander_s"}, source, at);
-  kernels::Resonance r;
-  r.sigma = nonneg(required(e, "sigma", source, at), source, join(at, "sigma"));
-  r.frequency_hz =
-      positive(required(e, "frequency_hz", source, at), source, join(at, "frequency_hz"));
-  if (r.frequency_hz >= rate_hz / 2)
-    fail(source, join(at, "frequency_hz"),
-         "must be below the Nyquist frequency " + Json(rate_hz / 2).dump() + " Hz, got " +
-             Json(r.frequency_hz).dump());
-  r.q = number(required(e, "q", source, at), source, join(at, "q"));
-  if (!(r.q >= kernels::kResonanceMinQ && r.q <= kernels::kResonanceMaxQ))
-    fail(source, join(at, "q"),
-         "must be in [" + Json(kernels::kResonanceMinQ).dump() + ", " +
-             Json(kernels::kResonanceMaxQ).dump() + "], got " + Json(r.q).dump());
-  if (e.contains("spread_hz")) {
-    r.spread_hz = nonneg(e["spread_hz"], source, join(at, "spread_hz"));
-    const double top = kernels::resonance_max_spread(r.frequency_hz, rate_hz);
-    if (r.spread_hz > top)
-      fail(source, join(at, "spread_hz"),
-           "must be at most " + Json(top).dump() +
-               " Hz (a fifth of frequency_hz's distance to 0 or to the Nyquist frequency), got " +
-               Json(r.spread_hz).dump());
-    if (r.spread_hz > 0)
-      r.wander_s = positive(required(e, "wander_s", source, at), source, join(at, "wander_s"));
+// An effect of type E read by its keys' rules, then its own checks.
+template <class E>
+E parse_effect(const Json& e, double rate_hz, const std::string& source, const std::string& at) {
+  only_effect_keys<E>(e, source, at);
+  E x;
+  for (const auto& k : kernels::EffectTraits<E>::keys) {
+    const std::string key(k.name);
+    const bool given = e.contains(key);
+    if (k.presence == kernels::Presence::When && !k.needed(x)) continue;
+    if (k.presence == kernels::Presence::Required || k.presence == kernels::Presence::When)
+      x.*k.field =
+          keyed_number(required(e, key.c_str(), source, at), k.rule, source, join(at, key));
+    else if (given)
+      x.*k.field = keyed_number(e[key], k.rule, source, join(at, key));
   }
-  if (ch.resonances.size() >= kernels::rng::kMaxResonance)
+  if (const auto problem = kernels::EffectTraits<E>::check(x, rate_hz, number_text))
+    fail(source, problem->key.empty() ? at : join(at, problem->key), problem->reason);
+  return x;
+}
+
+// The sensor's filter: exactly one of its two keys (first order or moving average), at most one
+// per channel.
+void parse_lowpass(const Json& e, double rate_hz, Channel& ch, const std::string& source,
+                   const std::string& at) {
+  using Traits = kernels::EffectTraits<kernels::Lowpass>;
+  only_effect_keys<kernels::Lowpass>(e, source, at);
+  if (ch.lowpass.active()) fail(source, at, "at most one " + std::string(Traits::name) + " effect");
+  const std::string cutoff(Traits::keys[0].name), taps(Traits::keys[1].name);
+  if (e.contains(cutoff) == e.contains(taps))
     fail(source, at,
-         "at most " + std::to_string(kernels::rng::kMaxResonance) + " resonance effects");
-  ch.resonances.push_back(r);
+         "a " + std::string(Traits::name) + " has exactly one of " + cutoff + " and " + taps);
+  kernels::Lowpass lp;
+  for (const auto& k : Traits::keys) {
+    const std::string key(k.name);
+    if (e.contains(key)) lp.*k.field = keyed_number(e[key], k.rule, source, join(at, key));
+  }
+  if (const auto problem = Traits::check(lp, rate_hz, number_text))
+    fail(source, join(at, problem->key), problem->reason);
+  ch.lowpass = lp;
 }
 
 void parse_effects(const Json& j, double rate_hz, Channel& ch, const std::string& source,
@@ -190,42 +205,26 @@ void parse_effects(const Json& j, double rate_hz, Channel& ch, const std::string
     const Json& type = required(e, "type", source, at);
     if (!type.is_string()) fail(source, join(at, "type"), "must be a string");
     const auto kind = type.get<std::string>();
-    if (kind == "sinusoid") {
-      only_keys(e, {"type", "amplitude", "frequency_hz", "phase_rad"}, source, at);
-      kernels::Sinusoid s;
-      s.amplitude = nonneg(required(e, "amplitude", source, at), source, join(at, "amplitude"));
-      s.frequency_hz =
-          positive(required(e, "frequency_hz", source, at), source, join(at, "frequency_hz"));
-      if (s.frequency_hz > rate_hz / 2)
-        fail(source, join(at, "frequency_hz"),
-             "must not exceed the Nyquist frequency " + Json(rate_hz / 2).dump() + " Hz, got " +
-                 Json(s.frequency_hz).dump());
-      if (e.contains("phase_rad"))
-        s.phase_rad = number(e["phase_rad"], source, join(at, "phase_rad"));
-      ch.sinusoids.push_back(s);
-    } else if (kind == "markov") {
-      only_keys(e, {"type", "sigma", "tau_c_s"}, source, at);
-      kernels::GaussMarkov g;
-      g.sigma = nonneg(required(e, "sigma", source, at), source, join(at, "sigma"));
-      g.tau_c_s = positive(required(e, "tau_c_s", source, at), source, join(at, "tau_c_s"));
-      if (ch.markovs.size() >= kernels::rng::kMaxMarkov)
-        fail(source, at, "at most " + std::to_string(kernels::rng::kMaxMarkov) + " markov effects");
-      ch.markovs.push_back(g);
-    } else if (kind == "resonance") {
-      parse_resonance(e, rate_hz, ch, source, at);
-    } else if (kind == "lowpass") {
+    bool known = false;
+    kernels::for_each_effect_list(ch, [&](auto& list) {
+      using E = typename std::decay_t<decltype(list)>::value_type;
+      using Traits = kernels::EffectTraits<E>;
+      if (known || kind != Traits::name) return;
+      known = true;
+      const E x = parse_effect<E>(e, rate_hz, source, at);
+      if constexpr (Traits::max_count > 0)
+        if (list.size() >= Traits::max_count)
+          fail(source, at,
+               "at most " + std::to_string(Traits::max_count) + " " + kind + " effects");
+      list.push_back(x);
+    });
+    if (!known && kind == kernels::EffectTraits<kernels::Lowpass>::name) {
       parse_lowpass(e, rate_hz, ch, source, at);
-    } else if (kind == "step") {
-      only_keys(e, {"type", "size", "time_s"}, source, at);
-      kernels::Step st;
-      st.size = number(required(e, "size", source, at), source, join(at, "size"));
-      st.time_s = positive(required(e, "time_s", source, at), source, join(at, "time_s"));
-      ch.steps.push_back(st);
-    } else {
-      fail(source, join(at, "type"),
-           "unknown effect type '" + kind +
-               "' (expected sinusoid, markov, resonance, lowpass or step)");
+      known = true;
     }
+    if (!known)
+      fail(source, join(at, "type"),
+           "unknown effect type '" + kind + "' (expected " + kernels::effect_type_list() + ")");
   }
 }
 
@@ -284,32 +283,31 @@ Json terms_json(const kernels::NoiseTerms& t) {
   return j;
 }
 
+// An effect's object: its type, then its keys in their order, each as its Presence says.
+template <class E>
+Json effect_json(const E& x) {
+  Json j = Json::object();
+  j["type"] = std::string(kernels::EffectTraits<E>::name);
+  for (const auto& k : kernels::EffectTraits<E>::keys) {
+    const bool write = k.presence == kernels::Presence::Required ||
+                       k.presence == kernels::Presence::Optional ||
+                       (k.presence == kernels::Presence::OptionalNonzero && x.*k.field != 0) ||
+                       (k.presence == kernels::Presence::When && k.needed(x));
+    if (write) j[std::string(k.name)] = x.*k.field;
+  }
+  return j;
+}
+
 Json channel_body_json(const Channel& ch) {
   Json j = Json::object();
   j["units"] = ch.units;
   j["terms"] = terms_json(ch.terms);
   Json effects = Json::array();
-  for (const auto& s : ch.sinusoids)
-    effects.push_back({{"type", "sinusoid"},
-                       {"amplitude", s.amplitude},
-                       {"frequency_hz", s.frequency_hz},
-                       {"phase_rad", s.phase_rad}});
-  for (const auto& g : ch.markovs)
-    effects.push_back({{"type", "markov"}, {"sigma", g.sigma}, {"tau_c_s", g.tau_c_s}});
-  for (const auto& r : ch.resonances) {
-    effects.push_back(
-        {{"type", "resonance"}, {"sigma", r.sigma}, {"frequency_hz", r.frequency_hz}, {"q", r.q}});
-    if (r.spread_hz > 0) {
-      effects.back()["spread_hz"] = r.spread_hz;
-      effects.back()["wander_s"] = r.wander_s;
-    }
-  }
-  for (const auto& st : ch.steps)
-    effects.push_back({{"type", "step"}, {"size", st.size}, {"time_s", st.time_s}});
-  if (ch.lowpass.cutoff_hz > 0)
-    effects.push_back({{"type", "lowpass"}, {"cutoff_hz", ch.lowpass.cutoff_hz}});
-  else if (ch.lowpass.taps > 0)
-    effects.push_back({{"type", "lowpass"}, {"taps", ch.lowpass.taps}});
+  kernels::for_each_effect_list(ch, [&](const auto& list) {
+    for (const auto& x : list)
+      effects.push_back(effect_json(x));
+  });
+  if (ch.lowpass.active()) effects.push_back(effect_json(ch.lowpass));
   j["effects"] = effects;
   if (ch.offset != 0) j["offset"] = ch.offset;
   if (ch.quantum != 0) j["quantum"] = ch.quantum;
@@ -496,16 +494,8 @@ kernels::ChannelSpec to_spec(const UnitModel& m, std::size_t channel) {
     throw std::invalid_argument("to_spec: channel " + std::to_string(channel) + " of " +
                                 std::to_string(m.channels.size()));
   const Channel& ch = m.channels[channel];
-  kernels::ChannelSpec s;
+  kernels::ChannelSpec s = ch;  // the channel's noise model, at the unit's rate
   s.rate_hz = m.sample_rate_hz;
-  s.terms = ch.terms;
-  s.sinusoids = ch.sinusoids;
-  s.markovs = ch.markovs;
-  s.resonances = ch.resonances;
-  s.steps = ch.steps;
-  s.offset = ch.offset;
-  s.quantum = ch.quantum;
-  s.lowpass = ch.lowpass;
   // Power-law levels join eq. (3)'s terms they equal (variances add; kernels/powerlaw/theory.hpp)
   // and flicker PM, which eq. (3) lacks.
   const auto& h = ch.powerlaw;

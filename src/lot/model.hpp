@@ -8,11 +8,9 @@
 //   unit:           {"sample_rate_hz", "channels": {NAME: {"units", "terms", "effects",
 //                    "offset", "quantum"}, ...}, "lot_spread"}
 // `units` and `sample_rate_hz` are required; `terms` (any of R, K, B, N, Q; missing = 0),
-// `effects` (array of {"type": "sinusoid", "amplitude", "frequency_hz", "phase_rad"?},
-// {"type": "markov", "sigma", "tau_c_s"}, {"type": "resonance", "sigma", "frequency_hz", "q",
-// "spread_hz"?, "wander_s"?},
-// {"type": "lowpass", "cutoff_hz" | "taps"} and
-// {"type": "step", "size", "time_s"}), `offset` (constant added to the channel, e.g.
+// `effects` (array of {"type": NAME, KEY: value, ...}, one object per effect: each registered
+// effect's name and keys are its header's in kernels/model/effects/, read and written by the
+// rules there), `offset` (constant added to the channel, e.g.
 // 9.80665 on a vertical accelerometer), `quantum` (the output word's step: the filtered sum is
 // rounded to it, kernels::ChannelSpec::quantum) and `lot_spread` ({term: relative sd}) are
 // optional. A clock's channel may give its noise as power-law levels instead of (or beside)
@@ -41,18 +39,13 @@ public:
   using std::runtime_error::runtime_error;
 };
 
-/// One channel of a unit.
-struct Channel {
+/// One channel of a unit: its noise model (kernels/model/noise_model.hpp) in its own units, the
+/// effects in file order within each type, plus what only the model file has. Its rate_hz and
+/// flicker_pm are not read or written: to_spec sets them from the unit's sample rate and the
+/// power-law levels.
+struct Channel : kernels::NoiseModel {
   std::string name;             // [A-Za-z0-9_]+, the dataset name
   std::string units = "deg/s";  // units string (docs/formats.md, kernels/model/units.hpp)
-  kernels::NoiseTerms terms;    // channel units and seconds
-  std::vector<kernels::Sinusoid> sinusoids;    // effects of type "sinusoid", in file order
-  std::vector<kernels::GaussMarkov> markovs;   // effects of type "markov", in file order
-  std::vector<kernels::Resonance> resonances;  // effects of type "resonance", in file order
-  std::vector<kernels::Step> steps;            // effects of type "step", in file order
-  double offset = 0;                           // constant [units]
-  double quantum = 0;                          // the output's step [units] (0: not rounded)
-  kernels::Lowpass lowpass;                    // the effect of type "lowpass" (at most one)
   // Power-law levels h2, h1, h0, hm1, hm2 (kernels::powerlaw::kLevelKeys), added to the terms
   // by to_spec; all zero when the file has none.
   std::array<double, 5> powerlaw{};
@@ -79,8 +72,8 @@ UnitModel parse_model(std::string_view json_text, const std::string& source,
 UnitModel load_model(const std::string& path, const std::string& single_channel_name = "gyro_x");
 
 /// The model as JSON (2-space indented) in the form it was read in; parse_model(to_json(m))
-/// == m, doubles included (shortest round-trip representation). Effects are written
-/// sinusoids first, then markovs, resonances, steps and the lowpass.
+/// == m, doubles included (shortest round-trip representation). Effects are written by type in
+/// kernels::kEffectLists order, then the filter.
 std::string to_json(const UnitModel& m);
 
 /// Throws model::Error if the model breaks a rule parse_model enforces (for models built in

@@ -65,11 +65,7 @@ ChannelDiagnosis diagnose_channel(std::span<const double> rate, double rate_hz,
   model::Channel& cc = out.corrected.channels[model_channel];
   const auto& after = out.diagnosis.model_after;
   cc.terms = after.terms;
-  cc.sinusoids = after.sinusoids;
-  cc.markovs = after.markovs;
-  cc.resonances = after.resonances;
-  cc.steps = after.steps;
-  cc.lowpass = after.lowpass;
+  kernels::assign_effects(cc, after);
   return out;
 }
 
