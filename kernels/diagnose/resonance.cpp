@@ -233,11 +233,12 @@ std::vector<double> resonance_curve(const Resonance& r, const Curve& cv, const L
 // within 5 % of either end of its, is marked as a bound.
 Fit search_resonance(std::vector<Component> comps, std::size_t idx, const Curve& cv, const Bases& b,
                      bool grid, std::vector<std::pair<double, double>>* others) {
-  const auto eval = [&](double ln_f, double ln_q) {
-    comps[idx].nl = std::exp(ln_f);
-    comps[idx].q = std::clamp(std::exp(ln_q), kQLo, kQHi);  // exp(log(x)) may round past x
-    return fit_components(comps, cv, b);
+  const auto eval_on = [&](std::vector<Component>& own, double ln_f, double ln_q) {
+    own[idx].nl = std::exp(ln_f);
+    own[idx].q = std::clamp(std::exp(ln_q), kQLo, kQHi);  // exp(log(x)) may round past x
+    return fit_components(own, cv, b);
   };
+  const auto eval = [&](double ln_f, double ln_q) { return eval_on(comps, ln_f, ln_q); };
   const double f_lo = std::log(1.0 / cv.tau.back()), f_hi = std::log(0.4 * b.rate_hz);
   // q beyond pi f0 (longest tau) keeps the ripples past every tau measured, where the curve
   // cannot tell it from a line: the top of q's range at f0, a lower limit when reached.
@@ -263,9 +264,7 @@ Fit search_resonance(std::vector<Component> comps, std::size_t idx, const Curve&
       const double ln_f = rows[row].ln_f;
       for (int j = 0; q_lo + q_step * (j - 1) < q_top(ln_f); ++j) {
         const double lq = std::min(q_lo + q_step * j, q_top(ln_f));
-        own[idx].nl = std::exp(ln_f);
-        own[idx].q = std::clamp(std::exp(lq), kQLo, kQHi);
-        fits[row].emplace_back(lq, fit_components(own, cv, b).chi2);
+        fits[row].emplace_back(lq, eval_on(own, ln_f, lq).chi2);
       }
     });
     for (std::size_t i = 0; i < rows.size(); ++i) {
