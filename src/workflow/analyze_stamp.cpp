@@ -20,11 +20,9 @@ std::string number(double v) {
 // them stays that of earlier versions, whose results remain current.
 std::string input_stamp(const io::InputOptions& in) {
   std::string s;
-  char rate[32];
-  std::snprintf(rate, sizeof rate, "%.17g", in.sample_rate_hz);
   if (in.data_type)
     s += in.data_type == kernels::DataType::Rate ? ";data_type=rate" : ";data_type=phase";
-  if (in.sample_rate_hz > 0) s += std::string(";sample_rate=") + rate;
+  if (in.sample_rate_hz > 0) s += ";sample_rate=" + number(in.sample_rate_hz);
   if (in.column > 0) s += ";column=" + std::to_string(in.column);
   if (!in.time_column.empty()) s += ";time_column=" + in.time_column;
   if (!in.time_unit.empty()) s += ";time_unit=" + in.time_unit;
@@ -57,10 +55,8 @@ std::string edit_stamp(const pipeline::EditOptions& opt) {
 }
 
 std::string options_stamp(const AnalyzeOptions& opt) {
-  char conf[32];
-  std::snprintf(conf, sizeof conf, "%.17g", opt.confidence);
   return "stats=" + join_stats(opt.stats) + ";taus=" + kernels::to_string(opt.grid) +
-         ";confidence=" + conf + ";channels=" + opt.channels.text() +
+         ";confidence=" + number(opt.confidence) + ";channels=" + opt.channels.text() +
          ";fit=" + (opt.fit ? "1" : "0") + ";lowpass=" + opt.lowpass +
          (opt.model_poor_fits == "auto" ? "" : ";model_poor_fits=" + opt.model_poor_fits) +
          (opt.noise_model == "auto" ? "" : ";model=" + opt.noise_model) +
