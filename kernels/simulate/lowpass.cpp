@@ -14,8 +14,6 @@ namespace allanlot::kernels {
 
 namespace {
 
-constexpr int kMaxTaps = 100000;
-
 // Cumulative sums H_c(j) = sum_{i <= j} h_i of a filter whose taps sum to 1.
 std::vector<double> cumulative(const std::vector<double>& h) {
   std::vector<double> c(h.size());
@@ -33,8 +31,8 @@ void validate_lowpass(const Lowpass& lp, double rate_hz) {
     throw std::invalid_argument(
         "lowpass.cutoff_hz must be in (0, rate_hz/2 = " + std::to_string(rate_hz / 2) + "), got " +
         std::to_string(lp.cutoff_hz));
-  if (!std::isfinite(lp.taps) || (lp.taps != 0 && !(lp.taps > 1 && lp.taps <= kMaxTaps)))
-    throw std::invalid_argument("lowpass.taps must be in (1, " + std::to_string(kMaxTaps) +
+  if (!std::isfinite(lp.taps) || (lp.taps != 0 && !(lp.taps > 1 && lp.taps <= kLowpassMaxTaps)))
+    throw std::invalid_argument("lowpass.taps must be in (1, " + std::to_string(kLowpassMaxTaps) +
                                 "], got " + std::to_string(lp.taps));
   if (lp.cutoff_hz > 0 && lp.taps > 0)
     throw std::invalid_argument("a lowpass has cutoff_hz or taps, not both");

@@ -20,6 +20,9 @@ struct Lowpass {
   friend bool operator==(const Lowpass&, const Lowpass&) = default;
 };
 
+/// The longest moving average a filter may have (taps): the model file's limit and simulate's.
+inline constexpr int kLowpassMaxTaps = 100000;
+
 template <>
 struct EffectTraits<Lowpass> {
   static constexpr std::string_view name = "lowpass";
@@ -30,7 +33,7 @@ struct EffectTraits<Lowpass> {
   }};
   static constexpr std::size_t max_count = 1;
   static constexpr int curve_parameters = 1;  // the cutoff or the taps, searched on the curve
-  /// cutoff_hz below the Nyquist frequency; taps in (1, 100000].
+  /// cutoff_hz below the Nyquist frequency; taps in (1, kLowpassMaxTaps].
   static std::optional<KeyProblem> check(const Lowpass& lp, double rate_hz, NumberText text);
 };
 
