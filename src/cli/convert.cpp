@@ -5,7 +5,7 @@
 #include "io/recording.hpp"
 #include "io/text_recording.hpp"
 #include "src/cli/input_options.hpp"
-#include "src/cli/inputs.hpp"
+#include "src/workflow/inputs.hpp"
 #include "src/workflow/notes.hpp"
 
 #include <CLI/CLI.hpp>
@@ -90,7 +90,7 @@ int run_convert(const ConvertArgs& a, const io::InputOptions& options) {
   for (const std::string& m : a.manifests)
     given.push_back("@" + m);
   if (given.empty()) throw CLI::ValidationError("INPUT", "no input: give files or @MANIFEST");
-  const InputList inputs = expand_inputs(given, outdir);
+  const workflow::InputList inputs = workflow::expand_inputs(given, outdir);
   check_inputs_need(inputs.files, options);
   const std::vector<fs::path> paths(inputs.files.begin(), inputs.files.end());
   for (const auto& [what, reason] : inputs.failures)

@@ -2,7 +2,7 @@
 
 #include "io/paths.hpp"
 #include "src/cli/input_options.hpp"
-#include "src/cli/inputs.hpp"
+#include "src/workflow/inputs.hpp"
 
 #include "io/atomic_file.hpp"
 #include "io/recording.hpp"

@@ -10,7 +10,7 @@
 #include "kernels/allan/stats.hpp"
 #include "src/cli/cli.hpp"
 #include "src/cli/export_filter.hpp"
-#include "src/cli/inputs.hpp"
+#include "src/workflow/inputs.hpp"
 
 #include <filesystem>
 #include <iosfwd>
@@ -26,7 +26,7 @@ struct ExportOptions {
   ExportFormat format = ExportFormat::Csv;
   std::filesystem::path output;            // "" = standard output; a directory: one file per table
   std::vector<std::string> stats;          // only these statistics (empty = all)
-  ChannelSelection channels;               // --channels, --exclude-channels (all by default)
+  workflow::ChannelSelection channels;     // --channels, --exclude-channels (all by default)
   AxisCombine combine = AxisCombine::Max;  // --combine: the kalibr/openvins/vins axes
 };
 

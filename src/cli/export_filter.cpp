@@ -104,7 +104,7 @@ Field field(const std::vector<Axis>& axes, Family f, Term t, AxisCombine combine
 // The IMUs the selected channels form: channels grouped by device and group, gyro and
 // accelerometer axes told by their units.
 std::map<std::string, Imu> imus(const std::vector<io::RecordingResult>& results,
-                                const ChannelSelection& sel) {
+                                const workflow::ChannelSelection& sel) {
   std::map<std::string, Imu> out;
   for (const io::RecordingResult& r : results)
     for (const io::ChannelResult& ch : r.channels) {

@@ -5,7 +5,7 @@
 // m/s^3/sqrt(Hz)).
 #pragma once
 
-#include "src/cli/inputs.hpp"
+#include "src/workflow/inputs.hpp"
 
 #include <filesystem>
 #include <iosfwd>
@@ -21,7 +21,7 @@ struct FilterExport {
   FilterFormat format = FilterFormat::Kalibr;
   AxisCombine combine = AxisCombine::Max;
   std::filesystem::path output;  // "" = standard output
-  ChannelSelection channels;
+  workflow::ChannelSelection channels;
 };
 
 /// Writes the YAML of the one IMU the selected channels of `files` hold (its three gyro and

@@ -59,10 +59,10 @@ void add_channel_options(CLI::App* sub, std::vector<std::string>& include,
       ->allow_extra_args(false);
 }
 
-ChannelSelection channel_selection(const std::vector<std::string>& include,
-                                   const std::vector<std::string>& exclude) {
+workflow::ChannelSelection channel_selection(const std::vector<std::string>& include,
+                                             const std::vector<std::string>& exclude) {
   try {
-    return ChannelSelection(include, exclude);
+    return workflow::ChannelSelection(include, exclude);
   } catch (const std::invalid_argument& e) {
     throw CLI::ValidationError("--channels", e.what());
   }

@@ -5,8 +5,8 @@
 #pragma once
 
 #include "io/input_options.hpp"
-#include "src/cli/inputs.hpp"
 #include "src/workflow/input_args.hpp"
+#include "src/workflow/inputs.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -29,8 +29,8 @@ void add_channel_options(CLI::App* sub, std::vector<std::string>& include,
                          std::vector<std::string>& exclude);
 
 /// The selection they say; throws CLI::ValidationError naming --channels when a glob is empty.
-ChannelSelection channel_selection(const std::vector<std::string>& include,
-                                   const std::vector<std::string>& exclude);
+workflow::ChannelSelection channel_selection(const std::vector<std::string>& include,
+                                             const std::vector<std::string>& exclude);
 
 /// Throws CLI::ValidationError (a usage error, exit 2) when a text recording among `files`
 /// needs an option that was not given, naming the file and the option. HDF5 files pass.
