@@ -23,22 +23,36 @@
 namespace allanlot::kernels::diagnose_detail {
 namespace {
 
-std::vector<double> basis_of(const Component& c, const Curve& cv, const Bases& b) {
-  if (c.kind == Kind::Term) return b.term[static_cast<std::size_t>(c.term)];
-  // A step is removed from the record instead (diagnose.cpp, Search::curve_without): no
-  // variance on the curves compared.
-  if (c.kind == Kind::Lowpass || c.kind == Kind::Step) return std::vector<double>(cv.size(), 0.0);
-  if (c.kind == Kind::Markov || c.kind == Kind::Resonance) return shaped_curve(c, cv, b);
+// A line's unit curve under b's filter. model_avar, not model_avar_sampled: both are exact for a
+// line at every m, and the sampled form would evaluate flicker's quadrature factor for nothing.
+std::vector<double> line_basis(double frequency_hz, const Curve& cv, const Bases& b) {
   ChannelSpec s;
   s.rate_hz = b.rate_hz;
-  s.sinusoids.push_back({1.0, c.nl, 0.0});
-  // model_avar, not model_avar_sampled: both are exact for a line at every m, and the sampled
-  // form would evaluate flicker's quadrature factor for nothing.
+  s.sinusoids.push_back({1.0, frequency_hz, 0.0});
   std::vector<double> g(cv.size());
-  const double gain = lowpass_gain2(b.lowpass, b.rate_hz, c.nl);
+  const double gain = lowpass_gain2(b.lowpass, b.rate_hz, frequency_hz);
   for (std::size_t i = 0; i < cv.size(); ++i)
     g[i] = gain * model_avar(s, cv.tau[i]);
   return g;
+}
+
+// The Allan variance of c at unit level at the curve's taus under b's filter; none (zeros) for a
+// filter, which reshapes the others', and a step, which is removed from the record instead
+// (diagnose.cpp, Search::curve_without): no variance on the curves compared.
+std::vector<double> basis_of(const Component& c, const Curve& cv, const Bases& b) {
+  return std::visit(
+      [&](const auto& p) -> std::vector<double> {
+        using E = std::decay_t<decltype(p)>;
+        if constexpr (std::is_same_v<E, TermLevel>)
+          return b.term[static_cast<std::size_t>(p.term)];
+        else if constexpr (std::is_same_v<E, Sinusoid>)
+          return line_basis(p.frequency_hz, cv, b);
+        else if constexpr (std::is_same_v<E, GaussMarkov> || std::is_same_v<E, Resonance>)
+          return shaped_curve(c, cv, b);
+        else
+          return std::vector<double>(cv.size(), 0.0);
+      },
+      c.part);
 }
 
 // The bases of a set of components: `b` itself when it already carries the set's filter (the
@@ -72,7 +86,7 @@ Fit search_lowpass(std::vector<Component> comps, std::size_t idx, const Curve& c
       lp.cutoff_hz = std::exp(lo + (hi - lo) * x / (n_grid - 1));
     else
       lp.taps = std::exp(t_lo + (t_hi - t_lo) * (x - n_grid) / (n_taps - 1));
-    own[idx].lp = lp;
+    as<Lowpass>(own[idx]) = lp;
     return fit_components(own, cv, filtered_bases(b, cv, lp));
   };
   const auto fit_at = [&](double x) { return fit_with(comps, x); };
@@ -124,10 +138,8 @@ namespace {
 
 // Lowpass candidate: a new component, its filter searched with the others as `base` has them.
 CandidateFit lowpass_candidate(std::vector<Component> base, const Curve& cv, const Bases& b) {
-  Component c;
-  c.kind = Kind::Lowpass;
+  Component c = component(Lowpass{});
   c.pinned = true;
-  c.coef = 1.0;
   base.push_back(c);
   CandidateFit out;
   out.added = base.size() - 1;
@@ -137,10 +149,9 @@ CandidateFit lowpass_candidate(std::vector<Component> base, const Curve& cv, con
   // Gauss-Markov hump at one sample then stood in for the filter, 1597 against 804). Under the
   // chosen filter they are searched again near where they are, when the coefficients are
   // re-estimated (with them fixed, the model as it stands keeps its resonance).
-  const Bases chosen = filtered_bases(b, cv, out.fit.comps[out.added].lp);
+  const Bases chosen = filtered_bases(b, cv, as<Lowpass>(out.fit.comps[out.added]));
   for (std::size_t i = 0; i < out.added; ++i)
-    if (out.fit.comps[i].kind == Kind::Resonance && out.fit.comps[i].nl_free &&
-        out.fit.comps[i].free) {
+    if (is<Resonance>(out.fit.comps[i]) && out.fit.comps[i].nl_free && out.fit.comps[i].free) {
       Fit f = search_resonance(out.fit.comps, i, cv, chosen, false);
       if (f.chi2 < out.fit.chi2) out.fit = std::move(f);
     }
@@ -167,22 +178,38 @@ std::string term_key(Term t) {
   return std::string(term_name(t));
 }
 
-// A jump as a component: |size| and its sign, at time_s, pinned (never refitted on the curve).
+// A jump as a component, pinned (never refitted on the curve).
 Component step_component(const Step& st) {
-  Component c;
-  c.kind = Kind::Step;
-  c.nl = st.time_s;
-  c.coef = std::abs(st.size);
-  c.sign = st.size < 0.0 ? -1.0 : 1.0;
+  Component c = component(st);
   c.pinned = true;
   return c;
 }
 
+// A resonance's parameters: its shape measured on the periodogram (pinned or psd_shape: the
+// sigmas of that fit; a wandering one's spread with it, and the wander's correlation time from
+// its track, an order of magnitude with no sigma) or searched on the curve (q's sigma NaN at a
+// bound of its range).
+std::vector<Parameter> resonance_parameters_of(const Component& c, double coef_sigma,
+                                               double nl_sigma, double q_sigma) {
+  const Resonance& r = as<Resonance>(c);
+  if (!c.pinned && !c.psd_shape)
+    return {{"sigma", r.sigma, coef_sigma},
+            {"frequency_hz", r.frequency_hz, nl_sigma, c.nl_bound},
+            {"q", r.q, c.q_bound != 0 ? kNaN : q_sigma, c.q_bound}};
+  std::vector<Parameter> out = {{"sigma", r.sigma, coef_sigma},
+                                {"frequency_hz", r.frequency_hz, c.nl_sigma},
+                                {"q", r.q, c.q_sigma}};
+  if (r.spread_hz > 0.0) {
+    out.push_back({"spread_hz", r.spread_hz, c.spread_sigma});
+    out.push_back({"wander_s", r.wander_s, kNaN});
+  }
+  return out;
+}
+
 }  // namespace
 
-Component searched_component(Kind kind) {
-  Component c;
-  c.kind = kind;
+Component searched_component(Part p) {
+  Component c = component(p);
   c.free = true;
   c.nl_free = true;
   return c;
@@ -195,7 +222,7 @@ double threshold(int k, double alpha) {
 
 Lowpass lowpass_of(const std::vector<Component>& comps) {
   for (const Component& c : comps)
-    if (c.kind == Kind::Lowpass) return c.lp;
+    if (is<Lowpass>(c)) return as<Lowpass>(c);
   return {};
 }
 
@@ -232,49 +259,22 @@ Bases make_bases(const Curve& cv, double rate_hz, double quantum) {
 std::vector<Component> components_of(const ChannelSpec& s) {
   std::vector<Component> out;
   for (const Term t : all_terms())
-    if (coefficient(s.terms, t) > 0.0) {
-      Component c;
-      c.term = t;
-      c.coef = coefficient(s.terms, t);
-      c.given = true;
-      out.push_back(c);
+    if (coefficient(s.terms, t) > 0.0)
+      out.push_back(component(TermLevel{t, coefficient(s.terms, t)}));
+  // The effects in kEffectLists' order. A given jump is pinned: the Allan curve can neither
+  // place it nor size it apart from a random walk.
+  for_each_effect_list(s, [&](const auto& list) {
+    for (const auto& e : list) {
+      out.push_back(component(e));
+      out.back().pinned = is<Step>(out.back());
     }
-  const auto given = [](Kind kind, double nl, double coef) {
-    Component c;
-    c.kind = kind;
-    c.nl = nl;
-    c.coef = coef;
-    c.given = true;
-    return c;
-  };
-  for (const Sinusoid& q : s.sinusoids) {
-    out.push_back(given(Kind::Sinusoid, q.frequency_hz, q.amplitude));
-    out.back().phase = q.phase_rad;
-  }
-  for (const GaussMarkov& g : s.markovs)
-    out.push_back(given(Kind::Markov, g.tau_c_s, g.sigma));
-  for (const Resonance& r : s.resonances) {
-    out.push_back(given(Kind::Resonance, r.frequency_hz, r.sigma));
-    out.back().q = r.q;
-    out.back().spread = r.spread_hz;
-    out.back().wander = r.wander_s;
-  }
-  for (const Step& st : s.steps) {
-    // A given jump is kept as given: the Allan curve can neither place it nor size it apart
-    // from a random walk.
-    Component c = step_component(st);
-    c.given = true;
-    out.push_back(c);
-  }
+  });
   if (s.lowpass.active()) {
-    Component c;
-    c.kind = Kind::Lowpass;
-    c.lp = s.lowpass;
-    c.coef = 1.0;
-    c.pinned = true;
-    c.given = true;
-    out.push_back(c);
+    out.push_back(component(s.lowpass));
+    out.back().pinned = true;
   }
+  for (Component& c : out)
+    c.given = true;
   return out;
 }
 
@@ -283,21 +283,21 @@ ChannelSpec spec_of(const std::vector<Component>& comps, const ChannelSpec& like
   s.rate_hz = like.rate_hz;
   s.offset = like.offset;
   s.quantum = like.quantum;
-  for (const Component& c : comps) {
-    if (c.kind == Kind::Term) {
-      coefficient(s.terms, c.term) = c.coef;
-    } else if (c.kind == Kind::Sinusoid) {
-      s.sinusoids.push_back({c.coef, c.nl, c.phase});
-    } else if (c.kind == Kind::Lowpass) {
-      s.lowpass = c.lp;
-    } else if (c.kind == Kind::Step) {
-      s.steps.push_back({c.sign * c.coef, c.nl});
-    } else if (c.kind == Kind::Resonance) {
-      s.resonances.push_back({c.coef, c.nl, c.q, c.spread, c.wander});
-    } else {
-      s.markovs.push_back({c.coef, c.nl});
-    }
-  }
+  for (const Component& c : comps)
+    std::visit(
+        [&s](const auto& p) {
+          using E = std::decay_t<decltype(p)>;
+          if constexpr (std::is_same_v<E, TermLevel>)
+            coefficient(s.terms, p.term) = p.coef;
+          else if constexpr (std::is_same_v<E, Lowpass>)
+            s.lowpass = p;
+          else
+            for_each_effect_list(s, [&p](auto& list) {
+              if constexpr (std::is_same_v<typename std::decay_t<decltype(list)>::value_type, E>)
+                list.push_back(p);
+            });
+        },
+        c.part);
   return s;
 }
 
@@ -319,8 +319,9 @@ Fit fit_components(std::vector<Component> comps, const Curve& cv, const Bases& r
       free_idx.push_back(c);
       g.push_back(std::move(gc));
     } else {
+      const double level = coef(comps[c]);
       for (std::size_t i = 0; i < p; ++i)
-        fixed[i] += comps[c].coef * comps[c].coef * gc[i];
+        fixed[i] += level * level * gc[i];
     }
   }
   std::vector<double> model(p);
@@ -358,7 +359,7 @@ Fit fit_components(std::vector<Component> comps, const Curve& cv, const Bases& r
       if (change < 1e-10) break;
     }
     for (Eigen::Index j = 0; j < k; ++j)
-      comps[free_idx[static_cast<std::size_t>(j)]].coef = std::sqrt(std::max(theta(j), 0.0));
+      set_coef(comps[free_idx[static_cast<std::size_t>(j)]], std::sqrt(std::max(theta(j), 0.0)));
   }
   Fit f;
   f.comps = std::move(comps);
@@ -373,7 +374,7 @@ Eigen::MatrixXd free_columns(const std::vector<Component>& comps, std::span<cons
   const auto p = static_cast<Eigen::Index>(cv.size());
   std::vector<Eigen::VectorXd> cols;
   for (const Component& c : comps) {
-    if (!c.free || c.kind == Kind::Lowpass || c.kind == Kind::Step) continue;
+    if (!c.free || is<Lowpass>(c) || is<Step>(c)) continue;
     const std::vector<double> g = basis_of(c, cv, b);
     Eigen::VectorXd col(p);
     for (Eigen::Index i = 0; i < p; ++i) {
@@ -402,32 +403,38 @@ Sigmas fill_sigmas(const Fit& f, const Curve& cv, const Bases& raw, double n_eff
   out.q.assign(f.comps.size(), kNaN);
   std::vector<std::pair<std::size_t, std::vector<double>*>> params;  // (component, where)
   std::vector<std::vector<double>> cols;
-  // d ln avar / d x of a nonlinear parameter x (a member of the component), by central
+  // d ln avar / d x of a shape parameter x of effect E (a field of its part), by central
   // differences of relative step 1e-4.
-  const auto nonlinear = [&](std::size_t c, double Component::*x, std::vector<double>* where) {
+  const auto nonlinear = [&]<class E>(std::size_t c, double E::*x, std::vector<double>* where) {
     const Component& comp = f.comps[c];
-    const double h = 1e-4;
+    const double h = 1e-4, level = coef(comp), at = as<E>(comp).*x;
     Component lo = comp, hi = comp;
-    lo.*x *= 1.0 - h;
-    hi.*x *= 1.0 + h;
+    as<E>(lo).*x *= 1.0 - h;
+    as<E>(hi).*x *= 1.0 + h;
     const std::vector<double> gl = basis_of(lo, cv, b), gh = basis_of(hi, cv, b);
     std::vector<double> dn(p);
     for (std::size_t i = 0; i < p; ++i)
-      dn[i] = comp.coef * comp.coef * (gh[i] - gl[i]) / (2.0 * h * (comp.*x)) / f.model[i];
+      dn[i] = level * level * (gh[i] - gl[i]) / (2.0 * h * at) / f.model[i];
     params.emplace_back(c, where);
     cols.push_back(std::move(dn));
   };
   for (std::size_t c = 0; c < f.comps.size(); ++c) {
     const Component& comp = f.comps[c];
-    if (!comp.free || !(comp.coef > 0.0)) continue;
+    const double level = coef(comp);
+    if (!comp.free || !(level > 0.0)) continue;
     const std::vector<double> g = basis_of(comp, cv, b);
     std::vector<double> d(p);
     for (std::size_t i = 0; i < p; ++i)
-      d[i] = 2.0 * comp.coef * g[i] / f.model[i];
+      d[i] = 2.0 * level * g[i] / f.model[i];
     params.emplace_back(c, &out.coef);
     cols.push_back(std::move(d));
-    if (comp.nl_free) nonlinear(c, &Component::nl, &out.nl);
-    if (comp.nl_free && comp.kind == Kind::Resonance) nonlinear(c, &Component::q, &out.q);
+    if (!comp.nl_free) continue;
+    // Only humps and resonances have their shapes searched on the curve.
+    if (is<GaussMarkov>(comp)) nonlinear(c, &GaussMarkov::tau_c_s, &out.nl);
+    if (is<Resonance>(comp)) {
+      nonlinear(c, &Resonance::frequency_hz, &out.nl);
+      nonlinear(c, &Resonance::q, &out.q);
+    }
   }
   if (params.empty()) return out;
   const auto k = static_cast<Eigen::Index>(params.size());
@@ -448,51 +455,41 @@ Sigmas fill_sigmas(const Fit& f, const Curve& cv, const Bases& raw, double n_eff
 
 // The parameters of one component under the model file's keys.
 std::vector<Parameter> parameters_of(const Component& c, const Sigmas& sigmas, std::size_t idx) {
-  const double coef_sigma = sigmas.coef[idx], nl_sigma = sigmas.nl[idx], q_sigma = sigmas.q[idx];
-  if (c.kind == Kind::Term)
-    return {{term_key(c.term), c.coef, c.pinned ? c.coef_sigma : coef_sigma}};
-  if (c.kind == Kind::Lowpass)
-    return c.lp.taps > 0 ? std::vector<Parameter>{{"taps", c.lp.taps, kNaN, c.nl_bound}}
-                         : std::vector<Parameter>{{"cutoff_hz", c.lp.cutoff_hz, kNaN, c.nl_bound}};
-  if (c.kind == Kind::Sinusoid)
-    return {{"amplitude", c.coef, c.pinned ? c.coef_sigma : coef_sigma},
-            {"frequency_hz", c.nl, std::isnan(c.nl_sigma) ? nl_sigma : c.nl_sigma}};
-  if (c.kind == Kind::Step)
-    return {{"size", c.sign * c.coef, c.coef_sigma}, {"time_s", c.nl, c.nl_sigma}};
-  if (c.kind == Kind::Resonance && (c.pinned || c.psd_shape)) {
-    std::vector<Parameter> out = {{"sigma", c.coef, c.pinned ? c.coef_sigma : coef_sigma},
-                                  {"frequency_hz", c.nl, c.nl_sigma},
-                                  {"q", c.q, c.q_sigma}};
-    // A wandering resonance's spread, measured with its shape on the periodogram, and the
-    // wander's correlation time from its track (an order of magnitude, no sigma).
-    if (c.spread > 0.0) {
-      out.push_back({"spread_hz", c.spread, c.spread_sigma});
-      out.push_back({"wander_s", c.wander, kNaN});
-    }
-    return out;
-  }
-  if (c.kind == Kind::Resonance)
-    return {{"sigma", c.coef, coef_sigma},
-            {"frequency_hz", c.nl, c.nl_bound != 0 ? kNaN : nl_sigma, c.nl_bound},
-            {"q", c.q, c.q_bound != 0 ? kNaN : q_sigma, c.q_bound}};
-  // A tau_c at the end of its search range is a limit, not an estimate: its curvature-based
+  const double coef_sigma = c.pinned ? c.coef_sigma : sigmas.coef[idx];
+  // A shape at the end of its search range is a limit, not an estimate: its curvature-based
   // sigma would describe the edge of the grid, not the data.
-  if (c.nl_bound != 0) return {{"sigma", c.coef, coef_sigma}, {"tau_c_s", c.nl, kNaN, c.nl_bound}};
-  return {{"sigma", c.coef, coef_sigma}, {"tau_c_s", c.nl, nl_sigma}};
+  const double nl_sigma = c.nl_bound != 0 ? kNaN : sigmas.nl[idx];
+  return std::visit(
+      [&](const auto& p) -> std::vector<Parameter> {
+        using E = std::decay_t<decltype(p)>;
+        if constexpr (std::is_same_v<E, TermLevel>) {
+          return {{term_key(p.term), p.coef, coef_sigma}};
+        } else if constexpr (std::is_same_v<E, Lowpass>) {
+          return {p.taps > 0 ? Parameter{"taps", p.taps, kNaN, c.nl_bound}
+                             : Parameter{"cutoff_hz", p.cutoff_hz, kNaN, c.nl_bound}};
+        } else if constexpr (std::is_same_v<E, Sinusoid>) {
+          return {{"amplitude", p.amplitude, coef_sigma},
+                  {"frequency_hz", p.frequency_hz,
+                   std::isnan(c.nl_sigma) ? sigmas.nl[idx] : c.nl_sigma}};
+        } else if constexpr (std::is_same_v<E, Step>) {
+          return {{"size", p.size, c.coef_sigma}, {"time_s", p.time_s, c.nl_sigma}};
+        } else if constexpr (std::is_same_v<E, Resonance>) {
+          return resonance_parameters_of(c, coef_sigma, nl_sigma, sigmas.q[idx]);
+        } else {
+          return {{"sigma", p.sigma, coef_sigma}, {"tau_c_s", p.tau_c_s, nl_sigma, c.nl_bound}};
+        }
+      },
+      c.part);
 }
 
 std::string component_label(const std::vector<Component>& comps, std::size_t idx) {
   const Component& c = comps[idx];
-  if (c.kind == Kind::Term) return term_key(c.term);
-  if (c.kind == Kind::Lowpass) return std::string(EffectTraits<Lowpass>::name);
+  if (is<TermLevel>(c)) return term_key(as<TermLevel>(c).term);
+  if (is<Lowpass>(c)) return std::string(EffectTraits<Lowpass>::name);
   int ordinal = 0;
   for (std::size_t i = 0; i < idx; ++i)
-    ordinal += comps[i].kind == c.kind ? 1 : 0;
-  const std::string_view kind = c.kind == Kind::Sinusoid    ? EffectTraits<Sinusoid>::name
-                                : c.kind == Kind::Step      ? EffectTraits<Step>::name
-                                : c.kind == Kind::Resonance ? EffectTraits<Resonance>::name
-                                                            : EffectTraits<GaussMarkov>::name;
-  return std::string(kind) + "[" + std::to_string(ordinal) + "]";
+    ordinal += comps[i].part.index() == c.part.index() ? 1 : 0;
+  return std::string(effect_name(effect_of(c))) + "[" + std::to_string(ordinal) + "]";
 }
 
 // model_avar_sampled of spec `s` at the curve's taus, from the cached term bases.
@@ -557,17 +554,14 @@ CandidateFit evaluate_candidate(Effect e, std::vector<Component> comps, const Wi
   cf.info.effect = e;
   int k = n_refit;
   if (const auto t = effect_term(e)) {
-    const bool present = std::any_of(comps.begin(), comps.end(), [&](const auto& c) {
-      return c.kind == Kind::Term && c.term == *t;
-    });
+    const bool present =
+        std::any_of(comps.begin(), comps.end(), [&](const auto& c) { return is_term(c, *t); });
     if (present) {
       cf.info.note = "already in the model";
       return cf;
     }
-    Component c;
-    c.term = *t;
-    c.free = true;
-    comps.push_back(c);
+    comps.push_back(component(TermLevel{*t}));
+    comps.back().free = true;
     cf.fit = fit_components(std::move(comps), cv, b);
     k += 1;
   } else if (e == Effect::Sinusoid) {
@@ -583,11 +577,8 @@ CandidateFit evaluate_candidate(Effect e, std::vector<Component> comps, const Wi
                         " Hz is wider than a line (a narrowband process)";
       return cf;
     }
-    Component c;
-    c.kind = Kind::Sinusoid;
-    c.nl = line.frequency_hz;
+    Component c = component(Sinusoid{line.amplitude, line.frequency_hz});
     c.nl_sigma = line.sigma_hz;
-    c.coef = line.amplitude;
     c.coef_sigma = line.amplitude_sigma;
     c.pinned = true;
     comps.push_back(c);

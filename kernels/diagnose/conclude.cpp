@@ -16,6 +16,38 @@
 #include <vector>
 
 namespace allanlot::kernels::diagnose_detail {
+namespace {
+
+// A given component's level as the model file has it (a step's signed size) and the name of its
+// revision: the term's key, or "<effect>[i].<its level's model-file key>".
+double signed_level(const Component& c) {
+  return std::visit(
+      [](const auto& p) {
+        using E = std::decay_t<decltype(p)>;
+        if constexpr (std::is_same_v<E, TermLevel>)
+          return p.coef;
+        else if constexpr (EffectTraits<E>::level == nullptr)
+          return 1.0;
+        else
+          return p.*EffectTraits<E>::level;
+      },
+      c.part);
+}
+
+std::string level_key(const std::vector<Component>& comps, std::size_t idx) {
+  const std::string label = component_label(comps, idx);
+  return std::visit(
+      [&label](const auto& p) {
+        using E = std::decay_t<decltype(p)>;
+        if constexpr (!std::is_same_v<E, TermLevel>)
+          for (const auto& key : EffectTraits<E>::keys)
+            if (key.field == EffectTraits<E>::level) return label + "." + std::string(key.name);
+        return label;
+      },
+      comps[idx].part);
+}
+
+}  // namespace
 
 // After the rounds: the final structure refitted, the given coefficients tested (fixed versus
 // re-estimated), and the model after with its effects' parameters.
@@ -38,11 +70,10 @@ Fit Search::refit_final() {
 // they are: a filter's form and value, each hump's tau_c, each resonance's f0 and q.
 Fit Search::search_added(Fit base) const {
   for (const std::size_t idx : added_idx)
-    if (base.comps[idx].kind == Kind::Lowpass) base = search_lowpass(base.comps, idx, cv, bases);
+    if (is<Lowpass>(base.comps[idx])) base = search_lowpass(base.comps, idx, cv, bases);
   for (const std::size_t idx : added_idx) {
-    if (base.comps[idx].kind == Kind::Markov) base = search_tau_c(base.comps, idx, cv, bases);
-    if (base.comps[idx].kind == Kind::Resonance && !base.comps[idx].pinned &&
-        !base.comps[idx].psd_shape)
+    if (is<GaussMarkov>(base.comps[idx])) base = search_tau_c(base.comps, idx, cv, bases);
+    if (is<Resonance>(base.comps[idx]) && !base.comps[idx].pinned && !base.comps[idx].psd_shape)
       base = search_resonance(base.comps, idx, cv, bases, false);
   }
   return base;
@@ -118,7 +149,7 @@ double Search::revision_criterion(const Fit& base, const Fit& fixed, int n_given
 bool Search::given_wrong(const Fit& base, const Fit& fixed) {
   int n_given = 0;
   for (const Component& c : given)
-    n_given += c.kind == Kind::Lowpass ? 0 : 1;
+    n_given += is<Lowpass>(c) ? 0 : 1;
   d.revision_delta_ic = n_given > 0 ? revision_criterion(base, fixed, n_given) : 0.0;
   d.coefficients_wrong = n_given > 0 && d.revision_delta_ic > 0.0;
   return d.coefficients_wrong;
@@ -147,7 +178,7 @@ bool Search::prune(Fit& base, const Fit& fixed_fit, bool free_given) {
   // autocorrelation 0.17 to 0.29, none beyond), fits as well without it.
   const auto refit_without = [&](std::vector<Component> comps, const Curve& on) {
     for (std::size_t idx = given.size(); idx < comps.size(); ++idx) {
-      if (comps[idx].kind != Kind::Lowpass) continue;
+      if (!is<Lowpass>(comps[idx])) continue;
       if (!free_given) comps = given_fixed(std::move(comps));
       return search_lowpass(std::move(comps), idx, on, bases);
     }
@@ -160,8 +191,7 @@ bool Search::prune(Fit& base, const Fit& fixed_fit, bool free_given) {
   std::size_t worst_k = added_idx.size();
   for (std::size_t k = 0; k < added_idx.size(); ++k) {
     const Component& c = with.comps[added_idx[k]];
-    if (c.kind == Kind::Sinusoid || c.kind == Kind::Step || (c.kind == Kind::Resonance && c.pinned))
-      continue;
+    if (is<Sinusoid>(c) || is<Step>(c) || (is<Resonance>(c) && c.pinned)) continue;
     std::vector<Component> without = from;
     without.erase(without.begin() + static_cast<std::ptrdiff_t>(added_idx[k]));
     // Judged as the round judged it: under the edf of the model without the effect, the
@@ -177,7 +207,7 @@ bool Search::prune(Fit& base, const Fit& fixed_fit, bool free_given) {
     // criterion -0.85); one named by the witness alone goes when the witness no longer sees it
     // (judged beside effects the pruning has since removed, the slope of one strong hump's
     // record stood at z = -4.06 and then at -3.4).
-    if (c.kind == Kind::Term && c.term == Term::R && c.coef > 0.0) {
+    if (is_term(c, Term::R) && coef(c) > 0.0) {
       if (trend_under(null_model).found) continue;
       if (c.pinned) {
         worst = -std::numeric_limits<double>::infinity();
@@ -189,12 +219,12 @@ bool Search::prune(Fit& base, const Fit& fixed_fit, bool free_given) {
     use_edf(null_cv, model_edf(null_model, cv, bases));
     const Fit f = refit_without(without, null_cv);
     const Fit w = fit_on(from, null_cv);
-    const int k_c = c.kind == Kind::Term || c.kind == Kind::Lowpass ? 1
-                    : c.kind == Kind::Resonance                     ? resonance_parameters(c)
-                                                                    : 2;
+    const int k_c = is<TermLevel>(c) || is<Lowpass>(c) ? 1
+                    : is<Resonance>(c)                 ? resonance_parameters(c)
+                                                       : 2;
     const double delta = (f.chi2 - w.chi2) * crit.scale - threshold(k_c, crit.alpha_candidate);
-    if (!(c.coef > 0.0) || delta <= worst) {
-      worst = !(c.coef > 0.0) ? -std::numeric_limits<double>::infinity() : delta;
+    if (!(coef(c) > 0.0) || delta <= worst) {
+      worst = !(coef(c) > 0.0) ? -std::numeric_limits<double>::infinity() : delta;
       worst_k = k;
     }
   }
@@ -257,14 +287,9 @@ void Search::conclude(Fit& base, Fit& fixed_fit) {
   d.effect_parameters.clear();
   const std::vector<double> cs = fill_sigmas(base, cv, bases, d.n_eff).coef;
   for (std::size_t c = 0; c < given.size(); ++c) {
-    if (given[c].kind == Kind::Lowpass) continue;  // given filters are kept as they are
-    const std::string label = component_label(given, c);
-    const std::string key = given[c].kind == Kind::Term       ? label
-                            : given[c].kind == Kind::Sinusoid ? label + ".amplitude"
-                            : given[c].kind == Kind::Step     ? label + ".size"
-                                                              : label + ".sigma";
+    if (is<Lowpass>(given[c])) continue;  // given filters are kept as they are
     d.revisions.push_back(
-        {key, given[c].sign * given[c].coef, base.comps[c].sign * base.comps[c].coef, cs[c]});
+        {level_key(given, c), signed_level(given[c]), signed_level(base.comps[c]), cs[c]});
   }
   Fit& final_fit = d.coefficients_wrong ? base : fixed_fit;
   if (d.effects_named.empty() && !d.coefficients_wrong) {

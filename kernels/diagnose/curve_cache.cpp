@@ -18,8 +18,8 @@ namespace {
 // result depends on the cache or on the thread that filled it. At most kMaxCurves curves (about
 // 2 kB each) a thread; a full cache is emptied.
 struct CurveKey {
-  Kind kind;
-  double nl, q, spread, cutoff_hz, taps, rate_hz;
+  std::size_t part;                                   // Component::part's index
+  double shape, q, spread, cutoff_hz, taps, rate_hz;  // shape: tau_c or f0
   std::int64_t n_samples;
   friend bool operator==(const CurveKey&, const CurveKey&) = default;
 };
@@ -31,9 +31,9 @@ struct CachedCurve {
 constexpr std::size_t kMaxCurves = 4096;
 
 std::size_t curve_hash(const CurveKey& k, const Curve& cv) {
-  std::size_t h = static_cast<std::size_t>(k.kind);
+  std::size_t h = k.part;
   const auto mix = [&h](std::uint64_t v) { h = (h ^ v) * 0x100000001b3ULL; };
-  for (const double v : {k.nl, k.q, k.spread, k.cutoff_hz, k.taps, k.rate_hz})
+  for (const double v : {k.shape, k.q, k.spread, k.cutoff_hz, k.taps, k.rate_hz})
     mix(std::bit_cast<std::uint64_t>(v));
   mix(static_cast<std::uint64_t>(k.n_samples));
   mix(cv.m.size());
@@ -44,10 +44,11 @@ std::size_t curve_hash(const CurveKey& k, const Curve& cv) {
 }  // namespace
 
 std::vector<double> shaped_curve(const Component& c, const Curve& cv, const Bases& b) {
-  const CurveKey key{c.kind,
-                     c.nl,
-                     c.kind == Kind::Resonance ? c.q : 0.0,
-                     c.kind == Kind::Resonance ? c.spread : 0.0,
+  const Resonance* r = std::get_if<Resonance>(&c.part);
+  const CurveKey key{c.part.index(),
+                     r != nullptr ? r->frequency_hz : as<GaussMarkov>(c).tau_c_s,
+                     r != nullptr ? r->q : 0.0,
+                     r != nullptr ? r->spread_hz : 0.0,
                      b.lowpass.cutoff_hz,
                      b.lowpass.taps,
                      b.rate_hz,
@@ -58,9 +59,9 @@ std::vector<double> shaped_curve(const Component& c, const Curve& cv, const Base
   for (auto it = lo; it != hi; ++it)
     if (it->second.key == key && it->second.m == cv.m && it->second.tau == cv.tau)
       return it->second.g;
-  std::vector<double> g = c.kind == Kind::Markov ? markov_curve(1.0, c.nl, cv, b.lowpass, b.rate_hz)
-                                                 : resonance_curve({1.0, c.nl, c.q, c.spread}, cv,
-                                                                   b.lowpass, b.rate_hz);
+  std::vector<double> g = r == nullptr ? markov_curve(1.0, key.shape, cv, b.lowpass, b.rate_hz)
+                                       : resonance_curve({1.0, r->frequency_hz, r->q, r->spread_hz},
+                                                         cv, b.lowpass, b.rate_hz);
   if (cache.size() >= kMaxCurves) cache.clear();
   cache.emplace(h, CachedCurve{key, cv.m, cv.tau, g});
   return g;

@@ -255,9 +255,7 @@ std::size_t Search::witnessed_ramp(std::vector<CandidateFit>& cands,
                                    const std::vector<Component>& fixed_now, double chi2_ref,
                                    const TrendWitness& tr, double tolerance) const {
   if (!tr.found) return cands.size();
-  Component c;
-  c.term = Term::R;
-  c.coef = std::abs(tr.slope);
+  Component c = component(TermLevel{Term::R, std::abs(tr.slope)});
   c.coef_sigma = tr.sigma;
   c.pinned = true;
   std::vector<Component> comps = fixed_now;
@@ -352,8 +350,7 @@ CandidateFit Search::candidate(Effect e, const std::vector<Component>& fixed_now
   }
   // A line or jump its witness found at its own level (charged nothing; lookalike_step charges
   // a jump below that level) may be named when the curve only does not veto it (not_vetoed).
-  if (charged == 0 && (e == Effect::Sinusoid || e == Effect::Step))
-    a.tolerance = witnessed_tolerance();
+  if (charged == 0 && witnessed_effect(e)) a.tolerance = witnessed_tolerance();
   return a;
 }
 
@@ -391,7 +388,7 @@ void Search::keep_witnessed(std::vector<CandidateFit>& cands, const TrendWitness
     if (!c.info.evaluated) continue;
     const Effect e = c.info.effect;
     const bool seen =
-        e == Effect::Sinusoid || e == Effect::Step || (e == Effect::Ramp && trend.found) ||
+        witnessed_effect(e) || (e == Effect::Ramp && trend.found) ||
         (e == Effect::Resonance && (c.fit.comps[c.added].psd_shape || c.fit.comps[c.added].pinned));
     if (seen) continue;
     c.info.evaluated = false;
@@ -405,8 +402,8 @@ void Search::keep_witnessed(std::vector<CandidateFit>& cands, const TrendWitness
 SpectralLine Search::line_witness(const Fit& ref) const {
   std::vector<double> known_f, known_wide;
   for (const Component& c : current) {
-    if (c.kind == Kind::Sinusoid) known_f.push_back(c.nl);
-    if (c.kind == Kind::Resonance) known_wide.push_back(c.nl);
+    if (is<Sinusoid>(c)) known_f.push_back(as<Sinusoid>(c).frequency_hz);
+    if (is<Resonance>(c)) known_wide.push_back(as<Resonance>(c).frequency_hz);
   }
   if (!periodogram) return {};
   const SpectralLine line =
@@ -459,21 +456,9 @@ bool Search::round(int& iter) {
   std::vector<CandidateFit> cands =
       candidates(fixed_now, free_now, seen, ref.chi2, refit.chi2, n_free);
   if (witnessed_only) keep_witnessed(cands, trend);
-  std::size_t best = strongest(cands, [](Effect) { return true; });
-  // The witnesses decide between look-alikes: an unexplained significant line is direct
-  // evidence of a sinusoid, while a Gauss-Markov hump (no line) can mimic its Allan bump; a jump
-  // in the record is direct evidence of a step, whose Allan rise a random walk or a ramp can
-  // mimic. So a significant witnessed candidate goes first (the larger criterion of the two);
-  // the others are judged again in the next round, with the line or jump explained.
-  const std::size_t witnessed =
-      strongest(cands, [](Effect e) { return e == Effect::Sinusoid || e == Effect::Step; });
   std::string nested_note;
-  best = prefer_nested(cands, best, cv, nested_note);
-  best = ramp_or_random_walk(cands, best, fixed_now, free_now, ref.chi2, trend, nested_note);
-  if (witnessed < cands.size()) best = witnessed;
-  if (best == cands.size()) best = witnessed_ramp(cands, fixed_now, ref.chi2, trend, 0.0);
-  best = lookalike_step(cands, best, fixed_now, free_now, seen, without_jump, ref.chi2, refit.chi2,
-                        n_free, nested_note);
+  std::size_t best = choose(cands, {fixed_now, free_now, seen, trend, ref.chi2, refit.chi2, n_free},
+                            without_jump, nested_note);
   // (c): the coefficients re-estimated with nothing added, taken at most once and only when
   // no effect is significant: incomplete before wrong, because a raised flicker floor can
   // mimic two hidden effects at once (a greedy round cannot see that one effect now and one
@@ -520,7 +505,7 @@ bool Search::round(int& iter) {
   for (std::size_t c = 0; c < w.fit.comps.size(); ++c) {
     const std::string label = component_label(w.fit.comps, c);
     for (Parameter p : parameters_of(w.fit.comps[c], sig, c)) {
-      if (w.fit.comps[c].kind != Kind::Term) p.name = label + "." + p.name;
+      if (!is<TermLevel>(w.fit.comps[c])) p.name = label + "." + p.name;
       it.coefficients.push_back(p);
     }
   }
@@ -529,7 +514,7 @@ bool Search::round(int& iter) {
   d.iterations.push_back(std::move(it));
   d.effects_named.push_back(w.info.effect);
   added_idx.push_back(w.added);
-  if (!nested_note.empty() && best != witnessed)
+  if (!nested_note.empty())
     d.notes.push_back("round " + std::to_string(iter + 1) + ": " + nested_note);
   current = w.fit.comps;
   ++iter;

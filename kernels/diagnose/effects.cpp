@@ -5,8 +5,11 @@
 
 #include "kernels/diagnose/internal.hpp"
 
+#include <array>
 #include <optional>
 #include <string_view>
+#include <utility>
+#include <variant>
 
 namespace allanlot::kernels {
 
@@ -62,3 +65,38 @@ std::optional<Term> effect_term(Effect e) {
 }
 
 }  // namespace allanlot::kernels
+
+namespace allanlot::kernels::diagnose_detail {
+
+Effect effect_of(const Component& c) {
+  if (is<TermLevel>(c)) {
+    for (const Effect e : kAllEffects)
+      if (effect_term(e) == as<TermLevel>(c).term) return e;
+  }
+  // The effects' alternatives follow Effect's order (component.hpp).
+  return static_cast<Effect>(static_cast<std::size_t>(Effect::Sinusoid) + c.part.index() - 1);
+}
+
+namespace {
+
+template <std::size_t... I>
+constexpr std::array<bool, kNumEffects> witnessed_table(std::index_sequence<I...>) {
+  // The terms are fitted on the curve (a ramp's slope witness is asked only when the curve
+  // names nothing: Search::witnessed_ramp); each effect past them by its traits.
+  std::array<bool, kNumEffects> out{};
+  ((out[static_cast<std::size_t>(Effect::Sinusoid) + I] =
+        EffectTraits<std::variant_alternative_t<I + 1, Part>>::curve_parameters == 0),
+   ...);
+  return out;
+}
+
+constexpr std::array<bool, kNumEffects> kWitnessed =
+    witnessed_table(std::make_index_sequence<std::variant_size_v<Part> - 1>{});
+
+}  // namespace
+
+bool witnessed_effect(Effect e) {
+  return kWitnessed[static_cast<std::size_t>(e)];
+}
+
+}  // namespace allanlot::kernels::diagnose_detail

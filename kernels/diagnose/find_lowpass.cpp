@@ -27,10 +27,8 @@ LowpassFinding find_lowpass(const StatResult& oadev, double rate_hz, std::int64_
   // judged with the edf of that model (diagnose's rule: the hypothesis under test sets the edf).
   std::vector<Component> terms;
   for (const Term t : all_terms()) {
-    Component c;
-    c.term = t;
-    c.free = true;
-    terms.push_back(c);
+    terms.push_back(component(TermLevel{t}));
+    terms.back().free = true;
   }
   ChannelSpec like;
   like.rate_hz = rate_hz;
@@ -46,7 +44,7 @@ LowpassFinding find_lowpass(const StatResult& oadev, double rate_hz, std::int64_
       evaluate_candidate(Effect::Lowpass, ref.comps, Witnesses{}, 0, ref.chi2, cv, bases, crit);
   if (!cf.info.evaluated) return out;
   out.delta_ic = cf.info.delta_ic;
-  if (out.delta_ic > 0.0) out.filter = cf.fit.comps[cf.added].lp;
+  if (out.delta_ic > 0.0) out.filter = as<Lowpass>(cf.fit.comps[cf.added]);
   return out;
 }
 

@@ -2,6 +2,7 @@
 // conclude.cpp and the others of this folder); not part of the interface (diagnose.hpp).
 #pragma once
 
+#include "kernels/diagnose/component.hpp"
 #include "kernels/diagnose/diagnose.hpp"
 #include "kernels/model/terms.hpp"
 #include "kernels/spectral/psd.hpp"
@@ -40,41 +41,6 @@ struct Curve {
   double tau0 = 1.0;
   std::int64_t n_samples = 0;
   std::size_t size() const { return m.size(); }
-};
-
-// A model component: an eq. (3) term, a sinusoid, a Gauss-Markov effect or a step. `coef` is
-// the model file's coefficient (R..Q, amplitude, sigma, |size|); the avar is coef^2 times a
-// basis curve.
-// A lowpass component (Kind::Lowpass) has no variance of its own: it reshapes the white FM,
-// white PM and sinusoid bases of the others (bases_for), and its coefficient is unused.
-enum class Kind { Term, Sinusoid, Markov, Lowpass, Step, Resonance };
-struct Component {
-  Kind kind = Kind::Term;
-  Term term = Term::N;
-  double nl = 0.0;      // frequency_hz (sinusoid, resonance), tau_c_s (markov) or time_s (step)
-  double q = 0.0;       // a resonance's quality factor
-  double spread = 0.0;  // a resonance's frequency wander, sd [Hz] (0: stationary)
-  double wander = 0.0;  // the wander's correlation time [s] (spread > 0)
-  double phase = 0.0;   // sinusoid phase (no effect on avar; kept for the model file)
-  double sign = 1.0;    // a step's direction: size = sign coef (no effect on avar)
-  double coef = 0.0;
-  bool free = false;       // re-estimated by the fit
-  bool nl_free = false;    // tau_c is searched (for its uncertainty)
-  bool given = false;      // part of the given model
-  double nl_sigma = kNaN;  // uncertainty of nl when it comes from elsewhere (the PSD)
-  int nl_bound = 0;        // tau_c at the lower (-1) or upper (+1) end of its search range
-  int q_bound = 0;         // a resonance's q at an end of its search range
-  // An added sinusoid's amplitude comes from the PSD line and is never refitted on the Allan
-  // curve: there its bump overlaps any hump nearby (a Gauss-Markov effect at a similar tau),
-  // which the amplitude would absorb, whereas the line's power above the local background is
-  // the sinusoid's alone. A step's size comes from its jump in the record, for the same reason
-  // (a random walk's or a ramp's rise would be absorbed).
-  bool pinned = false;
-  double coef_sigma = kNaN;    // uncertainty of coef when pinned
-  double q_sigma = kNaN;       // uncertainty of a resonance's q from its PSD fit
-  double spread_sigma = kNaN;  // uncertainty of a wandering resonance's spread (PSD fit)
-  bool psd_shape = false;      // a resonance's shape measured on the periodogram, sigma fitted
-  Lowpass lp;                  // Kind::Lowpass: the filter
 };
 
 // Basis curves: the avar of each component with unit coefficient, from model_avar_sampled so
@@ -128,8 +94,8 @@ struct Criterion {
   double rate_hz = 1.0;
 };
 
-/// A new component of `kind` whose coefficient is fitted and nonlinear parameter searched.
-Component searched_component(Kind kind);
+/// A new component of part p whose level is fitted and shape searched.
+Component searched_component(Part p);
 
 /// The chi-square quantile at 1 - alpha with k degrees of freedom; 0 for k = 0 (a witnessed
 /// effect, whose parameters are not fitted on the curve).
@@ -196,6 +162,10 @@ std::size_t strongest(const std::vector<CandidateFit>& cands, Pick pick) {
       best = c;
   return best;
 }
+
+/// Whether effect e is named on a witness in the record rather than fitted on the curve: a
+/// registered effect whose EffectTraits::curve_parameters is 0 (a line, a jump).
+bool witnessed_effect(Effect e);
 
 /// choose.cpp: the markov candidate `best` gives way to a significant random walk or white
 /// candidate when its turnover is not within the taus measured (`note` says so).

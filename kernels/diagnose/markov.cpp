@@ -17,7 +17,7 @@ namespace {
 // Markov candidate: a new component, its tau_c searched with the others' coefficients as
 // `base` has them (fixed or free).
 CandidateFit markov_candidate(std::vector<Component> base, const Curve& cv, const Bases& b) {
-  base.push_back(searched_component(Kind::Markov));
+  base.push_back(searched_component(GaussMarkov{}));
   const std::size_t idx = base.size() - 1;
   CandidateFit out;
   out.fit = search_tau_c(std::move(base), idx, cv, b);
@@ -53,7 +53,7 @@ std::vector<double> markov_curve(double sigma, double tau_c_s, const Curve& cv, 
 // point within one grid step of either end is marked as a bound (Component::nl_bound).
 Fit search_tau_c(std::vector<Component> comps, std::size_t idx, const Curve& cv, const Bases& b) {
   const auto eval = [&](double tau_c) {
-    comps[idx].nl = tau_c;
+    as<GaussMarkov>(comps[idx]).tau_c_s = tau_c;
     return fit_components(comps, cv, b);
   };
   const double lo = std::log(cv.tau0), hi = std::log(static_cast<double>(cv.n_samples) * cv.tau0);
@@ -74,7 +74,7 @@ Fit search_tau_c(std::vector<Component> comps, std::size_t idx, const Curve& cv,
   Fit grid_best = eval(std::exp(lo + step * best));
   Fit refined = eval(std::exp(x));
   Fit& out = refined.chi2 <= grid_best.chi2 ? refined : grid_best;
-  const double x_out = std::log(out.comps[idx].nl);
+  const double x_out = std::log(as<GaussMarkov>(out.comps[idx]).tau_c_s);
   out.comps[idx].nl_bound = x_out < lo + step ? -1 : x_out > lo + step * (n_grid - 2) ? 1 : 0;
   return out;
 }
@@ -82,8 +82,7 @@ Fit search_tau_c(std::vector<Component> comps, std::size_t idx, const Curve& cv,
 // Markov candidate with its refusals (no fit, a note): the simulator's limit on humps, a hump
 // within a decade of another, and one whose tau_c ends at one sample.
 CandidateFit hump_candidate(std::vector<Component> comps, const Curve& cv, const Bases& b) {
-  const auto n_markov = std::count_if(comps.begin(), comps.end(),
-                                      [](const auto& c) { return c.kind == Kind::Markov; });
+  const auto n_markov = std::count_if(comps.begin(), comps.end(), is<GaussMarkov>);
   if (static_cast<std::uint32_t>(n_markov) >= rng::kMaxMarkov) {
     CandidateFit none;
     none.info.effect = Effect::Markov;
@@ -94,10 +93,10 @@ CandidateFit hump_candidate(std::vector<Component> comps, const Curve& cv, const
   cf.info.effect = Effect::Markov;
   // A second Gauss-Markov effect is a distinct instance only a decade or more from every
   // other: closer, two humps are one hump re-split.
-  const double tc = cf.fit.comps.back().nl;
+  const double tc = as<GaussMarkov>(cf.fit.comps.back()).tau_c_s;
   for (std::size_t i = 0; i + 1 < cf.fit.comps.size(); ++i)
-    if (cf.fit.comps[i].kind == Kind::Markov &&
-        std::abs(std::log10(tc / cf.fit.comps[i].nl)) < 1.0) {
+    if (is<GaussMarkov>(cf.fit.comps[i]) &&
+        std::abs(std::log10(tc / as<GaussMarkov>(cf.fit.comps[i]).tau_c_s)) < 1.0) {
       CandidateFit none;
       none.info.effect = Effect::Markov;
       none.info.note = "its tau_c " + std::to_string(tc) + " s is within a decade of " +

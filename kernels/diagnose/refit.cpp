@@ -27,23 +27,19 @@ ChannelSpec fit_to_curve(const ChannelSpec& model, const StatResult& oadev,
   // Every noise term of eq. (3) may take a level (the ramp only when the model has one: its
   // witness is the record's slope, not the curve).
   for (const Term t : {Term::Q, Term::N, Term::B, Term::K})
-    if (!(coefficient(model.terms, t) > 0.0)) {
-      Component c;
-      c.term = t;
-      comps.push_back(c);
-    }
+    if (!(coefficient(model.terms, t) > 0.0)) comps.push_back(component(TermLevel{t}));
   // Levels free; a line's amplitude stays its PSD's (its bump on the curve overlaps any hump
   // beside it), a jump its record's, a filter is a shape.
   for (Component& c : comps) {
-    c.free = c.kind == Kind::Term || c.kind == Kind::Markov || c.kind == Kind::Resonance;
-    c.nl_free = c.kind == Kind::Markov || c.kind == Kind::Resonance;
+    c.nl_free = is<GaussMarkov>(c) || is<Resonance>(c);
+    c.free = is<TermLevel>(c) || c.nl_free;
   }
   Fit f = fit_components(comps, cv, raw);
   for (std::size_t idx = 0; idx < f.comps.size(); ++idx)
-    if (f.comps[idx].kind == Kind::Lowpass) f = search_lowpass(f.comps, idx, cv, raw);
+    if (is<Lowpass>(f.comps[idx])) f = search_lowpass(f.comps, idx, cv, raw);
   for (std::size_t idx = 0; idx < f.comps.size(); ++idx) {
-    if (f.comps[idx].kind == Kind::Markov) f = search_tau_c(f.comps, idx, cv, raw);
-    if (f.comps[idx].kind == Kind::Resonance) f = search_resonance(f.comps, idx, cv, raw, false);
+    if (is<GaussMarkov>(f.comps[idx])) f = search_tau_c(f.comps, idx, cv, raw);
+    if (is<Resonance>(f.comps[idx])) f = search_resonance(f.comps, idx, cv, raw, false);
   }
   return spec_of(f.comps, model);
 }

@@ -26,8 +26,7 @@ constexpr double kQLo = 2.0, kQHi = kResonanceMaxQ;
 CandidateFit resonance_room(const std::vector<Component>& base) {
   CandidateFit out;
   out.info.effect = Effect::Resonance;
-  const auto n_res = std::count_if(base.begin(), base.end(),
-                                   [](const auto& c) { return c.kind == Kind::Resonance; });
+  const auto n_res = std::count_if(base.begin(), base.end(), is<Resonance>);
   if (static_cast<std::uint32_t>(n_res) >= rng::kMaxResonance)
     out.info.note = "too many resonances";
   return out;
@@ -36,7 +35,8 @@ CandidateFit resonance_room(const std::vector<Component>& base) {
 // The half-width at half power of a resonance's peak: f0 / (2 q), plus a wandering one's
 // Gaussian's, sqrt(2 ln 2) spread (the two added, an upper bound of the mixture's).
 double half_width(const Component& c) {
-  return c.nl / (2.0 * c.q) + 1.1774 * c.spread;
+  const Resonance& r = as<Resonance>(c);
+  return r.frequency_hz / (2.0 * r.q) + 1.1774 * r.spread_hz;
 }
 
 // Two resonances whose peaks overlap are still two where one is this many times wider than the
@@ -47,22 +47,30 @@ constexpr double kPedestal = 3.0;
 // A model resonance as a start of the periodogram's fit.
 SpectralLine::Narrowband narrowband_of(const Component& c) {
   SpectralLine::Narrowband nb;
-  nb.frequency_hz = c.nl;
-  nb.q = c.q;
-  nb.spread_hz = c.spread;
+  nb.frequency_hz = as<Resonance>(c).frequency_hz;
+  nb.q = as<Resonance>(c).q;
+  nb.spread_hz = as<Resonance>(c).spread_hz;
   return nb;
+}
+
+// c's search started from (f0, q): q no longer at a bound, nor f0 when `f0_searched`.
+void start_at(Component& c, std::pair<double, double> f0_q, bool f0_searched) {
+  std::tie(as<Resonance>(c).frequency_hz, as<Resonance>(c).q) = f0_q;
+  c.q_bound = 0;
+  if (f0_searched) c.nl_bound = 0;
 }
 
 // The periodogram's shape for c; a wandering one's wander_s is measured once a start is chosen
 // (measure_wander).
 void set_shape(Component& c, const SpectralLine::Narrowband& nb) {
-  c.nl = nb.frequency_hz;
+  Resonance& r = as<Resonance>(c);
+  r.frequency_hz = nb.frequency_hz;
   c.nl_sigma = nb.frequency_sigma;
-  c.q = nb.q;
+  r.q = nb.q;
   c.q_sigma = nb.q_sigma;
-  c.spread = nb.spread_hz;
+  r.spread_hz = nb.spread_hz;
   c.spread_sigma = nb.spread_hz > 0.0 ? nb.spread_sigma : kNaN;
-  c.wander = 0.0;
+  r.wander_s = 0.0;
   c.nl_bound = c.q_bound = 0;
   c.nl_free = false;
   c.psd_shape = true;
@@ -73,8 +81,9 @@ void set_shape(Component& c, const SpectralLine::Narrowband& nb) {
 // do, so the starts that lose never need it).
 void measure_wander(std::vector<Component>& comps, const Witnesses& seen) {
   for (Component& c : comps)
-    if (c.kind == Kind::Resonance && c.psd_shape && c.spread > 0.0)
-      c.wander = wander_time(seen.record, psd_rate_hz(*seen.periodogram), c.nl, c.spread, c.q);
+    if (Resonance* r = std::get_if<Resonance>(&c.part); r && c.psd_shape && r->spread_hz > 0.0)
+      r->wander_s = wander_time(seen.record, psd_rate_hz(*seen.periodogram), r->frequency_hz,
+                                r->spread_hz, r->q);
 }
 
 // The new resonance comps[idx] and the model's resonances beside its peak measured together on
@@ -87,14 +96,16 @@ bool shape_on_periodogram(Fit& fit, std::size_t idx, const Witnesses& seen, doub
   std::vector<SpectralLine::Narrowband> present;
   std::vector<std::size_t> which;
   for (std::size_t i = 0; i < idx; ++i)
-    if (fit.comps[i].kind == Kind::Resonance) {
+    if (is<Resonance>(fit.comps[i])) {
       which.push_back(i);
       present.push_back(narrowband_of(fit.comps[i]));
     }
   const Component& c = fit.comps[idx];
+  const Resonance& r = as<Resonance>(c);
   std::vector<double> q_starts{2.0, 8.0, 32.0, 128.0};
-  if (c.q_bound == 0) q_starts.push_back(c.q);
-  const auto shapes = fit_peak_shapes(*seen.periodogram, present, c.nl, q_starts, false_alarm);
+  if (c.q_bound == 0) q_starts.push_back(r.q);
+  const auto shapes =
+      fit_peak_shapes(*seen.periodogram, present, r.frequency_hz, q_starts, false_alarm);
   if (shapes.empty()) return false;
   for (std::size_t j = 0; j < which.size(); ++j) {
     Component& o = fit.comps[which[j]];
@@ -115,14 +126,17 @@ Fit shaped_on_periodogram(const Fit& searched, std::size_t idx, const Curve& cv,
                           const Witnesses& seen, double false_alarm, bool beside = true) {
   Fit best;
   if (seen.periodogram == nullptr) return best;
-  std::vector<std::pair<double, double>> starts{{searched.comps[idx].nl, searched.comps[idx].q}};
+  const Resonance& r = as<Resonance>(searched.comps[idx]);
+  std::vector<std::pair<double, double>> starts{{r.frequency_hz, r.q}};
   for (std::size_t i = 0; i < idx && beside; ++i)
-    if (const Component& o = searched.comps[i]; o.kind == Kind::Resonance && o.psd_shape)
-      starts.insert(starts.end(), {{1.2 * o.nl, 4.0}, {o.nl / 1.2, 4.0}});
+    if (const Component& o = searched.comps[i]; is<Resonance>(o) && o.psd_shape) {
+      const double f = as<Resonance>(o).frequency_hz;
+      starts.insert(starts.end(), {{1.2 * f, 4.0}, {f / 1.2, 4.0}});
+    }
   for (std::size_t s = 0; s < starts.size(); ++s) {
     Fit trial = searched;
     Component& c = trial.comps[idx];
-    if (s > 0) std::tie(c.nl, c.q, c.q_bound) = std::tuple(starts[s].first, starts[s].second, 0);
+    if (s > 0) start_at(c, starts[s], false);
     if (!shape_on_periodogram(trial, idx, seen, false_alarm)) continue;
     trial = fit_components(std::move(trial.comps), cv, b);
     if (best.comps.empty() || trial.chi2 < best.chi2) best = std::move(trial);
@@ -134,13 +148,15 @@ Fit shaped_on_periodogram(const Fit& searched, std::size_t idx, const Curve& cv,
 // (resonance_candidate); empty when it is.
 std::string overlap_note(const std::vector<Component>& comps, std::size_t idx) {
   const Component& r = comps[idx];
+  const double f = as<Resonance>(r).frequency_hz;
   for (std::size_t i = 0; i < idx; ++i) {
     const Component& o = comps[i];
-    if (o.kind != Kind::Resonance) continue;
+    if (!is<Resonance>(o)) continue;
     const double wide = std::max(half_width(r), half_width(o));
     const double narrow = std::min(half_width(r), half_width(o));
-    if (std::abs(r.nl - o.nl) <= half_width(r) + half_width(o) && wide < kPedestal * narrow)
-      return "its peak at " + std::to_string(r.nl) + " Hz (q " + std::to_string(r.q) +
+    if (std::abs(f - as<Resonance>(o).frequency_hz) <= half_width(r) + half_width(o) &&
+        wide < kPedestal * narrow)
+      return "its peak at " + std::to_string(f) + " Hz (q " + std::to_string(as<Resonance>(r).q) +
              ") overlaps " + component_label(comps, i) + "'s";
   }
   return {};
@@ -157,8 +173,7 @@ Fit other_start_shaped(const Fit& searched, std::size_t idx, const Curve& cv, co
   Fit best;
   for (const auto& [f0, q] : starts) {
     Fit start = searched;
-    Component& c = start.comps[idx];
-    std::tie(c.nl, c.q, c.nl_bound, c.q_bound) = std::tuple(f0, q, 0, 0);
+    start_at(start.comps[idx], {f0, q}, true);
     Fit shaped = shaped_on_periodogram(start, idx, cv, b, seen, alarm, false);
     if (shaped.comps.empty() || !overlap_note(shaped.comps, idx).empty()) continue;
     if (best.comps.empty() || shaped.chi2 < best.chi2) best = std::move(shaped);
@@ -175,8 +190,9 @@ std::vector<std::pair<double, double>> other_starts(std::vector<std::pair<double
   for (const auto& peak : broad_peaks(*seen.periodogram, 1.0 / cv.tau.back(), kOtherStarts)) {
     const double f = peak.first;
     const bool modelled = std::any_of(comps.begin(), comps.end() - 1, [&](const Component& o) {
-      return o.kind == Kind::Resonance && (std::abs(f - o.nl) <= 2.0 * half_width(o) ||
-                                           std::abs(std::log2(f / o.nl)) <= 1.0 / 16.0);
+      if (!is<Resonance>(o)) return false;
+      const double f0 = as<Resonance>(o).frequency_hz;
+      return std::abs(f - f0) <= 2.0 * half_width(o) || std::abs(std::log2(f / f0)) <= 1.0 / 16.0;
     });
     if (!modelled) curve.emplace_back(f, 8.0);
   }
@@ -234,8 +250,8 @@ std::vector<double> resonance_curve(const Resonance& r, const Curve& cv, const L
 Fit search_resonance(std::vector<Component> comps, std::size_t idx, const Curve& cv, const Bases& b,
                      bool grid, std::vector<std::pair<double, double>>* others) {
   const auto eval_on = [&](std::vector<Component>& own, double ln_f, double ln_q) {
-    own[idx].nl = std::exp(ln_f);
-    own[idx].q = std::clamp(std::exp(ln_q), kQLo, kQHi);  // exp(log(x)) may round past x
+    as<Resonance>(own[idx]).frequency_hz = std::exp(ln_f);
+    as<Resonance>(own[idx]).q = std::clamp(std::exp(ln_q), kQLo, kQHi);  // exp(log(x)) may round
     return fit_components(own, cv, b);
   };
   const auto eval = [&](double ln_f, double ln_q) { return eval_on(comps, ln_f, ln_q); };
@@ -248,7 +264,8 @@ Fit search_resonance(std::vector<Component> comps, std::size_t idx, const Curve&
         std::min(kQHi, std::max(4.0 * kQLo, std::numbers::pi * std::exp(ln_f) * cv.tau.back())));
   };
   const double f_step = std::numbers::ln2 / 8.0, q_step = 2.0 * std::numbers::ln2;
-  double best_f = std::log(comps[idx].nl), best_q = std::log(comps[idx].q);
+  double best_f = std::log(as<Resonance>(comps[idx]).frequency_hz),
+         best_q = std::log(as<Resonance>(comps[idx]).q);
   double best_chi2 = std::numeric_limits<double>::infinity();
   if (grid) {
     const int n_f = static_cast<int>(std::ceil((f_hi - f_lo) / f_step)) + 1;
@@ -319,7 +336,7 @@ CandidateFit resonance_candidate(std::vector<Component> base, const Curve& cv, c
                                  const Witnesses& seen, const std::function<double(int)>& penalty) {
   CandidateFit out = resonance_room(base);
   if (!out.info.note.empty()) return out;
-  base.push_back(searched_component(Kind::Resonance));
+  base.push_back(searched_component(Resonance{}));
   const std::size_t idx = base.size() - 1;
   std::vector<std::pair<double, double>> others;
   out.fit = search_resonance(std::move(base), idx, cv, b, true, &others);
@@ -343,9 +360,10 @@ CandidateFit resonance_candidate(std::vector<Component> base, const Curve& cv, c
       !shaped.comps.empty()) {
     out.fit = std::move(shaped);
   } else if (seen.periodogram != nullptr && out.fit.comps[idx].q_bound != 0) {
-    const Component& c = out.fit.comps[idx];
-    out.info.note = "q at a bound of its range on the curve (" + std::to_string(c.q) + " at " +
-                    std::to_string(c.nl) + " Hz) and no peak near there in the periodogram";
+    const Resonance& r = as<Resonance>(out.fit.comps[idx]);
+    out.info.note = "q at a bound of its range on the curve (" + std::to_string(r.q) + " at " +
+                    std::to_string(r.frequency_hz) +
+                    " Hz) and no peak near there in the periodogram";
     withdrawn = true;
   }
   if (!withdrawn) out.info.note = overlap_note(out.fit.comps, idx);
@@ -360,7 +378,8 @@ CandidateFit resonance_candidate(std::vector<Component> base, const Curve& cv, c
       (withdrawn || next.chi2 + penalty(resonance_parameters(next.comps[idx])) <
                         out.fit.chi2 + penalty(resonance_parameters(out.fit.comps[idx])))) {
     out.info.note += (out.info.note.empty() ? "" : "; ") + std::string("a peak at ") +
-                     std::to_string(next.comps[idx].nl) + " Hz from another start";
+                     std::to_string(as<Resonance>(next.comps[idx]).frequency_hz) +
+                     " Hz from another start";
     out.fit = std::move(next);
   } else if (withdrawn) {
     out.fit = {};
@@ -378,20 +397,17 @@ CandidateFit witnessed_resonance(std::vector<Component> base, const SpectralLine
   CandidateFit out = resonance_room(base);
   if (!out.info.note.empty()) return out;
   const double gain = std::sqrt(lowpass_gain2(lowpass_of(base), b.rate_hz, nb.frequency_hz));
-  Component c;
-  c.kind = Kind::Resonance;
-  c.nl = nb.frequency_hz;
+  Component c = component(Resonance{nb.sigma / gain, nb.frequency_hz, nb.q});
   c.nl_sigma = nb.frequency_sigma;
-  c.q = nb.q;
   c.q_sigma = nb.q_sigma;
-  c.coef = nb.sigma / gain;
   c.coef_sigma = nb.sigma_sigma / gain;
   c.pinned = true;
   base.push_back(c);
   out.fit = fit_components(std::move(base), cv, b);
   out.info.note = "PSD peak at " + std::to_string(nb.frequency_hz) +
                   " Hz wider than a line, fitted as a resonance: q " + std::to_string(nb.q) +
-                  " +- " + std::to_string(nb.q_sigma) + ", sigma " + std::to_string(c.coef);
+                  " +- " + std::to_string(nb.q_sigma) + ", sigma " +
+                  std::to_string(as<Resonance>(c).sigma);
   return out;
 }
 

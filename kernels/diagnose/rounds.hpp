@@ -14,6 +14,18 @@
 
 namespace allanlot::kernels::diagnose_detail {
 
+// What a round's choice among its candidates reads (Search::choose): the model as it stands with
+// its coefficients fixed and free, the witnesses, and the chi-squares the candidates were judged
+// against.
+struct RoundView {
+  const std::vector<Component>& fixed_now;
+  const std::vector<Component>& free_now;
+  const Witnesses& seen;
+  const TrendWitness& trend;
+  double chi2_ref = 0.0, chi2_refit = 0.0;
+  int n_free = 0;
+};
+
 // The measurement, the criterion and the model as it grows.
 struct Search {
   const DiagnoseOptions& opt;
@@ -66,6 +78,8 @@ struct Search {
                              const std::vector<Component>& free_now, const Witnesses& seen,
                              std::optional<Curve>& without_jump, double chi2_ref, double chi2_refit,
                              int n_free, std::string& note) const;
+  std::size_t choose(std::vector<CandidateFit>& cands, const RoundView& r,
+                     std::optional<Curve>& without_jump, std::string& note) const;
   SpectralLine line_witness(const Fit& ref) const;
   CandidateFit candidate(Effect e, const std::vector<Component>& fixed_now,
                          const std::vector<Component>& free_now, const Witnesses& seen,

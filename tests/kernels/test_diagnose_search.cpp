@@ -46,7 +46,7 @@ kernels::ChannelSpec white() {
 // The white noise given and fixed, a Gauss-Markov effect searched.
 Fit search(const Curve& cv, const Bases& b) {
   std::vector<Component> comps = components_of(white());
-  comps.push_back(searched_component(Kind::Markov));
+  comps.push_back(searched_component(kernels::GaussMarkov{}));
   return search_tau_c(comps, comps.size() - 1, cv, b);
 }
 
@@ -62,7 +62,7 @@ TEST(DiagnoseSearch, TauCInsideTheRangeIsAnEstimate) {
   const Fit f = search(cv, b);
   // Not exact: the fit works on ln avar less the log-chi-square bias -(psi(edf/2) - ln(edf/2)),
   // about 1/edf, which an exact curve does not have; a few per cent at the hump's few-edf taus.
-  EXPECT_NEAR(f.comps.back().nl, 1.0, 0.05);
+  EXPECT_NEAR(as<kernels::GaussMarkov>(f.comps.back()).tau_c_s, 1.0, 0.05);
   const auto ps = markov_parameters(f, cv, b);
   ASSERT_EQ(ps.size(), 2u);
   EXPECT_EQ(ps[1].bound, 0);
@@ -77,8 +77,10 @@ TEST(DiagnoseSearch, TauCBeyondTheRecordIsALowerLimit) {
   Bases b;
   const Curve cv = exact_curve(truth, b);
   const Fit f = search(cv, b);
-  EXPECT_LE(f.comps.back().nl, static_cast<double>(kSamples) / kRate * (1.0 + 1e-12));
-  EXPECT_GT(f.comps.back().nl, 0.9 * static_cast<double>(kSamples) / kRate);
+  EXPECT_LE(as<kernels::GaussMarkov>(f.comps.back()).tau_c_s,
+            static_cast<double>(kSamples) / kRate * (1.0 + 1e-12));
+  EXPECT_GT(as<kernels::GaussMarkov>(f.comps.back()).tau_c_s,
+            0.9 * static_cast<double>(kSamples) / kRate);
   const auto ps = markov_parameters(f, cv, b);
   EXPECT_EQ(ps[1].bound, 1);
   EXPECT_TRUE(std::isnan(ps[1].sigma));
@@ -92,8 +94,8 @@ TEST(DiagnoseSearch, TauCBelowOneSampleIsAnUpperLimit) {
   Bases b;
   const Curve cv = exact_curve(truth, b);
   const Fit f = search(cv, b);
-  EXPECT_GE(f.comps.back().nl, (1.0 - 1e-12) / kRate);
-  EXPECT_LT(f.comps.back().nl, 1.1 / kRate);
+  EXPECT_GE(as<kernels::GaussMarkov>(f.comps.back()).tau_c_s, (1.0 - 1e-12) / kRate);
+  EXPECT_LT(as<kernels::GaussMarkov>(f.comps.back()).tau_c_s, 1.1 / kRate);
   const auto ps = markov_parameters(f, cv, b);
   EXPECT_EQ(ps[1].bound, -1);
   EXPECT_TRUE(std::isnan(ps[1].sigma));
@@ -113,12 +115,13 @@ TEST(DiagnoseSearch, ResonanceFrequencyAndSizeAreFound) {
     auto given = truth;
     given.resonances.clear();
     std::vector<Component> comps = components_of(given);
-    comps.push_back(searched_component(Kind::Resonance));
+    comps.push_back(searched_component(kernels::Resonance{}));
     const Fit f = search_resonance(comps, comps.size() - 1, cv, b, true);
     const Component& got = f.comps.back();
-    EXPECT_NEAR(got.nl / 20.0, 1.0, 2e-3) << "q " << q;
-    EXPECT_NEAR(got.coef / 0.24, 1.0, 0.05) << "q " << q;
-    EXPECT_NEAR(std::log(got.q / q), 0.0, std::log(1.3)) << "q " << q;
+    const auto& res = as<kernels::Resonance>(got);
+    EXPECT_NEAR(res.frequency_hz / 20.0, 1.0, 2e-3) << "q " << q;
+    EXPECT_NEAR(res.sigma / 0.24, 1.0, 0.05) << "q " << q;
+    EXPECT_NEAR(std::log(res.q / q), 0.0, std::log(1.3)) << "q " << q;
     EXPECT_EQ(got.nl_bound, 0);
     EXPECT_EQ(got.q_bound, 0);
     const auto p = parameters_of(got, fill_sigmas(f, cv, b, 8.0), comps.size() - 1);
@@ -137,9 +140,9 @@ TEST(DiagnoseSearch, ResonanceAsNarrowAsALineIsALowerLimitOfQ) {
   Bases b;
   const Curve cv = exact_curve(truth, b);
   std::vector<Component> comps = components_of(white());
-  comps.push_back(searched_component(Kind::Resonance));
+  comps.push_back(searched_component(kernels::Resonance{}));
   const Fit f = search_resonance(comps, comps.size() - 1, cv, b, true);
-  EXPECT_NEAR(f.comps.back().nl / 5.0, 1.0, 2e-3);
+  EXPECT_NEAR(as<kernels::Resonance>(f.comps.back()).frequency_hz / 5.0, 1.0, 2e-3);
   EXPECT_EQ(f.comps.back().q_bound, 1);
   const auto p = parameters_of(f.comps.back(), fill_sigmas(f, cv, b, 8.0), comps.size() - 1);
   EXPECT_EQ(p[2].bound, 1);
@@ -163,14 +166,11 @@ TEST(DiagnoseSearch, TwoTapBoxcarIsFoundAsABoxcar) {
     std::vector<Component> comps = components_of(given);
     for (Component& c : comps)
       c.free = true;
-    Component lp;
-    lp.kind = Kind::Lowpass;
-    lp.pinned = true;
-    lp.coef = 1.0;
-    comps.push_back(lp);
+    comps.push_back(component(kernels::Lowpass{}));
+    comps.back().pinned = true;
     const Fit f = search_lowpass(comps, comps.size() - 1, cv, b);
-    EXPECT_EQ(f.comps.back().lp.cutoff_hz, 0.0) << "taps " << taps;
-    EXPECT_NEAR(f.comps.back().lp.taps, taps, 1e-3) << "taps " << taps;
+    EXPECT_EQ(as<kernels::Lowpass>(f.comps.back()).cutoff_hz, 0.0) << "taps " << taps;
+    EXPECT_NEAR(as<kernels::Lowpass>(f.comps.back()).taps, taps, 1e-3) << "taps " << taps;
     EXPECT_EQ(f.comps.back().nl_bound, 0);
   }
 }
@@ -259,9 +259,10 @@ TEST(DiagnoseSearch, ResonanceTheCurveMissesIsFoundFromTheBroadHump) {
   const CandidateFit cf =
       resonance_candidate(components_of(white()), cv, b, seen, [](int k) { return 2.0 * k; });
   ASSERT_FALSE(cf.fit.comps.empty()) << cf.info.note;
-  const Component& r = cf.fit.comps.back();
-  EXPECT_NEAR(r.nl, 12.0, 0.5);
-  EXPECT_TRUE(r.psd_shape) << r.nl << " Hz, q " << r.q << ": " << cf.info.note;
+  const auto& r = as<kernels::Resonance>(cf.fit.comps.back());
+  EXPECT_NEAR(r.frequency_hz, 12.0, 0.5);
+  EXPECT_TRUE(cf.fit.comps.back().psd_shape)
+      << r.frequency_hz << " Hz, q " << r.q << ": " << cf.info.note;
   EXPECT_NE(cf.info.note.find("another start"), std::string::npos) << cf.info.note;
 }
 

@@ -10,6 +10,10 @@
 //   max_count         the most a channel may hold (0: no limit)
 //   curve_parameters  the parameters diagnose fits on the Allan curve when it adds one (0: a
 //                     witnessed effect, whose parameters come from the record itself)
+//   level             the field its Allan variance scales with the square of (null for the
+//                     filter, which reshapes the others' variance instead)
+//   shape             the field that sets where on the tau axis it acts (a frequency, a
+//                     correlation time, a time; null for the filter, whose two forms differ)
 //   check             the rules that tie a value to others or to the sample rate, beyond each
 //                     key's own rule (the reason worded as the model file reports it)
 #pragma once

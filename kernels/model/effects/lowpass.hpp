@@ -32,6 +32,9 @@ struct EffectTraits<Lowpass> {
       {"taps", &Lowpass::taps, KeyRule::Finite, Presence::OptionalNonzero},
   }};
   static constexpr std::size_t max_count = 1;
+  // A filter has no level (it reshapes the others' variance) and two forms of its shape.
+  static constexpr double Lowpass::*level = nullptr;
+  static constexpr double Lowpass::*shape = nullptr;
   static constexpr int curve_parameters = 1;  // the cutoff or the taps, searched on the curve
   /// cutoff_hz below the Nyquist frequency; taps in (1, kLowpassMaxTaps].
   static std::optional<KeyProblem> check(const Lowpass& lp, double rate_hz, NumberText text);

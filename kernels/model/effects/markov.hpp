@@ -26,6 +26,8 @@ struct EffectTraits<GaussMarkov> {
   }};
   // Each has its own random stream (kernels/simulate/rng.hpp Component::MarkovFirst + i).
   static constexpr std::size_t max_count = 200;
+  static constexpr double GaussMarkov::*level = &GaussMarkov::sigma;
+  static constexpr double GaussMarkov::*shape = &GaussMarkov::tau_c_s;
   static constexpr int curve_parameters = 2;  // sigma and tau_c, both fitted on the curve
   static std::optional<KeyProblem> check(const GaussMarkov&, double, NumberText) {
     return std::nullopt;

@@ -45,6 +45,9 @@ struct EffectTraits<Resonance> {
   }};
   // Each has its own random stream (kernels/simulate/rng.hpp Component::ResonanceFirst + i).
   static constexpr std::size_t max_count = 32;
+  // Its shape is f0 and q; f0 is the one every resonance has a sigma for.
+  static constexpr double Resonance::*level = &Resonance::sigma;
+  static constexpr double Resonance::*shape = &Resonance::frequency_hz;
   // sigma, f0 and q searched on the curve (1, sigma alone, where the periodogram measured the
   // shape: diagnose's resonance_parameters).
   static constexpr int curve_parameters = 3;

@@ -26,6 +26,9 @@ struct EffectTraits<Sinusoid> {
       {"phase_rad", &Sinusoid::phase_rad, KeyRule::Finite, Presence::Optional},
   }};
   static constexpr std::size_t max_count = 0;
+  // Its level (what the Allan variance scales with the square of) and its shape parameter.
+  static constexpr double Sinusoid::*level = &Sinusoid::amplitude;
+  static constexpr double Sinusoid::*shape = &Sinusoid::frequency_hz;
   // Frequency and amplitude come from the periodogram's line (diagnose's PSD witness).
   static constexpr int curve_parameters = 0;
   /// frequency_hz at most the Nyquist frequency rate_hz / 2 (the line is sampled).

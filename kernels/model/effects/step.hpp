@@ -27,6 +27,9 @@ struct EffectTraits<Step> {
       {"time_s", &Step::time_s, KeyRule::Positive, Presence::Required},
   }};
   static constexpr std::size_t max_count = 0;
+  // Its level is signed (the jump's direction); its Allan variance scales with size^2.
+  static constexpr double Step::*level = &Step::size;
+  static constexpr double Step::*shape = &Step::time_s;
   // Size and time come from the jump in the record (diagnose's time-domain witness).
   static constexpr int curve_parameters = 0;
   static std::optional<KeyProblem> check(const Step&, double, NumberText) { return std::nullopt; }
