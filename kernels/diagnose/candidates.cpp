@@ -49,8 +49,10 @@ std::vector<double> basis_of(const Component& c, const Curve& cv, const Bases& b
           return line_basis(p.frequency_hz, cv, b);
         else if constexpr (std::is_same_v<E, GaussMarkov> || std::is_same_v<E, Resonance>)
           return shaped_curve(c, cv, b);
-        else
+        else if constexpr (std::is_same_v<E, Lowpass> || std::is_same_v<E, Step>)
           return std::vector<double>(cv.size(), 0.0);
+        else
+          static_assert(kUnhandled<E>, "a part without its Allan variance on the curve");
       },
       c.part);
 }
@@ -134,8 +136,6 @@ Fit search_lowpass(std::vector<Component> comps, std::size_t idx, const Curve& c
   return out;
 }
 
-namespace {
-
 // Lowpass candidate: a new component, its filter searched with the others as `base` has them.
 CandidateFit lowpass_candidate(std::vector<Component> base, const Curve& cv, const Bases& b) {
   Component c = component(Lowpass{});
@@ -158,6 +158,8 @@ CandidateFit lowpass_candidate(std::vector<Component> base, const Curve& cv, con
   return out;
 }
 
+namespace {
+
 // Diagnose's choices for the one NNLS (kernels/model/least_squares.hpp): a tolerance of
 // 1e-12 |A| max(1, |b|), at most 3 k + 3 additions and k + 1 steps each for k columns, a
 // coefficient at or below 1e-300 leaves the active set. These are the choices the component
@@ -176,13 +178,6 @@ double log_chi2(const Curve& cv, const std::vector<double>& model) {
 
 std::string term_key(Term t) {
   return std::string(term_name(t));
-}
-
-// A jump as a component, pinned (never refitted on the curve).
-Component step_component(const Step& st) {
-  Component c = component(st);
-  c.pinned = true;
-  return c;
 }
 
 // A resonance's parameters: its shape measured on the periodogram (pinned or psd_shape: the
@@ -207,6 +202,13 @@ std::vector<Parameter> resonance_parameters_of(const Component& c, double coef_s
 }
 
 }  // namespace
+
+// A jump as a component, pinned (never refitted on the curve).
+Component step_component(const Step& st) {
+  Component c = component(st);
+  c.pinned = true;
+  return c;
+}
 
 Component searched_component(Part p) {
   Component c = component(p);
@@ -475,8 +477,10 @@ std::vector<Parameter> parameters_of(const Component& c, const Sigmas& sigmas, s
           return {{"size", p.size, c.coef_sigma}, {"time_s", p.time_s, c.nl_sigma}};
         } else if constexpr (std::is_same_v<E, Resonance>) {
           return resonance_parameters_of(c, coef_sigma, nl_sigma, sigmas.q[idx]);
-        } else {
+        } else if constexpr (std::is_same_v<E, GaussMarkov>) {
           return {{"sigma", p.sigma, coef_sigma}, {"tau_c_s", p.tau_c_s, nl_sigma, c.nl_bound}};
+        } else {
+          static_assert(kUnhandled<E>, "a part without its parameters");
         }
       },
       c.part);
@@ -543,124 +547,6 @@ double golden_min(const std::function<double(double)>& f, double a, double c) {
     }
   }
   return f1 < f2 ? x1 : x2;
-}
-
-CandidateFit evaluate_candidate(Effect e, std::vector<Component> comps, const Witnesses& seen,
-                                int n_refit, double chi2_ref, const Curve& cv, const Bases& b,
-                                const Criterion& crit) {
-  const SpectralLine& line = seen.line;
-  const Curve* fit_cv = &cv;
-  CandidateFit cf;
-  cf.info.effect = e;
-  int k = n_refit;
-  if (const auto t = effect_term(e)) {
-    const bool present =
-        std::any_of(comps.begin(), comps.end(), [&](const auto& c) { return is_term(c, *t); });
-    if (present) {
-      cf.info.note = "already in the model";
-      return cf;
-    }
-    comps.push_back(component(TermLevel{*t}));
-    comps.back().free = true;
-    cf.fit = fit_components(std::move(comps), cv, b);
-    k += 1;
-  } else if (e == Effect::Sinusoid) {
-    if (!line.searched) {
-      cf.info.note = "no PSD witness (gaps or short record)";
-      return cf;
-    }
-    if (!line.found || line.frequency_hz > 0.5 * crit.rate_hz) {
-      cf.info.note = "the PSD shows no line (peak/background " + std::to_string(line.peak_ratio) +
-                     " < threshold " + std::to_string(line.threshold) + ")";
-      if (line.wide_hz > 0.0)
-        cf.info.note += "; its peak at " + std::to_string(line.wide_hz) +
-                        " Hz is wider than a line (a narrowband process)";
-      return cf;
-    }
-    Component c = component(Sinusoid{line.amplitude, line.frequency_hz});
-    c.nl_sigma = line.sigma_hz;
-    c.coef_sigma = line.amplitude_sigma;
-    c.pinned = true;
-    comps.push_back(c);
-    cf.fit = fit_components(std::move(comps), cv, b);
-    cf.info.note = "PSD line at " + std::to_string(line.frequency_hz) + " Hz, peak/background " +
-                   std::to_string(line.peak_ratio);
-    k += EffectTraits<Sinusoid>::curve_parameters;
-    // No penalty: the line's frequency and amplitude come from its witness, not from the Allan
-    // curve, and the witness has its own false-alarm level (line_false_alarm per record). The
-    // curve is asked only whether the line is part of what it measures (its chi-square falls).
-    // Charging its two parameters again at select_alpha / 9 missed lines that the periodogram
-    // saw at 1e-4 (weak level of the study: 2 of 10 named, docs/diagnose.md).
-  } else if (e == Effect::Step) {
-    const StepWitness& jump = seen.step;
-    if (!jump.searched) {
-      cf.info.note = "no time-domain witness (gaps or short record)";
-      return cf;
-    }
-    if (!jump.found) {
-      cf.info.note = jump.note.empty()
-                         ? "the record shows no jump (p = " + std::to_string(jump.p_value) +
-                               " >= " + std::to_string(jump.false_alarm) + ")"
-                         : jump.note;
-      return cf;
-    }
-    if (seen.without_jump == nullptr) {
-      cf.info.note = "the record without the jump has another tau grid";
-      return cf;
-    }
-    Component c = step_component({jump.size, jump.time_s});
-    c.nl_sigma = jump.time_sigma_s;
-    c.coef_sigma = jump.size_sigma;
-    comps.push_back(c);
-    // The model as it stands, fitted to the record without the jump.
-    fit_cv = seen.without_jump;
-    cf.fit = fit_components(std::move(comps), *fit_cv, b);
-    cf.info.note = "jump of " + std::to_string(jump.size) + " at " + std::to_string(jump.time_s) +
-                   " s, p = " + std::to_string(jump.p_value);
-    k += EffectTraits<Step>::curve_parameters;
-    // No penalty, as for a sinusoid: size and time come from the witness (step_false_alarm).
-  } else if (e == Effect::Lowpass) {
-    if (lowpass_of(comps).active()) {
-      cf.info.note = "already in the model";
-      return cf;
-    }
-    cf = lowpass_candidate(std::move(comps), cv, b);
-    cf.info.effect = e;
-    k += EffectTraits<Lowpass>::curve_parameters;
-  } else if (e == Effect::Markov) {
-    cf = hump_candidate(std::move(comps), cv, b);
-    if (cf.fit.comps.empty()) return cf;
-    k += EffectTraits<GaussMarkov>::curve_parameters;
-  } else if (e == Effect::Resonance && line.narrowband.found) {
-    // Its witness, a PSD peak wider than a line, measured f0, q and sigma: no penalty, as for a
-    // witnessed line.
-    cf = witnessed_resonance(std::move(comps), line.narrowband, cv, b);
-    if (cf.fit.comps.empty()) return cf;
-  } else if (e == Effect::Resonance) {
-    cf = resonance_candidate(std::move(comps), cv, b, seen, [&](int n) {
-      return threshold(n, crit.alpha_candidate) / crit.scale;
-    });
-    if (cf.fit.comps.empty()) return cf;
-    k += resonance_parameters(cf.fit.comps.back());
-  }
-  score_candidate(cf, k, chi2_ref, *fit_cv, b, crit);
-  return cf;
-}
-
-// The curve's parameters of a resonance: f0, q and sigma searched on it, or sigma alone where the
-// periodogram measured the shape (psd_shape): the shape then has its witness and that witness's
-// false alarm (fit_peak_shapes' likelihood ratio at line_false_alarm), as a witnessed line has.
-int resonance_parameters(const Component& c) {
-  return c.psd_shape ? 1 : EffectTraits<Resonance>::curve_parameters;
-}
-
-void score_candidate(CandidateFit& cf, int k, double chi2_ref, const Curve& fit_cv, const Bases& b,
-                     const Criterion& crit) {
-  cf.added = cf.fit.comps.size() - 1;
-  cf.info.evaluated = true;
-  cf.info.delta_ic = (chi2_ref - cf.fit.chi2) * crit.scale - threshold(k, crit.alpha_candidate);
-  cf.info.parameters =
-      parameters_of(cf.fit.comps[cf.added], fill_sigmas(cf.fit, fit_cv, b, crit.n_eff), cf.added);
 }
 
 }  // namespace allanlot::kernels::diagnose_detail

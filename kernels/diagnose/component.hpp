@@ -12,7 +12,9 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <tuple>
 #include <type_traits>
+#include <utility>
 #include <variant>
 
 namespace allanlot::kernels::diagnose_detail {
@@ -38,6 +40,21 @@ static_assert(std::is_same_v<PartOf<Effect::Sinusoid>, Sinusoid> &&
               std::is_same_v<PartOf<Effect::Resonance>, Resonance> &&
               static_cast<int>(Effect::Resonance) + 1 == kNumEffects &&
               std::variant_size_v<Part> == kNumEffects - static_cast<int>(Effect::Sinusoid) + 1);
+
+/// False for every type: the static_assert of a visit's branch that no part may reach.
+template <class>
+inline constexpr bool kUnhandled = false;
+
+/// Whether effect E has a list in the noise model (kEffectLists), where spec_of puts it.
+template <class E>
+inline constexpr bool kListed = []<class... L>(std::tuple<L...>*) {
+  return (std::is_same_v<L, std::vector<E> NoiseModel::*> || ...);
+}(static_cast<std::remove_cvref_t<decltype(kEffectLists)>*>(nullptr));
+// Every part but a term and the filter (which the model holds on its own) is a listed effect.
+static_assert([]<std::size_t... I>(std::index_sequence<I...>) {
+  return ((std::is_same_v<std::variant_alternative_t<I + 1, Part>, Lowpass> ||
+           kListed<std::variant_alternative_t<I + 1, Part>>)&&...);
+}(std::make_index_sequence<std::variant_size_v<Part> - 1>{}));
 
 struct Component {
   Part part;

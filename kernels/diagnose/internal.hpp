@@ -22,9 +22,13 @@ namespace allanlot::kernels::diagnose_detail {
 
 inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-inline constexpr std::array<Effect, kNumEffects> kAllEffects = {
-    Effect::Quantization, Effect::White,  Effect::Flicker, Effect::RandomWalk, Effect::Ramp,
-    Effect::Sinusoid,     Effect::Markov, Effect::Lowpass, Effect::Step,       Effect::Resonance};
+// Every effect in Effect's order: a round's candidates, each in its slot.
+inline constexpr std::array<Effect, kNumEffects> kAllEffects = [] {
+  std::array<Effect, kNumEffects> out{};
+  for (int e = 0; e < kNumEffects; ++e)
+    out[static_cast<std::size_t>(e)] = static_cast<Effect>(e);
+  return out;
+}();
 
 // The measured curve on the comparison grid with the exact moments of its logarithm:
 // for edf * avar_hat / avar ~ chi2_nu, E ln(avar_hat / avar) = psi(nu/2) - ln(nu/2) (about
@@ -96,6 +100,8 @@ struct Criterion {
 
 /// A new component of part p whose level is fitted and shape searched.
 Component searched_component(Part p);
+/// A jump as a component, pinned (never refitted on the curve).
+Component step_component(const Step& st);
 
 /// The chi-square quantile at 1 - alpha with k degrees of freedom; 0 for k = 0 (a witnessed
 /// effect, whose parameters are not fitted on the curve).
@@ -147,6 +153,9 @@ std::vector<double> markov_curve(double sigma, double tau_c_s, const Curve& cv, 
 /// (curve_cache.cpp).
 std::vector<double> shaped_curve(const Component& c, const Curve& cv, const Bases& b);
 CandidateFit hump_candidate(std::vector<Component> comps, const Curve& cv, const Bases& b);
+/// The lowpass candidate: a new filter searched with the others as `base` has them, and the
+/// resonances named before it searched again under it.
+CandidateFit lowpass_candidate(std::vector<Component> base, const Curve& cv, const Bases& b);
 /// The filter of the lowpass component comps[idx] searched (both forms, a grid then refined),
 /// the free coefficients fitted at each trial; `b` unfiltered.
 Fit search_lowpass(std::vector<Component> comps, std::size_t idx, const Curve& cv, const Bases& b);
