@@ -105,10 +105,10 @@ inline Component component(Part p) {
   return c;
 }
 
-/// The level whose square scales the component's Allan variance: a term's coefficient, an
-/// effect's EffectTraits level (|size| for a step); 1 for the filter, which has none and is
-/// present in full.
-inline double coef(const Component& c) {
+/// The component's level as the model file has it: a term's coefficient, an effect's
+/// EffectTraits level (a step's signed size); 1 for the filter, which has none and is present in
+/// full.
+inline double signed_level(const Component& c) {
   return std::visit(
       [](const auto& p) {
         using E = std::decay_t<decltype(p)>;
@@ -117,9 +117,14 @@ inline double coef(const Component& c) {
         else if constexpr (EffectTraits<E>::level == nullptr)
           return 1.0;
         else
-          return std::abs(p.*EffectTraits<E>::level);
+          return p.*EffectTraits<E>::level;
       },
       c.part);
+}
+
+/// The level whose square scales the component's Allan variance (|size| for a step).
+inline double coef(const Component& c) {
+  return std::abs(signed_level(c));
 }
 
 /// Sets the level (v >= 0; a step keeps its direction); the filter has none to set.

@@ -18,22 +18,8 @@
 namespace allanlot::kernels::diagnose_detail {
 namespace {
 
-// A given component's level as the model file has it (a step's signed size) and the name of its
-// revision: the term's key, or "<effect>[i].<its level's model-file key>".
-double signed_level(const Component& c) {
-  return std::visit(
-      [](const auto& p) {
-        using E = std::decay_t<decltype(p)>;
-        if constexpr (std::is_same_v<E, TermLevel>)
-          return p.coef;
-        else if constexpr (EffectTraits<E>::level == nullptr)
-          return 1.0;
-        else
-          return p.*EffectTraits<E>::level;
-      },
-      c.part);
-}
-
+// The name of a given component's revision: the term's key, or "<effect>[i].<its level's
+// model-file key>".
 std::string level_key(const std::vector<Component>& comps, std::size_t idx) {
   const std::string label = component_label(comps, idx);
   return std::visit(
