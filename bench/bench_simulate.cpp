@@ -52,11 +52,11 @@ void BM_SimulateUnit(benchmark::State& state) {
                                                    benchmark::Counter::kIsIterationInvariantRate);
 }
 
-// White noise alone: the RNG and Box-Muller cost per sample, without the FFT.
-void BM_SimulateWhite(benchmark::State& state) {
+// One channel of state.range(0) samples at state.range(1) threads, white noise of `spec`'s
+// level plus what `spec` holds.
+void time_one_channel(benchmark::State& state, ChannelSpec spec) {
   const auto n = static_cast<std::size_t>(state.range(0));
   const int threads = static_cast<int>(state.range(1));
-  ChannelSpec spec;
   spec.rate_hz = 1000;
   spec.terms.N = 0.005;
   allanlot::kernels::SimulationPlan plan(n);
@@ -69,27 +69,21 @@ void BM_SimulateWhite(benchmark::State& state) {
       benchmark::Counter(static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate);
 }
 
+// White noise alone: the RNG and Box-Muller cost per sample, without the FFT.
+void BM_SimulateWhite(benchmark::State& state) {
+  time_one_channel(state, ChannelSpec{});
+}
+
 // Every effect outside eq. (3) on white noise: two sinusoids, two Gauss-Markov effects (the
 // block-parallel carries), two resonances (one wandering: the sequential recursion) and two
 // steps, so that the per-effect synthesis loops are timed apart from the flicker FFT.
 void BM_SimulateEffects(benchmark::State& state) {
-  const auto n = static_cast<std::size_t>(state.range(0));
-  const int threads = static_cast<int>(state.range(1));
   ChannelSpec spec;
-  spec.rate_hz = 1000;
-  spec.terms.N = 0.005;
   spec.sinusoids = {{0.01, 13.0, 0.2}, {0.02, 77.0, -1.0}};
   spec.markovs = {{0.01, 0.5}, {0.02, 5.0}};
   spec.resonances = {{0.03, 170.0, 40.0}, {0.02, 210.0, 60.0, 5.0, 3.0}};
   spec.steps = {{0.05, 300.0}, {-0.02, 700.5}};
-  allanlot::kernels::SimulationPlan plan(n);
-  std::vector<double> out(n);
-  for (auto _ : state) {
-    plan.run(spec, 1, 0, out, threads);
-    benchmark::DoNotOptimize(out.data());
-  }
-  state.counters["samples/s"] =
-      benchmark::Counter(static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate);
+  time_one_channel(state, spec);
 }
 
 }  // namespace
