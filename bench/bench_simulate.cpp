@@ -4,6 +4,7 @@
 // simulate command does, so the flicker filter's spectrum is computed once per plan; the plan
 // is made outside the timed loop, the first (spectrum-computing) run included in warm-up.
 // Arguments: n (samples a channel) and threads; samples/s counts every channel's samples.
+// BM_SimulateEffects times one channel holding every effect outside eq. (3).
 // Run: build/bench/bench_simulate --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
 // (or through bench/run-all).
 #include "kernels/simulate/simulate.hpp"
@@ -51,11 +52,11 @@ void BM_SimulateUnit(benchmark::State& state) {
                                                    benchmark::Counter::kIsIterationInvariantRate);
 }
 
-// White noise alone: the RNG and Box-Muller cost per sample, without the FFT.
-void BM_SimulateWhite(benchmark::State& state) {
+// One channel of state.range(0) samples at state.range(1) threads, white noise of `spec`'s
+// level plus what `spec` holds.
+void time_one_channel(benchmark::State& state, ChannelSpec spec) {
   const auto n = static_cast<std::size_t>(state.range(0));
   const int threads = static_cast<int>(state.range(1));
-  ChannelSpec spec;
   spec.rate_hz = 1000;
   spec.terms.N = 0.005;
   allanlot::kernels::SimulationPlan plan(n);
@@ -66,6 +67,23 @@ void BM_SimulateWhite(benchmark::State& state) {
   }
   state.counters["samples/s"] =
       benchmark::Counter(static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate);
+}
+
+// White noise alone: the RNG and Box-Muller cost per sample, without the FFT.
+void BM_SimulateWhite(benchmark::State& state) {
+  time_one_channel(state, ChannelSpec{});
+}
+
+// Every effect outside eq. (3) on white noise: two sinusoids, two Gauss-Markov effects (the
+// block-parallel carries), two resonances (one wandering: the sequential recursion) and two
+// steps, so that the per-effect synthesis loops are timed apart from the flicker FFT.
+void BM_SimulateEffects(benchmark::State& state) {
+  ChannelSpec spec;
+  spec.sinusoids = {{0.01, 13.0, 0.2}, {0.02, 77.0, -1.0}};
+  spec.markovs = {{0.01, 0.5}, {0.02, 5.0}};
+  spec.resonances = {{0.03, 170.0, 40.0}, {0.02, 210.0, 60.0, 5.0, 3.0}};
+  spec.steps = {{0.05, 300.0}, {-0.02, 700.5}};
+  time_one_channel(state, spec);
 }
 
 }  // namespace
@@ -81,6 +99,13 @@ BENCHMARK(BM_SimulateWhite)
     ->ArgPair(1'000'003, 2)
     ->ArgPair(5'400'000, 1)
     ->ArgPair(5'400'000, 2)
+    ->ArgNames({"n", "threads"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+BENCHMARK(BM_SimulateEffects)
+    ->ArgPair(1'000'000, 1)
+    ->ArgPair(1'000'000, 2)
     ->ArgNames({"n", "threads"})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();

@@ -5,7 +5,6 @@
 #include "kernels/common/tasks.hpp"
 
 #include "kernels/model/least_squares.hpp"
-#include "kernels/simulate/rng.hpp"
 #include "kernels/uncertainty/chi2.hpp"
 
 #include <Eigen/Core>

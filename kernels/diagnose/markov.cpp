@@ -2,8 +2,6 @@
 // filter, the search of its correlation time on the measured curve, and its candidate.
 #include "kernels/diagnose/internal.hpp"
 
-#include "kernels/simulate/rng.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -83,7 +81,7 @@ Fit search_tau_c(std::vector<Component> comps, std::size_t idx, const Curve& cv,
 // within a decade of another, and one whose tau_c ends at one sample.
 CandidateFit hump_candidate(std::vector<Component> comps, const Curve& cv, const Bases& b) {
   const auto n_markov = std::count_if(comps.begin(), comps.end(), is<GaussMarkov>);
-  if (static_cast<std::uint32_t>(n_markov) >= rng::kMaxMarkov) {
+  if (static_cast<std::size_t>(n_markov) >= EffectTraits<GaussMarkov>::max_count) {
     CandidateFit none;
     none.info.effect = Effect::Markov;
     none.info.note = "too many markov effects";

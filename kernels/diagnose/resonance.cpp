@@ -3,7 +3,6 @@
 #include "kernels/diagnose/internal.hpp"
 
 #include "kernels/common/tasks.hpp"
-#include "kernels/simulate/rng.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -27,7 +26,7 @@ CandidateFit resonance_room(const std::vector<Component>& base) {
   CandidateFit out;
   out.info.effect = Effect::Resonance;
   const auto n_res = std::count_if(base.begin(), base.end(), is<Resonance>);
-  if (static_cast<std::uint32_t>(n_res) >= rng::kMaxResonance)
+  if (static_cast<std::size_t>(n_res) >= EffectTraits<Resonance>::max_count)
     out.info.note = "too many resonances";
   return out;
 }

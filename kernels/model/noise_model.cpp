@@ -56,6 +56,23 @@ void validate_effects(const NoiseModel& m, const std::string& what) {
   for_each_effect_list(m, [&](const auto& list) { validate_list(list, m.rate_hz, what); });
 }
 
+void validate_lowpass(const Lowpass& lp, double rate_hz) {
+  using Traits = EffectTraits<Lowpass>;
+  const std::string name(Traits::name);
+  if (lp == Lowpass{}) return;
+  for (const auto& k : Traits::keys) {
+    const double v = lp.*k.field;
+    if (v == 0) continue;  // left out: Presence::OptionalNonzero
+    if (const auto reason = key_problem(v, k.rule))
+      throw std::invalid_argument(name + "." + std::string(k.name) + ": " + *reason);
+  }
+  if (lp.cutoff_hz != 0 && lp.taps != 0)
+    throw std::invalid_argument(name + ": has exactly one of " + std::string(Traits::keys[0].name) +
+                                " and " + std::string(Traits::keys[1].name) + ", got both");
+  if (const auto problem = Traits::check(lp, rate_hz, shortest))
+    throw std::invalid_argument(name + "." + problem->key + ": " + problem->reason);
+}
+
 std::string effect_type_list() {
   std::string out;
   NoiseModel none;

@@ -10,10 +10,12 @@
 // The effects outside eq. (3) are registered in kEffectLists below, one line each; each has its
 // own header in kernels/model/effects/ with everything about it (its struct, its name and
 // model-file keys, its checks, the most a channel holds, the parameters diagnose fits; its Allan
-// variance and PSD where they are closed forms). Code that treats every effect alike (the model
-// file's reader and writer, the copy of a diagnosed model) iterates kEffectLists with
-// for_each_effect_list and reads EffectTraits, so a new effect is one new header plus its line
-// here (docs/development.md "Adding an effect").
+// variance and PSD where they are closed forms), and its process file in kernels/simulate/ (its
+// synthesis, random streams and shares of the model's Allan variance and PSD). Code that treats
+// every effect alike (the model file's reader and writer, the copy of a diagnosed model,
+// simulate) iterates kEffectLists with for_each_effect_list and reads EffectTraits, so a new
+// effect is its header, its process file and its line here (docs/development.md "How to add an
+// effect").
 #pragma once
 
 #include "kernels/model/effects/lowpass.hpp"
@@ -76,10 +78,17 @@ void for_each_effect_list(Model& m, F&& f) {
 void assign_effects(NoiseModel& to, const NoiseModel& from);
 
 /// Throws std::invalid_argument "<what>: <name>[i].<key>: <reason>" for the first effect in a
-/// list (the filter aside: kernels/simulate/lowpass.hpp validate_lowpass) that breaks its traits'
-/// rules at m.rate_hz: every key finite and by its KeyRule (a Presence::When key only when
-/// needed), then the effect's check; or "<what>: at most N <name> effects, got M".
+/// list (the filter aside: validate_lowpass) that breaks its traits' rules at m.rate_hz: every
+/// key finite and by its KeyRule (a Presence::When key only when needed), then the effect's
+/// check; or "<what>: at most N <name> effects, got M".
 void validate_effects(const NoiseModel& m, const std::string& what);
+
+/// Throws std::invalid_argument "lowpass.<key>: <reason>" (or "lowpass: <reason>") for a filter
+/// that breaks its traits' rules at rate_hz: each key given (not 0) finite and by its KeyRule,
+/// one of the two, then EffectTraits<Lowpass>::check. No filter (both 0) passes. simulate's
+/// check of a model and analyze's --lowpass (where an infinite rate_hz checks the ranges alone,
+/// the Nyquist frequency later per channel) share it with the model file's reader's rules.
+void validate_lowpass(const Lowpass& lp, double rate_hz);
 
 /// The model file's effect types, "sinusoid, markov, ... or lowpass", for a message.
 std::string effect_type_list();

@@ -8,7 +8,6 @@
 #include <functional>
 #include <numbers>
 #include <stdexcept>
-#include <string>
 
 namespace allanlot::kernels {
 
@@ -24,19 +23,6 @@ std::vector<double> cumulative(const std::vector<double>& h) {
 }
 
 }  // namespace
-
-void validate_lowpass(const Lowpass& lp, double rate_hz) {
-  if (!std::isfinite(lp.cutoff_hz) || lp.cutoff_hz < 0 ||
-      (lp.cutoff_hz > 0 && lp.cutoff_hz >= rate_hz / 2))
-    throw std::invalid_argument(
-        "lowpass.cutoff_hz must be in (0, rate_hz/2 = " + std::to_string(rate_hz / 2) + "), got " +
-        std::to_string(lp.cutoff_hz));
-  if (!std::isfinite(lp.taps) || (lp.taps != 0 && !(lp.taps > 1 && lp.taps <= kLowpassMaxTaps)))
-    throw std::invalid_argument("lowpass.taps must be in (1, " + std::to_string(kLowpassMaxTaps) +
-                                "], got " + std::to_string(lp.taps));
-  if (lp.cutoff_hz > 0 && lp.taps > 0)
-    throw std::invalid_argument("a lowpass has cutoff_hz or taps, not both");
-}
 
 std::vector<double> lowpass_impulse(const Lowpass& lp, double rate_hz) {
   if (lp.taps > 0) {

@@ -13,11 +13,6 @@
 
 namespace allanlot::kernels {
 
-/// Checks a filter against the sample rate (simulate's model, analyze's --lowpass); throws
-/// std::invalid_argument naming the field:
-/// cutoff_hz finite, >= 0 and below rate_hz / 2; taps 0 or in (1, 100000]; not both.
-void validate_lowpass(const Lowpass& lp, double rate_hz);
-
 /// The filter's impulse response on samples of rate_hz: a (1 - a)^j with
 /// a = 1 - exp(-2 pi cutoff_hz / rate_hz) (the impulse-invariant one-pole filter, whose
 /// continuous parent has its -3 dB point at cutoff_hz), truncated where the remaining tail is

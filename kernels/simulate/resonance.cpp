@@ -264,4 +264,23 @@ void add_resonance(const Resonance& r, double rate_hz, std::uint64_t seed, std::
   }
 }
 
+void add_effect_record(const Resonance& r, double rate_hz, std::uint64_t seed, std::uint64_t stream,
+                       std::uint32_t component, std::span<double> y) {
+  add_resonance(r, rate_hz, seed, stream, component, y);
+}
+
+double effect_avar(const Resonance& r, double rate_hz, double tau) {
+  return resonance_avar(r, rate_hz, tau * rate_hz);
+}
+
+double filter_change_avar(const Resonance& r, const FilterAt& at) {
+  const auto md = static_cast<double>(at.m);
+  return resonance_avar(r, at.rate_hz, md, at.rho()) - resonance_avar(r, at.rate_hz, md);
+}
+
+void add_effect_psd(const Resonance& r, double rate_hz, std::span<const double> f_hz,
+                    std::vector<double>& out) {
+  add_resonance_psd(r, rate_hz, 1.0, f_hz, out);
+}
+
 }  // namespace allanlot::kernels

@@ -36,6 +36,7 @@
 #pragma once
 
 #include "kernels/model/effects/resonance.hpp"
+#include "kernels/simulate/effect_process.hpp"
 
 #include <cstdint>
 #include <span>
@@ -44,6 +45,11 @@
 #include <vector>
 
 namespace allanlot::kernels {
+
+/// Sequential over the record (the AR(2) recursion); effect i of a channel's list draws stream
+/// 216 + i.
+template <>
+struct EffectProcess<Resonance> : RandomProcess<Resonance, Synthesis::Record, 216> {};
 
 /// The mixture of a wandering resonance: stationary resonances (spread_hz 0, each of r's sigma)
 /// and their weights (sum 1), by the trapezoidal rule over +-4 standard deviations of the
@@ -97,5 +103,16 @@ void add_resonance_psd(const Resonance& r, double rate_hz, double scale,
 /// its recursion's coefficients follow u every 8 samples.
 void add_resonance(const Resonance& r, double rate_hz, std::uint64_t seed, std::uint64_t stream,
                    std::uint32_t component, std::span<double> y);
+
+/// The effect's process hooks (kernels/simulate/effect_process.hpp): add_resonance; its Allan
+/// variance resonance_avar at m = tau rate_hz (exact at whole samples, interpolated between
+/// them), under the filter through the filter's autocorrelation (exact); its PSD
+/// add_resonance_psd.
+void add_effect_record(const Resonance& r, double rate_hz, std::uint64_t seed, std::uint64_t stream,
+                       std::uint32_t component, std::span<double> y);
+double effect_avar(const Resonance& r, double rate_hz, double tau);
+double filter_change_avar(const Resonance& r, const FilterAt& at);
+void add_effect_psd(const Resonance& r, double rate_hz, std::span<const double> f_hz,
+                    std::vector<double>& out);
 
 }  // namespace allanlot::kernels

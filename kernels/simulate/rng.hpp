@@ -7,9 +7,6 @@
 // for every thread count and every block decomposition.
 #pragma once
 
-#include "kernels/model/effects/markov.hpp"
-#include "kernels/model/effects/resonance.hpp"
-
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -47,23 +44,16 @@ inline Counter philox4x32_10(Counter c, Key k) {
 /// has its own sequence so that adding or removing one term does not change the others.
 /// Values must stay below 256 (they occupy the top byte of the counter's second word).
 enum class Component : std::uint32_t {
-  White = 1,            // white rate noise (N)
-  Flicker = 2,          // Kasdin's driving noise of the flicker term (B)
-  RandomWalk = 3,       // rate random walk (K): endpoint increments and bridge integrals
-  Quantization = 4,     // white phase noise differenced (Q)
-  LotSpread = 5,        // draw_unit's per-unit coefficient factors
-  FlickerPm = 6,        // Kasdin's driving noise of the flicker PM phase (ChannelSpec::flicker_pm)
-  MarkovFirst = 16,     // Gauss-Markov effect i uses MarkovFirst + i (i < kMaxMarkov)
-  ResonanceFirst = 216  // resonance i uses ResonanceFirst + i (i < kMaxResonance)
+  White = 1,         // white rate noise (N)
+  Flicker = 2,       // Kasdin's driving noise of the flicker term (B)
+  RandomWalk = 3,    // rate random walk (K): endpoint increments and bridge integrals
+  Quantization = 4,  // white phase noise differenced (Q)
+  LotSpread = 5,     // draw_unit's per-unit coefficient factors
+  FlickerPm = 6,     // Kasdin's driving noise of the flicker PM phase (ChannelSpec::flicker_pm)
 };
-inline constexpr std::uint32_t kMaxMarkov =
-    static_cast<std::uint32_t>(EffectTraits<GaussMarkov>::max_count);
-inline constexpr std::uint32_t kMaxResonance =
-    static_cast<std::uint32_t>(EffectTraits<Resonance>::max_count);
-// The effects' streams stay apart and inside the counter's byte.
-static_assert(static_cast<std::uint32_t>(Component::MarkovFirst) + kMaxMarkov <=
-              static_cast<std::uint32_t>(Component::ResonanceFirst));
-static_assert(static_cast<std::uint32_t>(Component::ResonanceFirst) + kMaxResonance <= 256);
+/// The effects' streams (each effect's EffectProcess<E>::first_stream, kernels/simulate/
+/// effects.hpp checks them) start here, leaving 7 .. 15 to a channel's own components.
+inline constexpr std::uint32_t kFirstEffectStream = 16;
 
 /// The random bits for one index of one component's sequence. The counter layout is
 /// injective: index (< 2^56) in the first 56 bits, the component in the next 8, the stream

@@ -72,41 +72,6 @@ std::size_t fft_size_at_least(std::size_t n) {
   }
 }
 
-// Per-interval constants of one Gauss-Markov effect (exact discretization of the OU process
-// over one sample interval h; see run()).
-struct MarkovStep {
-  double phi = 0;     // exp(-h / tau_c): AR(1) coefficient of the state
-  double s_m = 0;     // sd of the state innovation, sigma sqrt(1 - phi^2)
-  double mean_i = 0;  // E[integral | start state] / start state = tau_c (1 - phi)
-  double c = 0;       // integral's loading on the state innovation's normal
-  double d = 0;       // integral's own normal's loading
-  double sigma = 0;   // stationary sd (initial state)
-  double inv_h = 0;   // 1 / h: the sample is the interval mean
-};
-
-MarkovStep markov_step(const GaussMarkov& gm, double h) {
-  // OU: dm = -m/tau_c dt + sqrt(2 sigma^2 / tau_c) dW. Over one step h, given m_0, the pair
-  // (m_h, I = integral_0^h m dt) is Gaussian with
-  //   E m_h = phi m_0,                 Var m_h = sigma^2 (1 - phi^2),
-  //   E I = tau_c (1 - phi) m_0,       Var I = sigma^2 tau_c^2 u(h / tau_c),
-  //   Cov(I, m_h) = sigma^2 tau_c (1 - phi)^2,
-  // (integrate the Ito representation m_t = phi_t m_0 + int e^{-(t-s)/tau_c} dW), drawn here by
-  // the Cholesky factor of that 2x2 covariance.
-  const double a = h / gm.tau_c_s;
-  MarkovStep s;
-  s.sigma = gm.sigma;
-  s.phi = std::exp(-a);
-  const double one_m_phi = -std::expm1(-a);
-  s.s_m = gm.sigma * std::sqrt(-std::expm1(-2 * a));
-  s.mean_i = gm.tau_c_s * one_m_phi;
-  const double var_i = gm.sigma * gm.sigma * gm.tau_c_s * gm.tau_c_s * markov_u(a);
-  const double cov = gm.sigma * gm.sigma * gm.tau_c_s * one_m_phi * one_m_phi;
-  s.c = cov / s.s_m;
-  s.d = std::sqrt(std::max(0.0, var_i - s.c * s.c));
-  s.inv_h = 1.0 / h;
-  return s;
-}
-
 }  // namespace
 
 void validate(const ChannelSpec& spec) {
@@ -127,15 +92,6 @@ void validate(const ChannelSpec& spec) {
     throw std::invalid_argument(std::string("simulate: ") + e.what());
   }
   validate_effects(spec, "simulate");
-}
-
-void add_steps(std::span<double> y, std::span<const Step> steps, double rate_hz, double scale,
-               std::size_t first) {
-  for (const Step& st : steps) {
-    const double s_at = st.time_s * rate_hz, d = scale * st.size;
-    for (std::size_t i = 0; i < y.size(); ++i)
-      y[i] += d * std::clamp(static_cast<double>(first + i) + 1.0 - s_at, 0.0, 1.0);
-  }
 }
 
 std::vector<double> kasdin_flicker_filter(std::size_t n) {
@@ -271,30 +227,29 @@ std::size_t SimulationPlan::size() const {
 
 namespace {
 
-// Passes 2 and 3 of SimulationPlan::run: the random walk's and the Gauss-Markov effects' block
+// Passes 2 and 3 of SimulationPlan::run: the random walk's and the Carried effects' block
 // start states, combined in block order from each block's local end state (`walk_end`,
-// `markov_end`), and their contributions added to every block of `out`.
-void add_block_starts(const NoiseTerms& t, const std::vector<MarkovStep>& steps,
-                      const std::vector<std::uint32_t>& markov_comp,
-                      const std::vector<double>& walk_end, const std::vector<double>& markov_end,
+// `carried_end`), and their contributions added to every block of `out`.
+void add_block_starts(const NoiseTerms& t, const std::vector<CarriedStep>& steps,
+                      const std::vector<double>& walk_end, const std::vector<double>& carried_end,
                       std::uint64_t seed, std::uint64_t stream, std::span<double> out,
                       [[maybe_unused]] int nt) {
   const std::size_t n = out.size();
-  const std::size_t n_markov = steps.size();
+  const std::size_t n_carried = steps.size();
   const std::size_t n_blocks = (n + kBlock - 1) / kBlock;
   const auto blocks = static_cast<std::int64_t>(n_blocks);
   // Pass 2 (sequential, in block order): the true state at each block's start.
   std::vector<double> walk_start(walk_end.size());
   for (std::size_t b = 1; b < walk_end.size(); ++b)
     walk_start[b] = walk_start[b - 1] + walk_end[b - 1];
-  std::vector<double> markov_start(n_blocks * n_markov);
-  for (std::size_t e = 0; e < n_markov; ++e) {
+  std::vector<double> carried_start(n_blocks * n_carried);
+  for (std::size_t e = 0; e < n_carried; ++e) {
     // Stationary start: m(0) ~ N(0, sigma^2), from pair 0 of the effect's sequence.
-    double m = steps[e].sigma * rng::normal_pair(seed, stream, markov_comp[e], 0).first;
+    double m = steps[e].sigma * rng::normal_pair(seed, stream, steps[e].component, 0).first;
     for (std::size_t b = 0; b < n_blocks; ++b) {
-      markov_start[b * n_markov + e] = m;
+      carried_start[b * n_carried + e] = m;
       const std::size_t len = std::min(kBlock, n - b * kBlock);
-      m = std::pow(steps[e].phi, static_cast<double>(len)) * m + markov_end[b * n_markov + e];
+      m = std::pow(steps[e].phi, static_cast<double>(len)) * m + carried_end[b * n_carried + e];
     }
   }
   // Pass 3 (parallel over blocks): add the start states' contributions, which the recursions
@@ -309,9 +264,9 @@ void add_block_starts(const NoiseTerms& t, const std::vector<MarkovStep>& steps,
       for (std::size_t i = 0; i < len; ++i)
         y[i] += add;
     }
-    for (std::size_t e = 0; e < n_markov; ++e) {
+    for (std::size_t e = 0; e < n_carried; ++e) {
       const auto& st = steps[e];
-      double carry = markov_start[static_cast<std::size_t>(b) * n_markov + e];
+      double carry = carried_start[static_cast<std::size_t>(b) * n_carried + e];
       for (std::size_t i = 0; i < len && carry != 0; ++i) {
         y[i] += st.mean_i * carry * st.inv_h;
         carry *= st.phi;
@@ -320,6 +275,63 @@ void add_block_starts(const NoiseTerms& t, const std::vector<MarkovStep>& steps,
       }
     }
   }
+}
+
+// The Carried effects' per-interval constants (carried_step; an effect that draws nothing has
+// none), in kEffectLists order, each with its stream: effect i of a list first_stream + i.
+std::vector<CarriedStep> carried_steps(const ChannelSpec& spec, double h) {
+  std::vector<CarriedStep> steps;
+  for_each_effect_list(spec, [&](const auto& list) {
+    using P = EffectProcess<EffectOf<decltype(list)>>;
+    if constexpr (P::synthesis == Synthesis::Carried)
+      for (std::size_t i = 0; i < list.size(); ++i)
+        if (auto st = carried_step(list[i], h)) {
+          st->component = P::first_stream + static_cast<std::uint32_t>(i);
+          steps.push_back(*st);
+        }
+  });
+  return steps;
+}
+
+// The Block effects over the block y of the record (its first sample `first`), in kEffectLists
+// order, each effect over the whole block in turn.
+void add_block_effects(const ChannelSpec& spec, std::size_t first, std::span<double> y) {
+  for_each_effect_list(spec, [&](const auto& list) {
+    if constexpr (EffectProcess<EffectOf<decltype(list)>>::synthesis == Synthesis::Block)
+      for (const auto& e : list)
+        add_effect_block(e, spec.rate_hz, first, y);
+  });
+}
+
+// Pass 1 of the Carried effects over the block y starting at sample k0: each recursion started
+// at 0 (the true start state is added in passes 2 and 3), its end state into end[e]. Sample k
+// draws pair k + 1 of the effect's stream (pair 0 is the stationary start).
+void add_carried_local(const std::vector<CarriedStep>& steps, std::uint64_t seed,
+                       std::uint64_t stream, std::size_t k0, std::span<double> y, double* end) {
+  for (std::size_t e = 0; e < steps.size(); ++e) {
+    const auto& st = steps[e];
+    double m = 0;
+    for (std::size_t i = 0; i < y.size(); ++i) {
+      const auto [z1, z2] = rng::normal_pair(seed, stream, st.component, k0 + i + 1);
+      const double integral = st.mean_i * m + st.c * z1 + st.d * z2;
+      y[i] += integral * st.inv_h;
+      m = st.phi * m + st.s_m * z1;
+    }
+    end[e] = m;
+  }
+}
+
+// The Record effects over the whole record, in kEffectLists order; effect i of a list draws
+// stream first_stream + i.
+void add_record_effects(const ChannelSpec& spec, std::uint64_t seed, std::uint64_t stream,
+                        std::span<double> out) {
+  for_each_effect_list(spec, [&](const auto& list) {
+    using P = EffectProcess<EffectOf<decltype(list)>>;
+    if constexpr (P::synthesis == Synthesis::Record)
+      for (std::size_t i = 0; i < list.size(); ++i)
+        add_effect_record(list[i], spec.rate_hz, seed, stream,
+                          P::first_stream + static_cast<std::uint32_t>(i), out);
+  });
 }
 
 }  // namespace
@@ -340,33 +352,17 @@ void SimulationPlan::run(const ChannelSpec& spec, std::uint64_t seed, std::uint6
   else
     std::fill(out.begin(), out.end(), 0.0);
 
-  std::vector<MarkovStep> steps;
-  for (const auto& gm : spec.markovs)
-    if (gm.sigma > 0) steps.push_back(markov_step(gm, h));
-  std::vector<std::uint32_t> markov_comp;
-  for (std::size_t i = 0; i < spec.markovs.size(); ++i)
-    if (spec.markovs[i].sigma > 0)
-      markov_comp.push_back(static_cast<std::uint32_t>(rng::Component::MarkovFirst) +
-                            static_cast<std::uint32_t>(i));
-  const std::size_t n_markov = steps.size();
+  const std::vector<CarriedStep> steps = carried_steps(spec, h);
+  const std::size_t n_carried = steps.size();
   const std::size_t n_blocks = (n + kBlock - 1) / kBlock;
   // End states of each block's local (zero-start) recursions, combined in block order below.
   std::vector<double> walk_end(t.K > 0 ? n_blocks : 0);
-  std::vector<double> markov_end(n_blocks * n_markov);
+  std::vector<double> carried_end(n_blocks * n_carried);
 
   const double white_sd = t.N * std::sqrt(spec.rate_hz);  // N^2/tau0: avar N^2/tau at m = 1
   const double sqrt_h = std::sqrt(h);
   const double bridge_sd = std::sqrt(h / 12.0);  // mean of a Brownian bridge over h
   const double q_scale = t.Q * spec.rate_hz;     // (q_{k+1} - q_k) / tau0, q ~ N(0, Q^2)
-  struct SinStep {
-    double amp_avg, cycles_per_sample, phase;
-  };
-  std::vector<SinStep> sins;
-  for (const auto& s : spec.sinusoids) {
-    // Mean of A sin(2 pi f t + p) over [t_k, t_k + h] is A sinc(pi f h) sin(2 pi f t_mid + p).
-    const double x = pi * s.frequency_hz * h;
-    sins.push_back({s.amplitude * std::sin(x) / x, s.frequency_hz * h, s.phase_rad});
-  }
   const auto white_comp = static_cast<std::uint32_t>(rng::Component::White);
   const auto walk_comp = static_cast<std::uint32_t>(rng::Component::RandomWalk);
   const auto quant_comp = static_cast<std::uint32_t>(rng::Component::Quantization);
@@ -411,35 +407,17 @@ void SimulationPlan::run(const ChannelSpec& spec, std::uint64_t seed, std::uint6
           for (std::size_t i = 0; i < len; ++i)
             y[i] += q_scale * (g[i + 1] - g[i]);
         }
-        for (const auto& s : sins)
-          for (std::size_t i = 0; i < len; ++i) {
-            const double cyc = s.cycles_per_sample * (static_cast<double>(k0 + i) + 0.5);
-            y[i] += s.amp_avg * std::sin(2 * pi * (cyc - std::floor(cyc)) + s.phase);
-          }
-        add_steps(std::span<double>(y, len), spec.steps, spec.rate_hz, 1.0, k0);
-        for (std::size_t e = 0; e < n_markov; ++e) {
-          const auto& st = steps[e];
-          double m = 0;  // local state, started at 0; the true start is added in pass 2
-          for (std::size_t i = 0; i < len; ++i) {
-            const auto [z1, z2] = rng::normal_pair(seed, stream, markov_comp[e], k0 + i + 1);
-            const double integral = st.mean_i * m + st.c * z1 + st.d * z2;
-            y[i] += integral * st.inv_h;
-            m = st.phi * m + st.s_m * z1;
-          }
-          markov_end[static_cast<std::size_t>(b) * n_markov + e] = m;
-        }
+        add_block_effects(spec, k0, std::span<double>(y, len));
+        add_carried_local(steps, seed, stream, k0, std::span<double>(y, len),
+                          carried_end.data() + static_cast<std::size_t>(b) * n_carried);
       });
     }
   }
   ec.rethrow();
-  if (t.K > 0 || n_markov > 0)
-    add_block_starts(t, steps, markov_comp, walk_end, markov_end, seed, stream, out, nt);
+  if (t.K > 0 || n_carried > 0)
+    add_block_starts(t, steps, walk_end, carried_end, seed, stream, out, nt);
   impl_->add_flicker_pm(spec, seed, stream, out, nt);
-  for (std::size_t i = 0; i < spec.resonances.size(); ++i)
-    add_resonance(spec.resonances[i], spec.rate_hz, seed, stream,
-                  static_cast<std::uint32_t>(rng::Component::ResonanceFirst) +
-                      static_cast<std::uint32_t>(i),
-                  out);
+  add_record_effects(spec, seed, stream, out);
   apply_lowpass(spec.lowpass, spec.rate_hz, out);
   if (spec.quantum > 0)
     for (double& y : out)
@@ -514,39 +492,6 @@ double flicker_avar_factor(std::int64_t m) {
   return sum / (md * md) / std::numbers::ln2;
 }
 
-namespace {
-
-// Each registered effect's share of model_avar at tau (continuous, unfiltered) and of the
-// one-sided PSD; an effect registered in kernels/model/noise_model.hpp without them does not
-// compile. A step adds nothing to either (model_avar's doc), a sinusoid nothing to the PSD (a
-// line has no density).
-double effect_avar(const Sinusoid& s, double, double tau) {
-  return sinusoid_avar(s, tau);
-}
-double effect_avar(const GaussMarkov& g, double, double tau) {
-  return markov_avar(g, tau);
-}
-double effect_avar(const Resonance& r, double rate_hz, double tau) {
-  return resonance_avar(r, rate_hz, tau * rate_hz);
-}
-double effect_avar(const Step&, double, double) {
-  return 0.0;
-}
-
-void add_effect_psd(const Sinusoid&, double, std::span<const double>, std::vector<double>&) {}
-void add_effect_psd(const GaussMarkov& g, double, std::span<const double> f_hz,
-                    std::vector<double>& out) {
-  for (std::size_t i = 0; i < f_hz.size(); ++i)
-    out[i] += markov_psd_one_sided(g, 2 * pi * f_hz[i]);
-}
-void add_effect_psd(const Resonance& r, double rate_hz, std::span<const double> f_hz,
-                    std::vector<double>& out) {
-  add_resonance_psd(r, rate_hz, 1.0, f_hz, out);
-}
-void add_effect_psd(const Step&, double, std::span<const double>, std::vector<double>&) {}
-
-}  // namespace
-
 double model_avar(const ChannelSpec& spec, double tau_s) {
   if (!(tau_s > 0) || !std::isfinite(tau_s))
     throw std::invalid_argument("model_avar: tau_s must be finite and > 0, got " +
@@ -572,21 +517,23 @@ double model_avar_sampled(const ChannelSpec& spec, std::int64_t m, std::int64_t 
   const double flicker = spec.terms.B * spec.terms.B * 2 * std::numbers::ln2 / pi;
   const double tau = static_cast<double>(m) / spec.rate_hz;
   double v = model_avar(spec, tau) + flicker * (flicker_avar_factor(m) - 1.0);
-  if (n_samples > 0) v = plus_steps_avar(v, spec.steps, spec.rate_hz, m, n_samples);
+  // Each effect's share that the record's length sets (the steps'), then under the filter
+  // what it changes in each share, in kEffectLists order.
+  if (n_samples > 0)
+    for_each_effect_list(spec, [&](const auto& list) {
+      using E = EffectOf<decltype(list)>;
+      v = plus_record_avar(v, std::span<const E>(list), spec.rate_hz, m, n_samples);
+    });
   if (!spec.lowpass.active()) return v;
   const Lowpass& lp = spec.lowpass;
   const auto& t = spec.terms;
   v += t.N * t.N / tau * (lowpass_white_fm_factor(lp, spec.rate_hz, m) - 1.0);
   v += 3 * t.Q * t.Q / (tau * tau) * (lowpass_white_pm_factor(lp, spec.rate_hz, m) - 1.0);
-  for (const auto& s : spec.sinusoids)
-    v += sinusoid_avar(s, tau) * (lowpass_gain2(lp, spec.rate_hz, s.frequency_hz) - 1.0);
-  if (spec.markovs.empty() && spec.resonances.empty()) return v;
-  const std::vector<double> rho = lowpass_autocorrelation(lp, spec.rate_hz);
-  for (const auto& g : spec.markovs)
-    v += lowpass_markov_avar(g.sigma, g.tau_c_s, spec.rate_hz, m, rho) - markov_avar(g, tau);
-  const auto md = static_cast<double>(m);
-  for (const auto& r : spec.resonances)
-    v += resonance_avar(r, spec.rate_hz, md, rho) - resonance_avar(r, spec.rate_hz, md);
+  const FilterAt at(lp, spec.rate_hz, m);
+  for_each_effect_list(spec, [&](const auto& list) {
+    for (const auto& e : list)
+      v += filter_change_avar(e, at);
+  });
   return v;
 }
 

@@ -7,7 +7,10 @@
 //         + sum of steps,
 //
 // all of it then passed through the sensor's low-pass filter when the spec has one
-// (kernels/simulate/lowpass.hpp),
+// (kernels/simulate/lowpass.hpp). The effects outside eq. (3) are the registered ones
+// (kernels/model/noise_model.hpp kEffectLists): simulate iterates them, each synthesized, and its
+// share of the theory below given, by its process file (kernels/simulate/effect_process.hpp,
+// e.g. kernels/simulate/markov.hpp),
 //
 // with every coefficient in the channel's own units u and seconds (docs/formats.md "Units
 // and conventions"): R [u/s], K [u/s^0.5], B [u], N [u*s^0.5], Q [u*s], so that
@@ -30,12 +33,15 @@
 // thread, and sequential carries (random walk, Gauss-Markov state) are combined in block
 // order; FFTW plans are made with FFTW_ESTIMATE on fftw_malloc'ed buffers, so the plan (and
 // its rounding) does not depend on timing. Same spec, seed and stream: the same bytes for any
-// thread count, with or without OpenMP.
+// thread count, with or without OpenMP. Each sample's sum is added in one fixed order: flicker,
+// offset, white, random walk, ramp, quantization, the Block effects, the Carried effects (each
+// stage's effects in kEffectLists order), the block start states, flicker PM, the Record
+// effects; then the filter and the output's rounding.
 #pragma once
 
 #include "kernels/model/noise_model.hpp"
+#include "kernels/simulate/effects.hpp"
 #include "kernels/simulate/lowpass.hpp"
-#include "kernels/simulate/resonance.hpp"
 
 #include <cstddef>
 #include <cstdint>
@@ -44,13 +50,6 @@
 #include <vector>
 
 namespace allanlot::kernels {
-
-/// Adds `scale` times each step to the samples y (sample i is sample first + i of the record,
-/// at rate_hz): sample k averages the rate over [k, k + 1] sample intervals, so a jump at
-/// s = time_s rate_hz samples counts for clamp(k + 1 - s, 0, 1) of itself. With scale = -1 it
-/// removes the steps exactly (diagnose). The one owner of a step's samples.
-void add_steps(std::span<double> y, std::span<const Step> steps, double rate_hz, double scale = 1.0,
-               std::size_t first = 0);
 
 /// Everything that defines one simulated channel: the noise model (kernels/model/noise_model.hpp).
 using ChannelSpec = NoiseModel;
@@ -115,7 +114,7 @@ std::vector<double> kasdin_flicker_filter(std::size_t n);
 /// the steps: a single jump's share of an Allan variance falls as 1 / (record length) (see
 /// step_avar_sampled), so over the unbounded record this continuous form describes it is zero.
 /// A resonance adds resonance_avar at m = tau_s rate_hz (exact at whole samples, interpolated
-/// between them).
+/// between them). Each effect's share is its process's effect_avar.
 double model_avar(const ChannelSpec& spec, double tau_s);
 
 /// Expected overlapping Allan variance of simulate_channel's output at tau = m / rate_hz
@@ -132,26 +131,9 @@ double model_avar(const ChannelSpec& spec, double tau_s);
 /// relative order m / n, negligible for m << n). With n_samples > 0 (the record's length, at
 /// least 2 m) each step adds step_avar_sampled, exactly (the filter's smoothing of the jump is
 /// left out, as the ramp's); with n_samples = 0 (an unbounded record) the steps add nothing.
+/// Each effect's share over the record is its process's plus_record_avar, under the filter its
+/// filter_change_avar.
 double model_avar_sampled(const ChannelSpec& spec, std::int64_t m, std::int64_t n_samples = 0);
-
-/// The overlapping Allan variance at averaging factor m over a record of n_samples (>= 2 m)
-/// samples at rate_hz that a step alone gives, exactly as the estimator averages it. With the
-/// jump at s = time_s rate_hz samples, the phase is size max(0, t - s) and each second
-/// difference (x_{k+2m} - 2 x_{k+m} + x_k) / m is a triangle in u = s - k: size u / m rising
-/// over 0 < u <= m, size (2m - u) / m falling to 2m. The variance is the sum of their squares
-/// over the windows k = 0 .. n - 2m the record holds, over 2 (n - 2m + 1) (NIST SP1065 eq.
-/// (11)); the sums of squares over each run of k are closed forms. Far from the record's ends,
-/// size^2 (2 m^2 + 1) / (6 m (n - 2m + 1)), like a random walk's m / 3 growth but set by the
-/// record's length: its witness is in the time domain (docs/diagnose.md).
-double step_avar_sampled(const Step& step, double rate_hz, std::int64_t m, std::int64_t n_samples);
-
-/// `avar` plus what `steps` add over the record (kernels/simulate/steps_avar.cpp):
-/// step_avar_sampled of each, added in order, when no two are within 2 m samples of each other;
-/// otherwise their joint share, exactly (their second differences added before squaring: two
-/// opposite jumps close together, a bias excursion, add far less than their two shares). A
-/// model's Allan variance with its jumps.
-double plus_steps_avar(double avar, std::span<const Step> steps, double rate_hz, std::int64_t m,
-                       std::int64_t n_samples);
 
 /// Ratio of the Allan variance of Kasdin's discrete flicker sequence at averaging factor m to
 /// the continuous floor B^2 2 ln2 / pi. From the PSD above and the discrete averaging

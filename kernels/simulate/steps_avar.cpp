@@ -1,7 +1,7 @@
-// The Allan variance a model's bias jumps add over a finite record (kernels/simulate/simulate.hpp
+// The Allan variance a model's bias jumps add over a finite record (kernels/simulate/step.hpp
 // step_avar_sampled, plus_steps_avar): each jump's second differences in closed form, and those
 // of jumps close together summed window by window.
-#include "kernels/simulate/simulate.hpp"
+#include "kernels/simulate/step.hpp"
 
 #include <algorithm>
 #include <cmath>

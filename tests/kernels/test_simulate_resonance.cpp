@@ -185,7 +185,7 @@ TEST(SimulateResonance, SameBytesForAnyThreadCountAndBadSpecsRejected) {
     spec.resonances = {bad};
     EXPECT_THROW(kernels::validate(spec), std::invalid_argument);
   }
-  spec.resonances.assign(kernels::rng::kMaxResonance + 1, {0.1, 3.0, 2.0});
+  spec.resonances.assign(kernels::EffectTraits<kernels::Resonance>::max_count + 1, {0.1, 3.0, 2.0});
   EXPECT_THROW(kernels::validate(spec), std::invalid_argument);
 }
 

@@ -1,7 +1,8 @@
 // The lowpass effect: the sensor's own filter, applied to the sum of everything else
 // (kernels/simulate/lowpass.hpp has its impulse response and what it does to each Allan
-// variance). Here: its name and model-file keys, its checks. A channel has at most one; its JSON
-// object has exactly one of the two keys.
+// variance). Here: its name and model-file keys, its checks (which validate_lowpass of
+// kernels/model/noise_model.hpp applies with the keys' own rules). A channel has at most one; its
+// JSON object has exactly one of the two keys.
 #pragma once
 
 #include "kernels/model/effects/effect.hpp"

@@ -1,5 +1,6 @@
 // The markov effect: a first-order Gauss-Markov process, a hump in the Allan deviation. Everything
-// about it that is not its synthesis: its name and model-file keys, its Allan variance and PSD.
+// about it that is not its synthesis (kernels/simulate/markov.hpp): its name and model-file keys,
+// its Allan variance and PSD.
 #pragma once
 
 #include "kernels/model/effects/effect.hpp"
@@ -24,7 +25,7 @@ struct EffectTraits<GaussMarkov> {
       {"sigma", &GaussMarkov::sigma, KeyRule::NonNegative, Presence::Required},
       {"tau_c_s", &GaussMarkov::tau_c_s, KeyRule::Positive, Presence::Required},
   }};
-  // Each has its own random stream (kernels/simulate/rng.hpp Component::MarkovFirst + i).
+  // Each has its own random stream (kernels/simulate/markov.hpp EffectProcess).
   static constexpr std::size_t max_count = 200;
   static constexpr double GaussMarkov::*level = &GaussMarkov::sigma;
   static constexpr double GaussMarkov::*shape = &GaussMarkov::tau_c_s;

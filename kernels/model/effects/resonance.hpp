@@ -43,7 +43,7 @@ struct EffectTraits<Resonance> {
       {"wander_s", &Resonance::wander_s, KeyRule::Positive, Presence::When,
        [](const Resonance& r) { return r.spread_hz > 0; }},
   }};
-  // Each has its own random stream (kernels/simulate/rng.hpp Component::ResonanceFirst + i).
+  // Each has its own random stream (kernels/simulate/resonance.hpp EffectProcess).
   static constexpr std::size_t max_count = 32;
   // Its shape is f0 and q; f0 is the one every resonance has a sigma for.
   static constexpr double Resonance::*level = &Resonance::sigma;

@@ -1,5 +1,6 @@
 // The sinusoid effect: a line in the spectrum (a vibration, a thermal cycle). Everything about it
-// that is not its synthesis: its name and model-file keys, its checks, its Allan variance.
+// that is not its synthesis (kernels/simulate/sinusoid.hpp): its name and model-file keys, its
+// checks, its Allan variance.
 #pragma once
 
 #include "kernels/model/effects/effect.hpp"

@@ -1,6 +1,6 @@
 // The step effect: a bias jump. Its name and model-file keys; its samples and its Allan variance
-// over a record (which depends on the record's length) are kernels/simulate's add_steps,
-// step_avar_sampled and plus_steps_avar.
+// over a record (which depends on the record's length) are its process's, kernels/simulate/step.hpp
+// (add_steps, step_avar_sampled and plus_steps_avar).
 #pragma once
 
 #include "kernels/model/effects/effect.hpp"
