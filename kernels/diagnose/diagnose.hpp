@@ -364,10 +364,14 @@ Diagnosis diagnose(std::span<const double> rate, double rate_hz, const ChannelSp
 /// included: the levels of the noise terms, humps and resonances (non-negative least squares on
 /// the variances, as diagnose fits them, weighted by that edf), a filter's form and value, each
 /// hump's tau_c and each resonance's f0 and q searched near their values; the model's jumps,
-/// lines and rounding stay as they are, their share of each tau known. The curve to draw beside
+/// lines and rounding stay as they are, their share of each tau known. A Gauss-Markov hump and a
+/// resonance (started from the periodogram of `rate`, the record's samples, when given) are
+/// added, each at most once, where the curve's chi-square asks for them by diagnose's selection
+/// criterion; they come after the model's own in the returned spec. The curve to draw beside
 /// `oadev` and the coefficients to report with it (kernels/diagnose/refit.cpp). `model` itself
 /// when fewer than 4 taus have a variance. Throws std::invalid_argument for a bad model.
-ChannelSpec fit_to_curve(const ChannelSpec& model, const StatResult& oadev, std::int64_t n_samples);
+ChannelSpec fit_to_curve(const ChannelSpec& model, const StatResult& oadev, std::int64_t n_samples,
+                         std::span<const double> rate = {});
 
 /// The edf of the overlapping Allan variance at each averaging factor in `m` over a record of
 /// n_samples, under `model` (docs/diagnose.md "Where"): each noise term and Gauss-Markov effect

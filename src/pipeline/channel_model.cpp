@@ -15,6 +15,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace allanlot::pipeline {
@@ -114,7 +115,7 @@ double drawn_value(const kernels::ChannelSpec& drawn, kernels::Effect e, std::si
 // "eq. (3) + rounding 0.00333 g, lowpass 1.15 taps, resonance 17.2 Hz, markov 257 s, step at
 // 42.3 s": the output's rounding when the record shows one, then the effects outside eq. (3) in
 // the order named (a term named is eq. (3)'s own), the filter first when it was given rather
-// than named.
+// than named, then those the fit on the curve added (kernels::fit_to_curve), resonances first.
 std::string describe(const kernels::Diagnosis& d, const kernels::ChannelSpec& drawn,
                      const std::string& units) {
   std::vector<std::string> parts;
@@ -156,6 +157,10 @@ std::string describe(const kernels::Diagnosis& d, const kernels::ChannelSpec& dr
       break;  // a term of eq. (3)
     }
   }
+  for (std::size_t k = d.model_after.resonances.size(); k < drawn.resonances.size(); ++k)
+    parts.push_back("resonance " + num(drawn.resonances[k].frequency_hz) + " Hz");
+  for (std::size_t k = d.model_after.markovs.size(); k < drawn.markovs.size(); ++k)
+    parts.push_back("markov " + num(drawn.markovs[k].tau_c_s) + " s");
   std::string s = "eq. (3)";
   for (std::size_t i = 0; i < parts.size(); ++i)
     s += (i == 0 ? " + " : ", ") + parts[i];
@@ -214,6 +219,22 @@ std::vector<io::EffectRecord> effect_records(const kernels::Diagnosis& d,
       out.push_back({static_cast<std::int64_t>(i), std::string(kernels::effect_name(e)), p.name,
                      drawn_value(drawn, e, k, p.name, p.value), p.sigma, p.bound});
   }
+  // The effects the fit on the curve added, after diagnose's, in describe's order; the curve's fit
+  // estimates no sigma.
+  auto index = static_cast<std::int64_t>(d.effects_named.size());
+  const auto added = [&](kernels::Effect e, const std::vector<std::pair<std::string, double>>& ps) {
+    for (const auto& [name, value] : ps)
+      out.push_back({index, std::string(kernels::effect_name(e)), name, value, kNaN, 0});
+    ++index;
+  };
+  for (std::size_t k = d.model_after.resonances.size(); k < drawn.resonances.size(); ++k) {
+    const kernels::Resonance& r = drawn.resonances[k];
+    added(kernels::Effect::Resonance,
+          {{"sigma", r.sigma}, {"frequency_hz", r.frequency_hz}, {"q", r.q}});
+  }
+  for (std::size_t k = d.model_after.markovs.size(); k < drawn.markovs.size(); ++k)
+    added(kernels::Effect::Markov,
+          {{"sigma", drawn.markovs[k].sigma}, {"tau_c_s", drawn.markovs[k].tau_c_s}});
   return out;
 }
 
@@ -272,8 +293,10 @@ void model_poor_fit(io::ChannelResult& result, const kernels::PhaseData& phase,
     // The structure diagnose named, its levels and shapes fitted on the deviation it is drawn
     // against (kernels::fit_to_curve): diagnose's fit is on its own grid, without the record's
     // jumps and with the model's edf, and missed the ADIS16405 accelerometers' curves by 1-2 %
-    // at taus whose intervals are 0.3-1 % wide, and by 1.2-1.7 times at the longest taus.
-    drawn = kernels::fit_to_curve(d.model_after, oadev, n);
+    // at taus whose intervals are 0.3-1 % wide, and by 1.2-1.7 times at the longest taus. The
+    // record's samples give the fit its periodogram, whose broad humps start a resonance the
+    // curve asks for.
+    drawn = kernels::fit_to_curve(d.model_after, oadev, n, rate);
   } catch (const std::exception& e) {
     // The eq. (3) fit stands, with the reason: a model that cannot be made fails no channel.
     result.notes +=
