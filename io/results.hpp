@@ -51,7 +51,7 @@ struct ReadoutRecord {
 /// One parameter of an effect outside eq. (3) in fit/'s model (fit/effects/, docs/formats.md):
 /// one row per parameter, the effects in the order they were named.
 struct EffectRecord {
-  std::int64_t effect_index = 0;  // 0, 1, ...: which named effect the row belongs to
+  std::int64_t effect_index = 0;  // 0, 1, ...: its effect, named or added on the curve
   std::string effect;             // the effect's name (kernels::effect_name)
   std::string parameter;          // its key in the model file: "frequency_hz", "q", "sigma", ...
   double value = 0, sigma = 0;    // sigma NaN when not estimable
