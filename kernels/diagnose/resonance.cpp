@@ -52,7 +52,7 @@ SpectralLine::Narrowband narrowband_of(const Component& c) {
   return nb;
 }
 
-// c's search started from (f0, q): q no longer at a bound, nor f0 when `f0_searched`.
+// c's search started from (f0, q): q off its bound, and f0 too when `f0_searched`.
 void start_at(Component& c, std::pair<double, double> f0_q, bool f0_searched) {
   std::tie(as<Resonance>(c).frequency_hz, as<Resonance>(c).q) = f0_q;
   c.q_bound = 0;
