@@ -208,7 +208,7 @@ bool Search::prune(Fit& base, const Fit& fixed_fit, bool free_given) {
     const int k_c = is<TermLevel>(c) || is<Lowpass>(c) ? 1
                     : is<Resonance>(c)                 ? resonance_parameters(c)
                                                        : 2;
-    const double delta = (f.chi2 - w.chi2) * crit.scale - threshold(k_c, crit.alpha_candidate);
+    const double delta = criterion(crit, f.chi2 - w.chi2, k_c);
     if (!(coef(c) > 0.0) || delta <= worst) {
       worst = !(coef(c) > 0.0) ? -std::numeric_limits<double>::infinity() : delta;
       worst_k = k;

@@ -465,8 +465,7 @@ bool Search::round(int& iter) {
   // next round explain more); whether the given values were wrong is tested again at the end
   // with every effect in place.
   if (n_free > 0 && !refit_taken && !witnessed_only) {
-    const double delta =
-        (ref.chi2 - refit.chi2) * crit.scale - threshold(n_free, crit.alpha_candidate);
+    const double delta = criterion(crit, ref.chi2 - refit.chi2, n_free);
     if (delta > 0.0 && best == cands.size()) {
       refit_taken = true;
       current = refit.comps;

@@ -107,6 +107,12 @@ Component step_component(const Step& st);
 /// effect, whose parameters are not fitted on the curve).
 double threshold(int k, double alpha);
 
+/// The round's criterion of a candidate whose k parameters lower the chi-square by chi2_drop:
+/// the drop scaled by n_eff / P, less the chi-square quantile at 1 - alpha_candidate.
+inline double criterion(const Criterion& crit, double chi2_drop, int k) {
+  return chi2_drop * crit.scale - threshold(k, crit.alpha_candidate);
+}
+
 // candidates.cpp: model components, their fits and the candidates.
 /// The unfiltered term bases at the curve's taus and the rounding's avar of a quantum (>= 0).
 Bases make_bases(const Curve& cv, double rate_hz, double quantum = 0.0);

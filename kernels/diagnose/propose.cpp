@@ -169,7 +169,7 @@ void score_candidate(CandidateFit& cf, int k, double chi2_ref, const Curve& fit_
                      const Criterion& crit) {
   cf.added = cf.fit.comps.size() - 1;
   cf.info.evaluated = true;
-  cf.info.delta_ic = (chi2_ref - cf.fit.chi2) * crit.scale - threshold(k, crit.alpha_candidate);
+  cf.info.delta_ic = criterion(crit, chi2_ref - cf.fit.chi2, k);
   cf.info.parameters =
       parameters_of(cf.fit.comps[cf.added], fill_sigmas(cf.fit, fit_cv, b, crit.n_eff), cf.added);
 }

@@ -67,8 +67,9 @@ std::vector<double> resonance_starts(const std::vector<Component>& comps, const 
 // quantile at 1 - select_alpha / kNumEffects for its 2 or 3 parameters; then the other kind once.
 Fit with_curve_effects(Fit f, const Curve& cv, const Bases& raw, std::span<const double> rate,
                        double rate_hz) {
-  const double scale = effective_taus(cv) / static_cast<double>(cv.size());
-  const double alpha = DiagnoseOptions{}.select_alpha / static_cast<double>(kNumEffects);
+  Criterion crit;
+  crit.scale = effective_taus(cv) / static_cast<double>(cv.size());
+  crit.alpha_candidate = DiagnoseOptions{}.select_alpha / kNumEffects;
   const std::vector<double> starts = resonance_starts(f.comps, cv, rate, rate_hz);
   bool hump_added = false, resonance_added = false;
   for (int round = 0; round < 2; ++round) {
@@ -76,7 +77,7 @@ Fit with_curve_effects(Fit f, const Curve& cv, const Bases& raw, std::span<const
     double best_criterion = 0.0;
     bool best_is_hump = false;
     const auto consider = [&](Fit trial, int parameters, bool hump) {
-      const double c = (f.chi2 - trial.chi2) * scale - threshold(parameters, alpha);
+      const double c = criterion(crit, f.chi2 - trial.chi2, parameters);
       if (!(c > best_criterion)) return;
       best_criterion = c;
       best = std::move(trial);
