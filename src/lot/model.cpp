@@ -288,13 +288,8 @@ template <class E>
 Json effect_json(const E& x) {
   Json j = Json::object();
   j["type"] = std::string(kernels::EffectTraits<E>::name);
-  for (const auto& k : kernels::EffectTraits<E>::keys) {
-    const bool write = k.presence == kernels::Presence::Required ||
-                       k.presence == kernels::Presence::Optional ||
-                       (k.presence == kernels::Presence::OptionalNonzero && x.*k.field != 0) ||
-                       (k.presence == kernels::Presence::When && k.needed(x));
-    if (write) j[std::string(k.name)] = x.*k.field;
-  }
+  for (const auto& k : kernels::EffectTraits<E>::keys)
+    if (kernels::written(k, x)) j[std::string(k.name)] = x.*k.field;
   return j;
 }
 

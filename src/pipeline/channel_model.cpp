@@ -15,7 +15,7 @@
 #include <optional>
 #include <span>
 #include <string>
-#include <utility>
+#include <type_traits>
 #include <vector>
 
 namespace allanlot::pipeline {
@@ -219,22 +219,19 @@ std::vector<io::EffectRecord> effect_records(const kernels::Diagnosis& d,
       out.push_back({static_cast<std::int64_t>(i), std::string(kernels::effect_name(e)), p.name,
                      drawn_value(drawn, e, k, p.name, p.value), p.sigma, p.bound});
   }
-  // The effects the fit on the curve added, after diagnose's, in describe's order; the curve's fit
-  // estimates no sigma.
+  // The effects the fit on the curve added, after diagnose's, in describe's order, under their
+  // model-file keys; the curve's fit estimates no sigma.
   auto index = static_cast<std::int64_t>(d.effects_named.size());
-  const auto added = [&](kernels::Effect e, const std::vector<std::pair<std::string, double>>& ps) {
-    for (const auto& [name, value] : ps)
-      out.push_back({index, std::string(kernels::effect_name(e)), name, value, kNaN, 0});
-    ++index;
+  const auto added = [&](const auto& list, std::size_t first) {
+    using E = typename std::decay_t<decltype(list)>::value_type;
+    for (std::size_t i = first; i < list.size(); ++i, ++index)
+      for (const auto& k : kernels::EffectTraits<E>::keys)
+        if (kernels::written(k, list[i]))
+          out.push_back({index, std::string(kernels::EffectTraits<E>::name), std::string(k.name),
+                         list[i].*k.field, kNaN, 0});
   };
-  for (std::size_t k = d.model_after.resonances.size(); k < drawn.resonances.size(); ++k) {
-    const kernels::Resonance& r = drawn.resonances[k];
-    added(kernels::Effect::Resonance,
-          {{"sigma", r.sigma}, {"frequency_hz", r.frequency_hz}, {"q", r.q}});
-  }
-  for (std::size_t k = d.model_after.markovs.size(); k < drawn.markovs.size(); ++k)
-    added(kernels::Effect::Markov,
-          {{"sigma", drawn.markovs[k].sigma}, {"tau_c_s", drawn.markovs[k].tau_c_s}});
+  added(drawn.resonances, d.model_after.resonances.size());
+  added(drawn.markovs, d.model_after.markovs.size());
   return out;
 }
 

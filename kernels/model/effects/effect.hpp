@@ -45,6 +45,22 @@ struct EffectKey {
   bool (*needed)(const E&) = nullptr;  // Presence::When: the keys before it decide
 };
 
+/// Whether key k of effect x is written (the model file, a results file's effect rows): as its
+/// Presence says.
+template <class E>
+bool written(const EffectKey<E>& k, const E& x) {
+  switch (k.presence) {
+  case Presence::Required:
+  case Presence::Optional:
+    return true;
+  case Presence::OptionalNonzero:
+    return x.*k.field != 0;
+  case Presence::When:
+    return k.needed(x);
+  }
+  return false;
+}
+
 /// A value that breaks an effect's rule: the key (empty: the effect as a whole) and the reason.
 struct KeyProblem {
   std::string key;
